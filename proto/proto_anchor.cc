@@ -1,0 +1,1 @@
+// Anchors the generated sources into a library target.
