@@ -1,4 +1,9 @@
 // FitTrace: friction and roughness from one drag trace.
+//
+// Steps (each its own file): SplitDragPasses (drag_passes.h) -> PairPasses by
+// arc length (path_pairing.h) -> ChooseDataWindow (data_window.h) ->
+// FitFriction, the differential method (friction.h) -> ForceVariationSeries
+// and PauseNoiseStd (force_variation.h) -> FitAutoregressive (roughness.h).
 #pragma once
 
 #include <string>
@@ -6,7 +11,10 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
+#include "server/estimate/data_window.h"
 #include "server/estimate/drag_trace.h"
+#include "server/estimate/friction.h"
+#include "server/estimate/path_pairing.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap {
@@ -15,35 +23,40 @@ struct FitOptions {
   double step_mm = 0.1;           // roughness grid step L
   int ar_order = 2;
   ArMethod ar_method = ArMethod::kBurg;
-  bool noise_aware = true;        // use the pause to de-bias roughness
-  // Data window: exclude this share of the travelled path at each end of the
-  // common forward/reverse path (transients, stick-slip at low speed).
-  double window_trim_fraction = 0.2;
+  // Use the pause to de-bias roughness: the variance of the sensor noise on
+  // the roughness series (see FitTrace) goes to ArFitOptions::noise_variance.
+  bool noise_aware = true;
+  // Data window: keep where both passes move at >= min_speed_fraction of their
+  // median speed, intersected with the common forward/reverse path minus
+  // window_trim_fraction of it at each end (see data_window.h for why).
+  double min_speed_fraction = 0.7;
+  double window_trim_fraction = 0.1;
+  int min_pass_samples = 10;      // per pass, before any windowing
+  PairingOptions pairing;         // retrace limits
+  FrictionOptions friction;       // contact force floor, minimum pairs
   bool IsValid(std::string* why) const;
 };
 
-struct FrictionFit {
-  double mu = 0.0;                // mean of the per-point mu over the window
-  double mu_std = 0.0;
-  double mu_median = 0.0;
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // mean unit normal
-  int n_pairs = 0;
-  double window_start_mm = 0.0;   // along the forward path from its first sample
-  double window_end_mm = 0.0;
-  std::vector<double> pair_s_mm;  // arc length of each pair
-  std::vector<double> pair_mu;    // per-point mu
-};
+// FrictionFit is declared in friction.h.
 
 struct TraceFit {
   FrictionFit friction;
   ArFit roughness;
-  double noise_std = 0.0;         // force noise during the pause, N
+  double noise_std = 0.0;         // force noise during the pause, N (PauseNoiseStd)
   double path_length_mm = 0.0;    // forward path length
+  double max_retrace_offset_mm = 0.0;  // largest reverse-to-forward path distance
 };
 
-// Errors (INVALID_ARGUMENT, message naming the problem): no forward or reverse
-// pass, too few samples, a reverse pass that does not retrace the forward path,
-// zero force, non-finite values, invalid options.
+// Errors (INVALID_ARGUMENT, message naming the problem and the sample): no
+// forward or reverse pass, phases out of order, non-finite values, time not
+// increasing, too few samples, a reverse pass that does not retrace the
+// forward path, a contact force below the floor ("zero force"), an empty data
+// window, invalid options; a roughness fit that fails comes back with
+// "roughness fit: " before FitAutoregressive's message.
+//
+// Roughness: ForceVariationSeries averages the two passes, so with
+// noise_aware the noise variance passed on is noise_std^2 * (1 + mu^2) / 2
+// (the tangential and mu-scaled normal noise add; averaging halves it).
 absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& options);
 
 }  // namespace surfmap

@@ -3,10 +3,18 @@
 // The input is the force variation about the Coulomb nominal, already resampled
 // on a uniform arc-length grid of step L (mm) and detrended (see fit_trace.h).
 // Model: f(k) = a1 f(k-1) + ... + ap f(k-p) + sigma e(k), e ~ N(0, 1).
+//
+// Conventions used throughout:
+// - Characteristic polynomial z^p - a1 z^(p-1) - ... - ap; the model is
+//   stationary iff all its roots lie strictly inside the unit circle.
+// - Reflection coefficients are PARCOR (partial autocorrelation) coefficients:
+//   k_m is the last coefficient of the order-m model, so for AR(1) k1 = a1.
+//   Step-up: a_m,i = a_{m-1},i - k_m a_{m-1},m-i, a_m,m = k_m.
 #pragma once
 
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -14,40 +22,100 @@
 
 namespace surfmap {
 
-enum class ArMethod { kBurg, kLeastSquares };
+enum class ArMethod {
+  // Burg's lattice method: minimises forward + backward prediction error
+  // stage by stage. Always returns a stationary model (|k| < 1); little bias
+  // near the unit circle (periodic textures).
+  kBurg,
+  // Covariance method: ordinary least squares of f(k) on f(k-1..k-p) over the
+  // rows that lie inside one segment. May return a non-stationary model; check
+  // ArFit::stationary.
+  kLeastSquares,
+};
 
 struct ArFitOptions {
-  int order = 2;                    // p >= 1
+  int order = 2;                    // p, 1..20
   ArMethod method = ArMethod::kBurg;
-  double step_mm = 0.1;             // grid step L, used for lengths in mm
+  double step_mm = 0.1;             // grid step L (> 0), used for lengths in mm
   // Variance of white measurement noise riding on the series (N^2), e.g. from
-  // the pause; 0 = none. Used to de-bias the fit (noise-aware roughness).
+  // the pause; 0 = none. Used to de-bias the fit (noise-aware roughness):
+  // - kBurg: noise-compensated Burg. At stage m the expected noise energy of the
+  //   forward/backward prediction errors, 2 N_m noise_variance (1 + sum a_j^2),
+  //   is removed from Burg's denominator and the expected noise cross term,
+  //   N_m noise_variance sum a_j a_(m-j), from its numerator (a = the order m-1
+  //   model, N_m = number of error pairs). The innovation variance starts from
+  //   the de-noised lag-0 autocovariance.
+  // - kLeastSquares: bias-compensated least squares, (R - noise_variance I) a = r
+  //   with R, r the lagged-regressor moments; the innovation variance is the
+  //   residual variance minus noise_variance (1 + sum a_j^2).
+  // Both are the Yule-Walker "subtract the noise from lag 0" correction carried
+  // into the respective estimator, and consistent when the noise is white.
   double noise_variance = 0.0;
-  int acf_max_lag = 0;              // 0 = min(n/4, 200)
+  int acf_max_lag = 0;              // >= 0; 0 = min(n/4, 200)
+  // False (with a reason in *why, if given) for order outside 1..20, step_mm
+  // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0.
   bool IsValid(std::string* why) const;
 };
 
 struct ArFit {
   std::vector<double> a;            // a1..ap
-  std::vector<double> a_stderr;     // asymptotic standard errors of a1..ap
+  // Asymptotic standard errors of a1..ap. Burg: sqrt of the diagonal of
+  // sigma^2 Gamma_p^-1 / n, Gamma_p the p x p autocovariance (Toeplitz) matrix
+  // of the fitted model. Least squares: s^2 (X^T X)^-1 with s^2 = RSS / (rows - p)
+  // (noise-aware: (X^T X - rows noise_variance I)^-1). Neither includes the
+  // extra spread the noise correction adds.
+  std::vector<double> a_stderr;
   double sigma = 0.0;               // innovation standard deviation, N
-  double variance = 0.0;            // process variance (lag-0 autocovariance), N^2
+  // Process variance: the pooled lag-0 sample autocovariance of the
+  // mean-removed series, minus noise_variance (the texture's own variance,
+  // clamped at 0), N^2.
+  double variance = 0.0;
   bool stationary = false;          // all roots of z^p - a1 z^(p-1) - ... - ap inside the unit circle
-  std::vector<double> reflection;   // reflection (PARCOR) coefficients k1..kp, |k| < 1 iff stationary
-  std::vector<double> acf;          // sample autocorrelation, lags 0..acf_max_lag
-  double acf_decay_mm = 0.0;        // first lag where the ACF envelope falls below 1/e, in mm
-  std::optional<double> dominant_wavelength_mm;  // from complex AR roots; none when no oscillation
+  // Reflection (PARCOR) coefficients k1..kp, |k| < 1 iff stationary
+  // (see ArToReflection for non-stationary models).
+  std::vector<double> reflection;
+  // Sample autocorrelation of the measured series (noise included), lags
+  // 0..acf_max_lag, pooled over segments.
+  std::vector<double> acf;
+  // Correlation length: the (interpolated) lag after which |ACF| stays below
+  // 1/e, times step_mm. Interpolation is log-linear between the last lag at or
+  // above 1/e and the next, so a pure exponential a^k gives exactly
+  // -step/ln(a). Computed on the fitted model's ACF when the fit is stationary
+  // (noise-free and without the sampling wiggles of the sample ACF at long
+  // lags), else on the sample ACF; if the sample ACF never settles below 1/e
+  // within acf_max_lag, acf_max_lag * step_mm (a lower bound).
+  double acf_decay_mm = 0.0;
+  // Dominant spatial wavelength 2 pi L / |arg z| of the largest-modulus root z
+  // of the characteristic polynomial; none when that root is real (no
+  // oscillation) or the model's power spectrum peaks at zero frequency.
+  std::optional<double> dominant_wavelength_mm;
   // True when the texture variance is not above the given measurement noise
-  // (the sensor cannot resolve it).
+  // (the sensor cannot resolve it): series variance <= 1.5 * noise_variance,
+  // or the noise correction broke down (de-noised moments not positive). The
+  // fit is then returned without noise correction (or with the correction
+  // clamped) and must be treated as an upper bound on the texture.
   bool below_noise_floor = false;
-  int n = 0;                        // series length used
+  int n = 0;                        // series length used (all segments)
 };
 
-// Fits AR(p) to `series`. Errors: series shorter than 4 * (order + 1),
-// non-finite values, zero variance, invalid options.
+// Fits AR(p) to `series` (mean removed inside). Same as the segments overload
+// with one segment.
 absl::StatusOr<ArFit> FitAutoregressive(const Eigen::VectorXd& series, const ArFitOptions& options);
 
-// Sample autocorrelation r(0..max_lag) of a (mean-removed inside) series.
+// Fits one AR(p) process to several segments of it, e.g. the forward and the
+// reverse pass of a drag. Each segment has its own mean removed; no lag or
+// regression row ever spans a segment boundary (Burg sums its numerator and
+// denominator over segments; least squares stacks rows per segment).
+// Errors (INVALID_ARGUMENT, message names segment and sample): invalid options,
+// no segments, a segment of <= order samples, fewer than 4 * (order + 1)
+// samples in all, non-finite values, zero variance.
+absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segments,
+                                        const ArFitOptions& options);
+
+// Sample autocorrelation r(0..max_lag) of a (mean-removed inside) series,
+// biased estimator (divides by n, so the sequence is positive definite).
+// max_lag is clamped to [0, n-1]; an empty series gives an empty vector; a
+// constant series gives r = (1, 0, 0, ...).
 Eigen::VectorXd Autocorrelation(const Eigen::VectorXd& series, int max_lag);
 
 struct ArParams {
@@ -56,11 +124,16 @@ struct ArParams {
 };
 
 // Resynthesises n samples of the AR process from seeded Gaussian innovations
-// (a burn-in of 10 * p + 100 samples is discarded so the output is stationary).
+// (std::mt19937_64(seed), std::normal_distribution; a burn-in of 10 * p + 100
+// samples is discarded so the output is stationary). n <= 0 gives an empty
+// vector. A non-stationary model is simulated as given (it will grow).
 Eigen::VectorXd SimulateRoughness(const ArParams& params, int n, std::uint64_t seed);
 
-// Reflection coefficients <-> AR coefficients (Levinson step-up / step-down).
+// Reflection coefficients <-> AR coefficients (Levinson step-down / step-up).
 // Maps interpolate in reflection coefficients: any |k| < 1 gives a stable model.
+// ArToReflection of a non-stationary model yields some |k| >= 1; if a step
+// meets |k| == 1 exactly the lower-order coefficients are undefined and
+// returned as 0.
 std::vector<double> ArToReflection(const std::vector<double>& a);
 std::vector<double> ReflectionToAr(const std::vector<double>& k);
 

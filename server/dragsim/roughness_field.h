@@ -1,0 +1,32 @@
+// A roughness field on a drag path: one realisation of the (possibly
+// region-dependent) AR(2) process on the path's arc-length grid, so the
+// forward and the reverse pass feel the same texture at the same place.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "server/dragsim/drag_geometry.h"
+#include "server/dragsim/material.h"
+
+namespace surfmap {
+
+class RoughnessField {
+ public:
+  // Realises r(k), k = 0..length/step, with the material at grid point k:
+  //   r(k) = a1 r(k-1) + a2 r(k-2) + sigma e(k),  e ~ N(0, 1) seeded.
+  // A burn-in of 200 samples with the material at s = 0 comes first, so the
+  // field is stationary from its start.
+  RoughnessField(const GeometryPath& path, const MaterialField& material, double step_mm,
+                 std::uint64_t seed);
+  // Linear interpolation at arc length s (clamped to the path), N.
+  double At(double s) const;
+  const std::vector<double>& values() const { return values_; }
+  double step_mm() const { return step_mm_; }
+
+ private:
+  double step_mm_;
+  std::vector<double> values_;
+};
+
+}  // namespace surfmap

@@ -1,0 +1,132 @@
+#include "server/estimate/force_variation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_format.h"
+
+namespace surfmap {
+namespace {
+
+// Removes the least-squares line over the index from `v`.
+void Detrend(double* v, int n) {
+  if (n < 2) {
+    if (n == 1) v[0] = 0.0;
+    return;
+  }
+  const double mean_k = 0.5 * (n - 1);
+  double mean_v = 0.0;
+  for (int k = 0; k < n; ++k) mean_v += v[k];
+  mean_v /= n;
+  double skv = 0.0, skk = 0.0;
+  for (int k = 0; k < n; ++k) {
+    skv += (k - mean_k) * (v[k] - mean_v);
+    skk += (k - mean_k) * (k - mean_k);
+  }
+  const double slope = skv / skk;
+  for (int k = 0; k < n; ++k) v[k] -= mean_v + slope * (k - mean_k);
+}
+
+// Variation of one pass resampled on the grid into out[0..grid).
+// `order` lists the pass's sample indices in increasing arc length.
+template <typename IndexFn>
+void ResamplePass(std::span<const DragSample> samples, const std::vector<double>& s, int count,
+                  const IndexFn& index, const FrictionFit& friction, double start, double step,
+                  int grid, std::vector<double>& pos, std::vector<double>& val, double* out) {
+  pos.clear();
+  val.clear();
+  const int np = friction.n_pairs;
+  const auto pair_key = [&](int i) { return friction.pair_s_mm[i]; };
+  MonotoneBracket normal_bracket(np);
+  const double end = start + (grid - 1) * step;
+  for (int m = 0; m < count; ++m) {
+    const int i = index(m);
+    // One sample beyond each end of the window so the end grid points interpolate.
+    const bool before = m + 1 < count && s[index(m + 1)] < start;
+    const bool after = m > 0 && s[index(m - 1)] > end;
+    if (before || after) continue;
+    int k;
+    double w;
+    normal_bracket.Locate(s[i], pair_key, &k, &w);
+    const int k1 = std::min(k + 1, np - 1);
+    const Eigen::Vector3d n =
+        ((1.0 - w) * friction.pair_normal[k] + w * friction.pair_normal[k1]).normalized();
+    const Eigen::Vector3d& f = samples[i].force;
+    const double fn = f.dot(n);
+    const double ft = (f - fn * n).norm();
+    pos.push_back(s[i]);
+    val.push_back(ft - friction.mu * fn);
+  }
+  const int nv = static_cast<int>(pos.size());
+  MonotoneBracket grid_bracket(nv);
+  const auto pos_key = [&](int i) { return pos[i]; };
+  for (int g = 0; g < grid; ++g) {
+    int k;
+    double w;
+    grid_bracket.Locate(start + g * step, pos_key, &k, &w);
+    const int k1 = std::min(k + 1, nv - 1);
+    out[g] = (1.0 - w) * val[k] + w * val[k1];
+  }
+  Detrend(out, grid);
+}
+
+}  // namespace
+
+absl::StatusOr<Eigen::VectorXd> ForceVariationSeries(std::span<const DragSample> forward,
+                                                     std::span<const DragSample> reverse,
+                                                     const PathPairing& pairing,
+                                                     const FrictionFit& friction, double step_mm) {
+  const double start = friction.window_start_mm;
+  const double length = friction.window_end_mm - start;
+  const int grid = static_cast<int>(std::floor(length / step_mm + 1e-9)) + 1;
+  if (!(step_mm > 0.0) || grid < 2 || friction.n_pairs < 1) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "data window %.3f..%.3f mm holds fewer than 2 points of the %.3g mm roughness grid",
+        start, friction.window_end_mm, step_mm));
+  }
+  const int nf = static_cast<int>(forward.size());
+  const int nr = static_cast<int>(reverse.size());
+  std::vector<double> pos, val, reverse_series(grid);
+  pos.reserve(std::max(nf, nr));
+  val.reserve(std::max(nf, nr));
+  Eigen::VectorXd series(grid);
+  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, start, step_mm,
+               grid, pos, val, series.data());
+  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction,
+               start, step_mm, grid, pos, val, reverse_series.data());
+  for (int g = 0; g < grid; ++g) series[g] = 0.5 * (series[g] + reverse_series[g]);
+  return series;
+}
+
+double PauseNoiseStd(std::span<const DragSample> pause) {
+  const int n = static_cast<int>(pause.size());
+  if (n < 3) return 0.0;
+  double total = 0.0;
+  const double t0 = pause[0].t;
+  for (int axis = 0; axis < 3; ++axis) {
+    double mt = 0.0, mf = 0.0;
+    for (const DragSample& s : pause) {
+      mt += s.t - t0;
+      mf += s.force[axis];
+    }
+    mt /= n;
+    mf /= n;
+    double stt = 0.0, stf = 0.0;
+    for (const DragSample& s : pause) {
+      stt += (s.t - t0 - mt) * (s.t - t0 - mt);
+      stf += (s.t - t0 - mt) * (s.force[axis] - mf);
+    }
+    const double slope = stt > 0.0 ? stf / stt : 0.0;
+    double ss = 0.0;
+    for (const DragSample& s : pause) {
+      const double r = s.force[axis] - mf - slope * (s.t - t0 - mt);
+      ss += r * r;
+    }
+    total += ss / (n - 2);  // two parameters fitted per axis
+  }
+  return std::sqrt(total / 3.0);
+}
+
+}  // namespace surfmap

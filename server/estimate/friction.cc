@@ -1,0 +1,118 @@
+#include "server/estimate/friction.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Geometry>
+#include "absl/status/status.h"
+#include "absl/strings/str_format.h"
+
+namespace surfmap {
+
+bool FrictionOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (!(min_contact_force_n > 0.0)) return fail("min_contact_force_n must be > 0");
+  if (min_pairs < 2) return fail("min_pairs must be >= 2");
+  return true;
+}
+
+absl::StatusOr<FrictionFit> FitFriction(std::span<const DragSample> forward,
+                                        std::span<const DragSample> reverse,
+                                        const PathPairing& pairing, const DataWindow& window,
+                                        const FrictionOptions& options) {
+  const int nf = static_cast<int>(forward.size());
+  const int nr = static_cast<int>(reverse.size());
+  const std::vector<double>& fs = pairing.forward_s;
+  const std::vector<double>& rs = pairing.reverse_s;
+
+  int first = 0;
+  while (first < nf && fs[first] < window.start_mm) ++first;
+  int last = first;
+  while (last < nf && fs[last] <= window.end_mm) ++last;
+  const int n = last - first;
+  if (n < options.min_pairs) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "data window %.3f..%.3f mm holds %d forward sample(s); the friction fit needs at least %d",
+        window.start_mm, window.end_mm, n, options.min_pairs));
+  }
+
+  FrictionFit fit;
+  fit.window_start_mm = window.start_mm;
+  fit.window_end_mm = window.end_mm;
+  fit.first_forward_sample = first;
+  fit.n_pairs = n;
+  fit.pair_s_mm.reserve(n);
+  fit.pair_mu.reserve(n);
+  fit.pair_normal.reserve(n);
+
+  // Reverse samples sorted by arc length = the reverse pass read backwards.
+  const auto reverse_key = [&](int i) { return rs[nr - 1 - i]; };
+  MonotoneBracket bracket(nr);
+  const double min_force = options.min_contact_force_n;
+  Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+  for (int i = first; i < last; ++i) {
+    const double s = fs[i];
+    const Eigen::Vector3d& f = forward[i].force;
+    const double f_norm = f.norm();
+    if (!(f_norm >= min_force)) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "forward sample %d (t=%.3f s): contact force %.4g N is below %.3g N (probe not in "
+          "contact?)",
+          i, forward[i].t, f_norm, min_force));
+    }
+    int k;
+    double w;
+    bracket.Locate(s, reverse_key, &k, &w);
+    const int a = nr - 1 - k, b = nr - 2 - k < 0 ? a : nr - 2 - k;  // reverse indices
+    const Eigen::Vector3d r = (1.0 - w) * reverse[a].force + w * reverse[b].force;
+    const double r_norm = r.norm();
+    if (!(r_norm >= min_force)) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "reverse samples %d-%d (t=%.3f s): contact force %.4g N is below %.3g N (probe not in "
+          "contact?)",
+          std::min(a, b), std::max(a, b), reverse[a].t, r_norm, min_force));
+    }
+    const Eigen::Vector3d fh = f / f_norm;
+    const Eigen::Vector3d rh = r / r_norm;
+    const Eigen::Vector3d sum = fh + rh;
+    const double sum_norm = sum.norm();
+    if (!(sum_norm > 1e-9)) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "forward sample %d (s=%.3f mm): forward and reverse forces are opposite, no normal", i,
+          s));
+    }
+    // atan2 of |cross| and dot keeps full accuracy at small angles (acos does not).
+    const double theta = std::atan2(fh.cross(rh).norm(), fh.dot(rh));
+    double mu = std::tan(0.5 * theta);
+    // Sign: forward friction points against the forward motion, so fh - rh
+    // has a negative component along it; the opposite means negative friction.
+    const int prev = std::max(0, i - 1), next = std::min(nf - 1, i + 1);
+    const Eigen::Vector3d motion = forward[next].position - forward[prev].position;
+    if ((fh - rh).dot(motion) > 0.0) mu = -mu;
+    const Eigen::Vector3d normal = sum / sum_norm;
+    fit.pair_s_mm.push_back(s);
+    fit.pair_mu.push_back(mu);
+    fit.pair_normal.push_back(normal);
+    normal_sum += normal;
+  }
+
+  double mean = 0.0;
+  for (double mu : fit.pair_mu) mean += mu;
+  mean /= n;
+  double var = 0.0;
+  for (double mu : fit.pair_mu) var += (mu - mean) * (mu - mean);
+  fit.mu = mean;
+  fit.mu_std = n > 1 ? std::sqrt(var / (n - 1)) : 0.0;
+  std::vector<double> sorted = fit.pair_mu;
+  const auto mid = sorted.begin() + n / 2;
+  std::nth_element(sorted.begin(), mid, sorted.end());
+  fit.mu_median = *mid;
+  if (n % 2 == 0) fit.mu_median = 0.5 * (fit.mu_median + *std::max_element(sorted.begin(), mid));
+  fit.normal = normal_sum.normalized();
+  return fit;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,133 @@
+#include "server/estimate/path_pairing.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
+
+namespace surfmap {
+namespace {
+
+struct Foot {
+  double distance;
+  double s;
+};
+
+// Closest point to q on the forward segment k (samples k, k + 1).
+Foot ProjectOnSegment(std::span<const DragSample> forward, const std::vector<double>& forward_s,
+                      int k, const Eigen::Vector3d& q) {
+  const Eigen::Vector3d& a = forward[k].position;
+  const Eigen::Vector3d ab = forward[k + 1].position - a;
+  const double length2 = ab.squaredNorm();
+  double t = length2 > 0.0 ? (q - a).dot(ab) / length2 : 0.0;
+  t = std::clamp(t, 0.0, 1.0);
+  return {(a + t * ab - q).norm(), forward_s[k] + t * (forward_s[k + 1] - forward_s[k])};
+}
+
+}  // namespace
+
+bool PairingOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* message) {
+    if (why) *why = message;
+    return false;
+  };
+  if (!(max_offset_floor_mm > 0.0)) return fail("max_offset_floor_mm must be > 0");
+  if (!(max_offset_fraction >= 0.0)) return fail("max_offset_fraction must be >= 0");
+  if (!(min_coverage_fraction > 0.0 && min_coverage_fraction <= 1.0)) {
+    return fail("min_coverage_fraction must be in (0, 1]");
+  }
+  return true;
+}
+
+absl::StatusOr<PathPairing> PairPasses(std::span<const DragSample> forward,
+                                       std::span<const DragSample> reverse,
+                                       const PairingOptions& options) {
+  if (forward.size() < 2) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("forward pass has ", forward.size(), " sample(s); pairing needs at least 2"));
+  }
+  if (reverse.empty()) return absl::InvalidArgumentError("reverse pass has no samples");
+
+  PathPairing pairing;
+  const int nf = static_cast<int>(forward.size());
+  const int nr = static_cast<int>(reverse.size());
+  pairing.forward_s.resize(nf);
+  pairing.reverse_s.resize(nr);
+  pairing.forward_s[0] = 0.0;
+  for (int i = 1; i < nf; ++i) {
+    pairing.forward_s[i] =
+        pairing.forward_s[i - 1] + (forward[i].position - forward[i - 1].position).norm();
+  }
+  pairing.path_length_mm = pairing.forward_s[nf - 1];
+  if (!(pairing.path_length_mm > 0.0)) {
+    return absl::InvalidArgumentError("forward pass does not move (path length 0 mm)");
+  }
+  const double max_offset = std::max(options.max_offset_floor_mm,
+                                     options.max_offset_fraction * pairing.path_length_mm);
+  const int segments = nf - 1;
+
+  // The reverse pass runs from the forward end back to its start, so visiting
+  // its samples from last to first walks the forward polyline forwards.
+  int k = 0;
+  {
+    // The first foot is found by a full scan: the reverse pass may stop short.
+    double best = std::numeric_limits<double>::infinity();
+    for (int m = 0; m < segments; ++m) {
+      const Foot foot = ProjectOnSegment(forward, pairing.forward_s, m, reverse[nr - 1].position);
+      if (foot.distance < best) {
+        best = foot.distance;
+        k = m;
+      }
+    }
+  }
+  double previous_s = 0.0;
+  double max_seen = 0.0;
+  int worst = nr - 1;
+  for (int j = nr - 1; j >= 0; --j) {
+    const Eigen::Vector3d& q = reverse[j].position;
+    // Look ahead as far as the probe moved since the previous reverse sample,
+    // plus a margin for position noise and uneven sample spacing.
+    const double moved = j == nr - 1 ? 0.0 : (q - reverse[j + 1].position).norm();
+    const double reach = std::max(previous_s, pairing.forward_s[k]) + moved + 0.3;
+    Foot best = ProjectOnSegment(forward, pairing.forward_s, k, q);
+    int best_k = k;
+    for (int m = k + 1; m < segments && pairing.forward_s[m] <= reach; ++m) {
+      const Foot foot = ProjectOnSegment(forward, pairing.forward_s, m, q);
+      if (foot.distance < best.distance) {
+        best = foot;
+        best_k = m;
+      }
+    }
+    k = best_k;
+    previous_s = best.s;
+    pairing.reverse_s[j] = best.s;
+    if (best.distance > max_seen) {
+      max_seen = best.distance;
+      worst = j;
+    }
+  }
+  pairing.max_offset_mm = max_seen;
+  if (max_seen > max_offset) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "reverse pass does not retrace the forward path: reverse sample %d (t=%.3f s) is %.3f mm "
+        "from the forward path (limit %.3f mm = max(%.3g mm, %.3g of the %.3f mm path))",
+        worst, reverse[worst].t, max_seen, max_offset, options.max_offset_floor_mm,
+        options.max_offset_fraction, pairing.path_length_mm));
+  }
+  const auto [lo, hi] = std::minmax_element(pairing.reverse_s.begin(), pairing.reverse_s.end());
+  pairing.covered_from_mm = *lo;
+  pairing.covered_to_mm = *hi;
+  const double covered = pairing.covered_to_mm - pairing.covered_from_mm;
+  if (covered < options.min_coverage_fraction * pairing.path_length_mm) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "reverse pass covers only %.3f of the %.3f mm forward path (%.0f%%, need %.0f%%)", covered,
+        pairing.path_length_mm, 100.0 * covered / pairing.path_length_mm,
+        100.0 * options.min_coverage_fraction));
+  }
+  return pairing;
+}
+
+}  // namespace surfmap

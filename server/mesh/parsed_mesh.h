@@ -1,0 +1,31 @@
+// Internal to the mesh module: a control mesh as a reader produced it, with
+// enough provenance to name the offending polygon of the source in messages.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/functional/function_ref.h"
+#include "absl/status/status.h"
+#include "server/mesh/control_mesh.h"
+
+namespace surfmap {
+
+struct ParsedMesh {
+  ControlMesh mesh;
+  // For each triangle: where its polygon came from, e.g. "face on line 12"
+  // (OBJ) or "face 7" (PLY). Same length as mesh.triangles.
+  std::vector<std::string> triangle_origin;
+};
+
+// The checks of ValidateControlMesh, with `describe_triangle(t)` naming
+// triangle t in messages (so a reader can point at the source line).
+absl::Status ValidateTriangleMesh(const ControlMesh& mesh,
+                                  absl::FunctionRef<std::string(int)> describe_triangle);
+
+// Appends the fan triangulation (v0, vi, vi+1) of `polygon` to `out`, each
+// triangle tagged with `origin`. The caller checks polygon.size() >= 3.
+void AppendFanTriangles(const std::vector<int>& polygon, const std::string& origin, ParsedMesh& out);
+
+}  // namespace surfmap

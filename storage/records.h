@@ -1,0 +1,203 @@
+// The records the store keeps, as plain structs: ids, numbers, JSON text and
+// BLOBs. Storage knows nothing of proto, gRPC, meshes or estimators; the service
+// decides what goes into the JSON fields (the store only checks it is valid
+// JSON, via SQLite's json_valid()).
+//
+// Ids are positive int64 assigned by the store; 0 means "none / not set".
+// Times are milliseconds since the Unix epoch (UTC).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "storage/stored_sample.h"
+
+namespace surfmap {
+
+// ---- States (stored as their lower-case names) ----------------------------
+
+enum class JobState { kRunning, kPaused, kCompleted, kCancelled };
+// Running <-> paused; running/paused -> completed/cancelled; completed and
+// cancelled are final.
+std::string_view JobStateName(JobState state);        // "running", ...
+absl::StatusOr<JobState> ParseJobState(std::string_view name);
+bool IsJobTransitionAllowed(JobState from, JobState to);
+
+enum class CommandState { kPending, kLeased, kDone, kFailed };
+std::string_view CommandStateName(CommandState state);  // "pending", ...
+absl::StatusOr<CommandState> ParseCommandState(std::string_view name);
+
+// ---- Stored records ---------------------------------------------------------
+
+struct ObjectRecord {
+  int64_t id = 0;
+  std::string name;
+  std::string mesh_format;   // "obj" or "ply"
+  std::string mesh_bytes;    // the upload exactly as sent (BLOB)
+  int64_t control_vertices = 0;  // of the control mesh, as parsed by the service
+  int64_t control_faces = 0;
+  int64_t created_unix_ms = 0;
+};
+
+struct JobRecord {
+  int64_t id = 0;
+  int64_t object_id = 0;
+  JobState state = JobState::kRunning;
+  std::string params_json;   // the job's parameters, as the service chose them
+  int64_t created_unix_ms = 0;
+  int64_t updated_unix_ms = 0;  // last state change
+};
+
+// The sampling plan's serialized state; replaced in the same transaction as the
+// trace (or job creation) that changed it. revision starts at 1 and increases
+// by one with every replacement.
+struct PlanRecord {
+  int64_t job_id = 0;
+  std::string plan_json;
+  int64_t revision = 0;
+  int64_t updated_unix_ms = 0;
+};
+
+// One probe command: measure the site (level, vertex) of the job's object.
+struct CommandRecord {
+  int64_t id = 0;
+  int64_t job_id = 0;
+  int32_t site_level = 0;
+  int64_t site_vertex = 0;
+  std::string command_json;   // what the rig must do (pose, force, path...)
+  CommandState state = CommandState::kPending;
+  std::string lease_owner;    // rig holding / last holding the lease; "" if never leased
+  int64_t lease_deadline_unix_ms = 0;  // lease valid while now < deadline
+  int32_t attempt = 0;        // number of times it has been leased
+  int64_t created_unix_ms = 0;
+};
+
+// A drag trace, every sample kept losslessly (see stored_sample.h).
+struct TraceRecord {
+  int64_t id = 0;
+  int64_t command_id = 0;     // at most one trace per command
+  int64_t job_id = 0;
+  int64_t n_samples = 0;
+  std::vector<StoredSample> samples;  // empty when listed without samples
+  int64_t received_unix_ms = 0;
+};
+
+// An estimator's output for a trace. version 1 is the fit made on arrival;
+// 2, 3, ... are refits (AddFits gives a whole batch one version number).
+struct FitRecord {
+  int64_t id = 0;
+  int64_t trace_id = 0;
+  int32_t version = 0;
+  std::string estimator_name;
+  std::string estimator_version;
+  std::string options_json;   // estimator options used (provenance)
+  std::string result_json;    // the full result as the service serialized it
+  // Copies of the headline numbers, as columns for queries; empty when the
+  // estimator did not produce them (NaN is stored as empty, too).
+  std::optional<double> mu, a1, a2, sigma;
+  int64_t created_unix_ms = 0;
+};
+
+struct EventRecord {
+  int64_t id = 0;             // increases with every event written
+  int64_t job_id = 0;         // 0: not about one job
+  int64_t unix_ms = 0;
+  std::string kind;           // e.g. "job_created", "trace_accepted"
+  std::string detail_json;
+};
+
+// ---- Inputs to writes -------------------------------------------------------
+
+struct NewObject {
+  std::string name;
+  std::string mesh_format;    // "obj" or "ply"
+  std::string mesh_bytes;
+  int64_t control_vertices = 0;
+  int64_t control_faces = 0;
+};
+
+struct NewCommand {
+  int32_t site_level = 0;
+  int64_t site_vertex = 0;
+  std::string command_json;
+};
+
+struct NewEvent {
+  std::string kind;
+  std::string detail_json = "{}";
+};
+
+// A fit to store; the store assigns id, trace_id, version and time.
+struct NewFit {
+  std::string estimator_name;
+  std::string estimator_version;
+  std::string options_json = "{}";
+  std::string result_json = "{}";
+  std::optional<double> mu, a1, a2, sigma;
+};
+
+struct NewJob {
+  int64_t object_id = 0;
+  std::string params_json = "{}";
+  std::string plan_json;             // initial plan state (revision 1)
+  std::vector<NewCommand> commands;  // initial commands, all pending
+  std::vector<NewEvent> events;      // e.g. {"job_created", ...}; job_id filled in
+};
+
+struct CreatedJob {
+  JobRecord job;
+  std::vector<int64_t> command_ids;  // in the order of NewJob::commands
+};
+
+// The key write: a rig's trace for a leased command, with everything it changed.
+struct AcceptTraceRequest {
+  int64_t command_id = 0;
+  int64_t job_id = 0;               // must be the command's job
+  std::string lease_owner;          // if not empty, must hold the command's lease
+  std::vector<StoredSample> samples;  // at least one
+  std::optional<NewFit> fit;        // stored as version 1
+  // The plan state after this trace. Empty: plan unchanged.
+  std::string new_plan_json;
+  // If > 0 and new_plan_json is set, the stored plan must still be at this
+  // revision (the plan the service updated); otherwise ABORTED, so that two
+  // traces of one job accepted concurrently cannot lose a plan update.
+  int64_t expected_plan_revision = 0;
+  std::vector<NewCommand> new_commands;   // sites the plan added (pending)
+  std::optional<JobState> new_job_state;  // e.g. completed when the plan is done
+  std::vector<NewEvent> events;           // job_id filled in
+};
+
+struct AcceptTraceResult {
+  int64_t trace_id = 0;
+  int64_t fit_id = 0;               // 0 if no fit was stored
+  int64_t plan_revision = 0;        // the plan's revision after the write
+  std::vector<int64_t> new_command_ids;  // empty when already_accepted
+  // True if a trace for this command already existed: nothing was written and
+  // the ids are the stored ones (a rig's retry after a lost reply).
+  bool already_accepted = false;
+};
+
+struct LeaseRequest {
+  int64_t job_id = 0;               // 0: any running job
+  std::string owner;                // the rig; must not be empty
+  int64_t now_unix_ms = 0;
+  int64_t lease_duration_ms = 0;    // > 0
+};
+
+struct JobStateChange {
+  int64_t job_id = 0;
+  JobState new_state = JobState::kRunning;
+  std::vector<NewEvent> events;
+};
+
+// A refit: new fits for existing traces.
+struct TraceFit {
+  int64_t trace_id = 0;
+  NewFit fit;
+};
+
+}  // namespace surfmap

@@ -1,0 +1,153 @@
+#include "storage/schema.h"
+
+#include "absl/strings/str_cat.h"
+
+namespace surfmap {
+namespace {
+
+// Column order: large BLOBs last, so reading the small columns of a row never
+// touches its overflow pages. Every *_json column must hold valid JSON.
+constexpr std::string_view kInitialSchema = R"sql(
+CREATE TABLE objects (
+  id                INTEGER PRIMARY KEY,
+  name              TEXT    NOT NULL,
+  mesh_format       TEXT    NOT NULL CHECK (mesh_format IN ('obj', 'ply')),
+  control_vertices  INTEGER NOT NULL CHECK (control_vertices >= 0),
+  control_faces     INTEGER NOT NULL CHECK (control_faces >= 0),
+  created_unix_ms   INTEGER NOT NULL,
+  mesh_bytes        BLOB    NOT NULL
+);
+
+CREATE TABLE jobs (
+  id                INTEGER PRIMARY KEY,
+  object_id         INTEGER NOT NULL REFERENCES objects (id),
+  state             TEXT    NOT NULL
+                    CHECK (state IN ('running', 'paused', 'completed', 'cancelled')),
+  params_json       TEXT    NOT NULL CHECK (json_valid(params_json)),
+  created_unix_ms   INTEGER NOT NULL,
+  updated_unix_ms   INTEGER NOT NULL
+);
+CREATE INDEX jobs_by_object ON jobs (object_id, id);
+
+CREATE TABLE plans (
+  job_id            INTEGER PRIMARY KEY REFERENCES jobs (id),
+  revision          INTEGER NOT NULL CHECK (revision >= 1),
+  updated_unix_ms   INTEGER NOT NULL,
+  plan_json         TEXT    NOT NULL CHECK (json_valid(plan_json))
+);
+
+CREATE TABLE commands (
+  id                     INTEGER PRIMARY KEY,
+  job_id                 INTEGER NOT NULL REFERENCES jobs (id),
+  site_level             INTEGER NOT NULL CHECK (site_level >= 0),
+  site_vertex            INTEGER NOT NULL CHECK (site_vertex >= 0),
+  state                  TEXT    NOT NULL
+                         CHECK (state IN ('pending', 'leased', 'done', 'failed')),
+  lease_owner            TEXT    NOT NULL DEFAULT '',
+  lease_deadline_unix_ms INTEGER NOT NULL DEFAULT 0,
+  attempt                INTEGER NOT NULL DEFAULT 0,
+  created_unix_ms        INTEGER NOT NULL,
+  command_json           TEXT    NOT NULL CHECK (json_valid(command_json))
+);
+CREATE INDEX commands_by_job ON commands (job_id, id);
+-- Leasing scans only pending and leased commands, oldest first.
+CREATE INDEX commands_leasable ON commands (state, id) WHERE state IN ('pending', 'leased');
+
+CREATE TABLE traces (
+  id                INTEGER PRIMARY KEY,
+  command_id        INTEGER NOT NULL UNIQUE REFERENCES commands (id),
+  job_id            INTEGER NOT NULL REFERENCES jobs (id),
+  n_samples         INTEGER NOT NULL CHECK (n_samples > 0),
+  sample_encoding   INTEGER NOT NULL,
+  received_unix_ms  INTEGER NOT NULL,
+  samples           BLOB    NOT NULL
+);
+CREATE INDEX traces_by_job ON traces (job_id, id);
+
+CREATE TABLE fits (
+  id                INTEGER PRIMARY KEY,
+  trace_id          INTEGER NOT NULL REFERENCES traces (id),
+  version           INTEGER NOT NULL CHECK (version >= 1),
+  estimator_name    TEXT    NOT NULL,
+  estimator_version TEXT    NOT NULL,
+  mu                REAL,
+  a1                REAL,
+  a2                REAL,
+  sigma             REAL,
+  created_unix_ms   INTEGER NOT NULL,
+  options_json      TEXT    NOT NULL CHECK (json_valid(options_json)),
+  result_json       TEXT    NOT NULL CHECK (json_valid(result_json)),
+  UNIQUE (trace_id, version)
+);
+
+-- AUTOINCREMENT: event ids never go back, so "events after id N" is a cursor.
+CREATE TABLE events (
+  id                INTEGER PRIMARY KEY AUTOINCREMENT,
+  job_id            INTEGER REFERENCES jobs (id),
+  unix_ms           INTEGER NOT NULL,
+  kind              TEXT    NOT NULL CHECK (kind <> ''),
+  detail_json       TEXT    NOT NULL CHECK (json_valid(detail_json))
+);
+CREATE INDEX events_by_job ON events (job_id, id);
+)sql";
+
+constexpr Migration kMigrations[] = {
+    {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
+};
+
+}  // namespace
+
+std::span<const Migration> SchemaMigrations() { return kMigrations; }
+
+absl::Status ApplyMigrations(SqliteConnection& db, std::span<const Migration> migrations) {
+  for (size_t i = 0; i < migrations.size(); ++i) {
+    if (migrations[i].version != static_cast<int>(i) + 1) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("migration list entry ", i, " has version ", migrations[i].version,
+                       ", expected ", i + 1));
+    }
+  }
+  const int latest = static_cast<int>(migrations.size());
+
+  absl::StatusOr<int64_t> app_id = db.QueryInt("PRAGMA application_id");
+  if (!app_id.ok()) return app_id.status();
+  if (*app_id != 0 && *app_id != kSurfmapApplicationId) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("database '", db.path(), "' is not a surfmap database (application_id ",
+                     *app_id, ")"));
+  }
+
+  while (true) {
+    // BEGIN IMMEDIATE: read the version under the write lock, so two processes
+    // opening the same new file do not both apply a step.
+    if (absl::Status s = db.Exec("BEGIN IMMEDIATE"); !s.ok()) return s;
+    absl::StatusOr<int64_t> current = db.QueryInt("PRAGMA user_version");
+    if (!current.ok()) {
+      db.Exec("ROLLBACK").IgnoreError();
+      return current.status();
+    }
+    if (*current > latest) {
+      db.Exec("ROLLBACK").IgnoreError();
+      return absl::FailedPreconditionError(absl::StrCat(
+          "database '", db.path(), "' has schema version ", *current,
+          " but this build of surfmap knows versions up to ", latest,
+          "; it was written by a newer surfmap: upgrade surfmap, do not downgrade"));
+    }
+    if (*current == latest) return db.Exec("COMMIT");
+
+    const Migration& step = migrations[*current];
+    absl::Status s = db.Exec(step.sql);
+    if (s.ok()) {
+      s = db.Exec(absl::StrCat("PRAGMA user_version = ", step.version,
+                               "; PRAGMA application_id = ", kSurfmapApplicationId));
+    }
+    if (s.ok()) s = db.Exec("COMMIT");
+    if (!s.ok()) {
+      db.Exec("ROLLBACK").IgnoreError();
+      return absl::Status(s.code(), absl::StrCat("schema migration to version ", step.version,
+                                                 " (", step.description, "): ", s.message()));
+    }
+  }
+}
+
+}  // namespace surfmap

@@ -1,0 +1,98 @@
+// Store: the persistence interface the service uses. SqliteStore
+// (sqlite_store.h) is the implementation; another backend implements this same
+// interface without the service changing.
+//
+// Contract for every implementation:
+// - Thread-safe: any method may be called from any thread concurrently.
+// - Never throws. Errors: NotFound for an unknown id (the message names it),
+//   InvalidArgument for a malformed input (names the field), FailedPrecondition
+//   for a call that is wrong in the current state, Aborted for a lost
+//   optimistic-concurrency race (retry after re-reading), Unavailable for a
+//   retry-able backend failure (busy, I/O, disk full), Internal otherwise.
+// - A write that returns OK (or whose callback receives OK) is durable: it
+//   survives a crash of the process and, per the backend's guarantees, power
+//   loss. A write that fails has written nothing.
+// - Reads see every write that completed before the read started.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "storage/records.h"
+
+namespace surfmap {
+
+class Store {
+ public:
+  using AcceptTraceCallback = std::function<void(absl::StatusOr<AcceptTraceResult>)>;
+  using LeaseCallback = std::function<void(absl::StatusOr<std::optional<CommandRecord>>)>;
+
+  virtual ~Store() = default;
+
+  // ---- Objects ----
+  // mesh_format must be "obj" or "ply", mesh_bytes non-empty. Returns the id.
+  virtual absl::StatusOr<int64_t> CreateObject(const NewObject& object) = 0;
+  virtual absl::StatusOr<ObjectRecord> GetObject(int64_t object_id, bool include_mesh) = 0;
+  // Oldest first, without mesh bytes.
+  virtual absl::StatusOr<std::vector<ObjectRecord>> ListObjects() = 0;
+
+  // ---- Jobs and plans ----
+  // One transaction: the job (state running), its plan (revision 1), its
+  // commands (pending) and events. NotFound if the object does not exist.
+  virtual absl::StatusOr<CreatedJob> CreateJob(const NewJob& job) = 0;
+  virtual absl::StatusOr<JobRecord> GetJob(int64_t job_id) = 0;
+  // object_id 0: all jobs. Oldest first.
+  virtual absl::StatusOr<std::vector<JobRecord>> ListJobs(int64_t object_id) = 0;
+  // FailedPrecondition if the transition is not allowed (IsJobTransitionAllowed).
+  virtual absl::StatusOr<JobRecord> UpdateJobState(const JobStateChange& change) = 0;
+  virtual absl::StatusOr<PlanRecord> GetPlan(int64_t job_id) = 0;
+
+  // ---- Commands ----
+  // Atomically leases the oldest command of a running job (request.job_id, or
+  // any job if 0) that is pending or whose lease has expired (deadline <= now):
+  // a command is never held by two rigs at once. nullopt if there is none.
+  // The callback runs on the store's writer thread once the lease is durable;
+  // it must not block.
+  virtual void LeaseNextCommandAsync(const LeaseRequest& request, LeaseCallback done) = 0;
+  absl::StatusOr<std::optional<CommandRecord>> LeaseNextCommand(const LeaseRequest& request);
+  virtual absl::StatusOr<CommandRecord> GetCommand(int64_t command_id) = 0;
+  // In id order.
+  virtual absl::StatusOr<std::vector<CommandRecord>> ListCommands(int64_t job_id) = 0;
+
+  // ---- Traces ----
+  // One atomic, durable write: the trace, its fit (version 1), the command set
+  // to done, the new plan state, new commands, the job state change, events.
+  // Idempotent on command_id (see AcceptTraceResult::already_accepted).
+  // FailedPrecondition if the command is not leased (or leased by another
+  // owner when request.lease_owner is set), or its job is cancelled/completed.
+  // The callback runs on the store's writer thread once the write is durable
+  // (or has failed); it must not block.
+  virtual void AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallback done) = 0;
+  // Blocks until durable.
+  absl::StatusOr<AcceptTraceResult> AcceptTrace(AcceptTraceRequest request);
+  virtual absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id, bool include_samples) = 0;
+  // In id order (= order of acceptance).
+  virtual absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
+                                                              bool include_samples) = 0;
+
+  // ---- Fits ----
+  // version 0: the latest version for the trace.
+  virtual absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) = 0;
+  // A refit, in one transaction: every fit of the batch gets the same version,
+  // one more than the highest version stored for any trace of the batch.
+  // Each trace at most once per batch. Returns the records in input order.
+  virtual absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceFit>& fits) = 0;
+  // The job's fits of one version, or with version 0 the latest fit of each
+  // trace; in trace order.
+  virtual absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) = 0;
+
+  // ---- Events ----
+  // Events with id > after_id, oldest first, at most limit (> 0). job_id 0: all.
+  virtual absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id,
+                                                              int limit) = 0;
+};
+
+}  // namespace surfmap
