@@ -20,7 +20,7 @@ absl::StatusOr<JobState> ParseJobState(std::string_view name) {
                      JobState::kCancelled}) {
     if (JobStateName(s) == name) return s;
   }
-  return absl::InvalidArgumentError(absl::StrCat("unknown job state '", name, "'"));
+  return absl::InvalidArgumentError(absl::StrCat("unknown job state '", std::string(name), "'"));
 }
 
 bool IsJobTransitionAllowed(JobState from, JobState to) {
@@ -43,7 +43,7 @@ absl::StatusOr<CommandState> ParseCommandState(std::string_view name) {
                          CommandState::kFailed}) {
     if (CommandStateName(s) == name) return s;
   }
-  return absl::InvalidArgumentError(absl::StrCat("unknown command state '", name, "'"));
+  return absl::InvalidArgumentError(absl::StrCat("unknown command state '", std::string(name), "'"));
 }
 
 }  // namespace surfmap

@@ -145,7 +145,7 @@ absl::Status ApplyMigrations(SqliteConnection& db, std::span<const Migration> mi
     if (!s.ok()) {
       db.Exec("ROLLBACK").IgnoreError();
       return absl::Status(s.code(), absl::StrCat("schema migration to version ", step.version,
-                                                 " (", step.description, "): ", s.message()));
+                                                 " (", std::string(step.description), "): ", s.message()));
     }
   }
 }

@@ -9,7 +9,7 @@
 namespace surfmap {
 
 absl::Status SqliteError(int code, std::string_view context, std::string_view sqlite_message) {
-  std::string message = absl::StrCat(context, ": ", sqlite_message);
+  std::string message = absl::StrCat(std::string(context), ": ", std::string(sqlite_message));
   switch (code & 0xff) {
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
@@ -180,7 +180,7 @@ absl::Status SqliteConnection::Exec(std::string_view sql) {
   char* error = nullptr;
   int rc = sqlite3_exec(db_, text.c_str(), nullptr, nullptr, &error);
   if (rc == SQLITE_OK) return absl::OkStatus();
-  absl::Status status = SqliteError(rc, absl::StrCat("executing '", sql.substr(0, 80), "'"),
+  absl::Status status = SqliteError(rc, absl::StrCat("executing '", std::string(sql.substr(0, 80)), "'"),
                                     error != nullptr ? error : sqlite3_errmsg(db_));
   sqlite3_free(error);
   return status;
@@ -193,7 +193,7 @@ absl::StatusOr<SqliteStatement> SqliteConnection::Prepare(std::string_view sql) 
     sqlite3_stmt* stmt = nullptr;
     int rc = sqlite3_prepare_v3(db_, key.data(), static_cast<int>(key.size()),
                                 SQLITE_PREPARE_PERSISTENT, &stmt, nullptr);
-    if (rc != SQLITE_OK) return LastError(rc, absl::StrCat("preparing '", sql, "'"));
+    if (rc != SQLITE_OK) return LastError(rc, absl::StrCat("preparing '", std::string(sql), "'"));
     it = statements_.emplace(std::move(key), stmt).first;
   }
   return SqliteStatement(this, it->second);
@@ -204,7 +204,7 @@ absl::StatusOr<int64_t> SqliteConnection::QueryInt(std::string_view sql) {
   if (!stmt.ok()) return stmt.status();
   absl::StatusOr<bool> row = stmt->Step();
   if (!row.ok()) return row.status();
-  if (!*row) return absl::InternalError(absl::StrCat("'", sql, "' returned no row"));
+  if (!*row) return absl::InternalError(absl::StrCat("'", std::string(sql), "' returned no row"));
   return stmt->ColumnInt(0);
 }
 

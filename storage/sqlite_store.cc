@@ -34,14 +34,14 @@ int64_t SystemNowUnixMs() {
 }
 
 // Adds context to an error without changing its code.
-absl::Status Annotate(const absl::Status& status, std::string_view context) {
+absl::Status Annotate(const absl::Status& status, absl::string_view context) {
   if (status.ok()) return status;
   return absl::Status(status.code(), absl::StrCat(context, ": ", status.message()));
 }
 
 // ---- Row readers (column lists and readers kept side by side) ----
 
-constexpr std::string_view kObjectColumns =
+constexpr char kObjectColumns[] =
     "id, name, mesh_format, control_vertices, control_faces, created_unix_ms";
 
 ObjectRecord ReadObject(const SqliteStatement& s) {
@@ -55,7 +55,7 @@ ObjectRecord ReadObject(const SqliteStatement& s) {
   return r;
 }
 
-constexpr std::string_view kJobColumns =
+constexpr char kJobColumns[] =
     "id, object_id, state, params_json, created_unix_ms, updated_unix_ms";
 
 absl::StatusOr<JobRecord> ReadJob(const SqliteStatement& s) {
@@ -69,7 +69,7 @@ absl::StatusOr<JobRecord> ReadJob(const SqliteStatement& s) {
   return r;
 }
 
-constexpr std::string_view kCommandColumns =
+constexpr char kCommandColumns[] =
     "id, job_id, site_level, site_vertex, command_json, state, lease_owner, "
     "lease_deadline_unix_ms, attempt, created_unix_ms";
 
@@ -89,7 +89,7 @@ absl::StatusOr<CommandRecord> ReadCommand(const SqliteStatement& s) {
 }
 
 // Column 6 (samples) is selected only when samples are wanted.
-constexpr std::string_view kTraceColumns =
+constexpr char kTraceColumns[] =
     "id, command_id, job_id, n_samples, sample_encoding, received_unix_ms";
 
 absl::StatusOr<TraceRecord> ReadTrace(const SqliteStatement& s, bool with_samples) {
@@ -115,7 +115,7 @@ absl::StatusOr<TraceRecord> ReadTrace(const SqliteStatement& s, bool with_sample
   return r;
 }
 
-constexpr std::string_view kFitColumns =
+constexpr char kFitColumns[] =
     "id, trace_id, version, estimator_name, estimator_version, options_json, result_json, "
     "mu, a1, a2, sigma, created_unix_ms";
 
@@ -136,7 +136,7 @@ FitRecord ReadFit(const SqliteStatement& s) {
   return r;
 }
 
-constexpr std::string_view kEventColumns = "id, job_id, unix_ms, kind, detail_json";
+constexpr char kEventColumns[] = "id, job_id, unix_ms, kind, detail_json";
 
 EventRecord ReadEvent(const SqliteStatement& s) {
   EventRecord r;
@@ -176,7 +176,7 @@ absl::Status ValidateEvents(const std::vector<NewEvent>& events) {
   return absl::OkStatus();
 }
 
-absl::Status ValidateFit(const NewFit& fit, std::string_view where) {
+absl::Status ValidateFit(const NewFit& fit, const std::string& where) {
   if (fit.estimator_name.empty()) {
     return absl::InvalidArgumentError(absl::StrCat(where, ".estimator_name is empty"));
   }
@@ -229,7 +229,7 @@ absl::Status InsertEvents(SqliteConnection& db, int64_t job_id,
 
 absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_t job_id,
                                                     const std::vector<NewCommand>& commands,
-                                                    int64_t now, std::string_view field) {
+                                                    int64_t now, const std::string& field) {
   std::vector<int64_t> ids;
   ids.reserve(commands.size());
   for (size_t i = 0; i < commands.size(); ++i) {
@@ -270,13 +270,13 @@ absl::StatusOr<int64_t> InsertFit(SqliteConnection& db, int64_t trace_id, int32_
 absl::Status SetJobState(SqliteConnection& db, const JobRecord& job, JobState to, int64_t now) {
   if (!IsJobTransitionAllowed(job.state, to)) {
     return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " cannot go from ",
-                                                      JobStateName(job.state), " to ",
-                                                      JobStateName(to)));
+                                                      std::string(JobStateName(job.state)), " to ",
+                                                      std::string(JobStateName(to))));
   }
   SURFMAP_ASSIGN_OR_RETURN(
       SqliteStatement stmt,
       db.Prepare("UPDATE jobs SET state = ?2, updated_unix_ms = ?3 WHERE id = ?1"));
-  stmt.BindInt(1, job.id).BindText(2, JobStateName(to)).BindInt(3, now);
+  stmt.BindInt(1, job.id).BindText(2, std::string(JobStateName(to))).BindInt(3, now);
   return stmt.Run();
 }
 
@@ -332,12 +332,12 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
   SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
   if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
     return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ",
-                                                      JobStateName(job.state),
+                                                      std::string(JobStateName(job.state)),
                                                       ": it takes no more traces"));
   }
   if (command.state != CommandState::kLeased) {
     return absl::FailedPreconditionError(
-        absl::StrCat("command ", command.id, " is ", CommandStateName(command.state),
+        absl::StrCat("command ", command.id, " is ", std::string(CommandStateName(command.state)),
                      ", not leased: only a leased command's trace is accepted"));
   }
   if (!req.lease_owner.empty() && req.lease_owner != command.lease_owner) {
@@ -354,8 +354,8 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
   }
   if (req.new_job_state.has_value() && !IsJobTransitionAllowed(job.state, *req.new_job_state)) {
     return absl::FailedPreconditionError(absl::StrCat(
-        "job ", job.id, " cannot go from ", JobStateName(job.state), " to ",
-        JobStateName(*req.new_job_state)));
+        "job ", job.id, " cannot go from ", std::string(JobStateName(job.state)), " to ",
+        std::string(JobStateName(*req.new_job_state))));
   }
 
   // All checks passed: the writes.
@@ -401,9 +401,11 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
 // ---- Open / close ----
 
 SqliteStore::SqliteStore(std::string path, SqliteStoreOptions options,
+                         std::unique_ptr<WalCheckpointer> checkpointer,
                          std::unique_ptr<GroupCommitWriter> writer)
     : path_(std::move(path)),
       options_(std::move(options)),
+      checkpointer_(std::move(checkpointer)),
       writer_(std::move(writer)),
       readers_(path_, options_.read_connections, options_.busy_timeout_ms) {}
 
@@ -421,9 +423,13 @@ absl::StatusOr<std::unique_ptr<SqliteStore>> SqliteStore::Open(const std::string
   SURFMAP_ASSIGN_OR_RETURN(std::unique_ptr<SqliteConnection> db,
                            SqliteConnection::Open(path, open_options));
   SURFMAP_RETURN_IF_ERROR(ApplyMigrations(*db, SchemaMigrations()));
+  std::unique_ptr<WalCheckpointer> checkpointer;
+  if (options.background_checkpoint) {
+    SURFMAP_ASSIGN_OR_RETURN(checkpointer, WalCheckpointer::Start(path, *db, options.checkpoint));
+  }
   auto writer = std::make_unique<GroupCommitWriter>(std::move(db), options.writer);
-  return std::unique_ptr<SqliteStore>(
-      new SqliteStore(path, std::move(options), std::move(writer)));
+  return std::unique_ptr<SqliteStore>(new SqliteStore(
+      path, std::move(options), std::move(checkpointer), std::move(writer)));
 }
 
 // ---- Objects ----

@@ -20,6 +20,7 @@
 #include "storage/group_commit_writer.h"
 #include "storage/read_connection_pool.h"
 #include "storage/store.h"
+#include "storage/wal_checkpointer.h"
 
 namespace surfmap {
 
@@ -30,6 +31,10 @@ struct SqliteStoreOptions {
   // Time source for created/updated/received stamps (ms since the epoch).
   // Default: the system clock.
   std::function<int64_t()> clock;
+  // Checkpoint the WAL on a background thread (wal_checkpointer.h) instead of
+  // on the writer thread after a commit (SQLite's default).
+  bool background_checkpoint = true;
+  WalCheckpointOptions checkpoint;
 };
 
 class SqliteStore : public Store {
@@ -74,11 +79,15 @@ class SqliteStore : public Store {
 
  private:
   SqliteStore(std::string path, SqliteStoreOptions options,
+              std::unique_ptr<WalCheckpointer> checkpointer,
               std::unique_ptr<GroupCommitWriter> writer);
   int64_t Now() const { return options_.clock(); }
 
   const std::string path_;
   const SqliteStoreOptions options_;
+  // Declared before writer_: the writer (and its connection, which calls the
+  // checkpointer's hook) is destroyed first.
+  std::unique_ptr<WalCheckpointer> checkpointer_;
   std::unique_ptr<GroupCommitWriter> writer_;
   ReadConnectionPool readers_;
 };

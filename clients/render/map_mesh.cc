@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 
+#include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
 
 namespace surfmap {

@@ -8,7 +8,7 @@ namespace surfmap {
 
 ViewCamera ViewCamera::Frame(const Eigen::AlignedBox3d& box, const ViewCameraSpec& spec, int width, int height) {
   ViewCamera cam;
-  cam.center_ = box.isEmpty() ? Eigen::Vector3d::Zero() : box.center();
+  cam.center_ = box.isEmpty() ? Eigen::Vector3d::Zero().eval() : Eigen::Vector3d(box.center());
   cam.radius_ = box.isEmpty() ? 1.0 : std::max(0.5 * box.diagonal().norm(), 1e-9);
   cam.forward_ = spec.view_direction.normalized();
   Eigen::Vector3d up = spec.up;

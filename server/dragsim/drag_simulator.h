@@ -23,6 +23,7 @@
 #include "absl/status/statusor.h"
 #include "server/dragsim/drag_geometry.h"
 #include "server/dragsim/material.h"
+#include "server/dragsim/roughness_field.h"
 #include "server/estimate/drag_trace.h"
 
 namespace surfmap {
@@ -36,6 +37,7 @@ struct DragSimOptions {
   double pause_s = 0.5;
   double ramp_s = 0.3;              // half-cosine acceleration / deceleration time
   double roughness_step_mm = 0.1;   // grid of the roughness field
+  RoughnessInterpolation roughness_interpolation = RoughnessInterpolation::kNearest;
 
   // Disturbances (0 = off).
   double speed_jitter = 0.03;            // relative speed variation (three slow sines)
@@ -76,7 +78,9 @@ struct DragSimResult {
 };
 
 // INVALID_ARGUMENT for invalid options, an invalid geometry
-// (ValidateDragGeometry) or a geometry shorter than length_mm.
+// (ValidateDragGeometry) or a geometry shorter than length_mm (by more than
+// 0.1%, which covers a polyline's chord error on a curve; the drag then ends
+// at the end of the geometry).
 absl::StatusOr<DragSimResult> SimulateDrag(const DragGeometry& geometry,
                                            const MaterialField& material,
                                            const DragSimOptions& options);

@@ -7,8 +7,9 @@
 namespace surfmap {
 
 RoughnessField::RoughnessField(const GeometryPath& path, const MaterialField& material,
-                               double step_mm, std::uint64_t seed)
-    : step_mm_(step_mm) {
+                               double step_mm, std::uint64_t seed,
+                               RoughnessInterpolation interpolation)
+    : step_mm_(step_mm), interpolation_(interpolation) {
   std::mt19937_64 rng(seed);
   std::normal_distribution<double> gauss(0.0, 1.0);
   const int n = static_cast<int>(std::ceil(path.length_mm() / step_mm)) + 1;
@@ -34,6 +35,9 @@ RoughnessField::RoughnessField(const GeometryPath& path, const MaterialField& ma
 
 double RoughnessField::At(double s) const {
   const double x = std::clamp(s / step_mm_, 0.0, static_cast<double>(values_.size() - 1));
+  if (interpolation_ == RoughnessInterpolation::kNearest) {
+    return values_[static_cast<std::size_t>(std::lround(x))];
+  }
   const std::size_t k = std::min(static_cast<std::size_t>(x), values_.size() - 2);
   const double w = x - k;
   return (1.0 - w) * values_[k] + w * values_[k + 1];

@@ -1,6 +1,7 @@
 #include "server/estimate/drag_passes.h"
 
 #include <cmath>
+#include <string>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -24,8 +25,8 @@ absl::StatusOr<DragPasses> SplitDragPasses(const DragTrace& trace) {
       }
       if (static_cast<int>(s.phase) < static_cast<int>(samples[i - 1].phase)) {
         return absl::InvalidArgumentError(
-            absl::StrCat("sample ", i, ": phase '", DragPhaseName(s.phase), "' after '",
-                         DragPhaseName(samples[i - 1].phase),
+            absl::StrCat("sample ", i, ": phase '", std::string(DragPhaseName(s.phase)), "' after '",
+                         std::string(DragPhaseName(samples[i - 1].phase)),
                          "': phases must come in the order fwd, pause, rev"));
       }
     }

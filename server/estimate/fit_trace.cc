@@ -53,7 +53,7 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   fit.max_retrace_offset_mm = pairing->max_offset_mm;
   fit.noise_std = PauseNoiseStd(pause);
 
-  absl::StatusOr<Eigen::VectorXd> series =
+  absl::StatusOr<std::vector<Eigen::VectorXd>> series =
       ForceVariationSeries(forward, reverse, *pairing, fit.friction, options.step_mm);
   if (!series.ok()) return series.status();
   ArFitOptions ar;
@@ -62,7 +62,7 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   ar.step_mm = options.step_mm;
   if (options.noise_aware) {
     const double mu = fit.friction.mu;
-    ar.noise_variance = fit.noise_std * fit.noise_std * (1.0 + mu * mu) / 2.0;
+    ar.noise_variance = fit.noise_std * fit.noise_std * (1.0 + mu * mu);
   }
   absl::StatusOr<ArFit> roughness = FitAutoregressive(*series, ar);
   if (!roughness.ok()) {

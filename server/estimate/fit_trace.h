@@ -54,9 +54,10 @@ struct TraceFit {
 // window, invalid options; a roughness fit that fails comes back with
 // "roughness fit: " before FitAutoregressive's message.
 //
-// Roughness: ForceVariationSeries averages the two passes, so with
-// noise_aware the noise variance passed on is noise_std^2 * (1 + mu^2) / 2
-// (the tangential and mu-scaled normal noise add; averaging halves it).
+// Roughness: FitAutoregressive on the two segments of ForceVariationSeries
+// (forward and reverse pass); with noise_aware the noise variance passed on
+// is noise_std^2 * (1 + mu^2): the variation |f_t| - mu f_n carries the
+// tangential noise plus mu times the normal noise.
 absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& options);
 
 }  // namespace surfmap

@@ -66,15 +66,17 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     int k;
     double w;
     grid_bracket.Locate(start + g * step, pos_key, &k, &w);
-    const int k1 = std::min(k + 1, nv - 1);
-    out[g] = (1.0 - w) * val[k] + w * val[k1];
+    // Nearest sample, not linear interpolation: the probe samples about
+    // every grid step, and interpolating between neighbours at a fractional
+    // offset would low-pass the texture (a1 of rubber 0.6 read as ~1.2).
+    out[g] = val[w < 0.5 ? k : std::min(k + 1, nv - 1)];
   }
   Detrend(out, grid);
 }
 
 }  // namespace
 
-absl::StatusOr<Eigen::VectorXd> ForceVariationSeries(std::span<const DragSample> forward,
+absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm) {
@@ -88,45 +90,29 @@ absl::StatusOr<Eigen::VectorXd> ForceVariationSeries(std::span<const DragSample>
   }
   const int nf = static_cast<int>(forward.size());
   const int nr = static_cast<int>(reverse.size());
-  std::vector<double> pos, val, reverse_series(grid);
+  std::vector<double> pos, val;
   pos.reserve(std::max(nf, nr));
   val.reserve(std::max(nf, nr));
-  Eigen::VectorXd series(grid);
+  std::vector<Eigen::VectorXd> series(2, Eigen::VectorXd(grid));
   ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, start, step_mm,
-               grid, pos, val, series.data());
+               grid, pos, val, series[0].data());
   ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction,
-               start, step_mm, grid, pos, val, reverse_series.data());
-  for (int g = 0; g < grid; ++g) series[g] = 0.5 * (series[g] + reverse_series[g]);
+               start, step_mm, grid, pos, val, series[1].data());
   return series;
 }
 
 double PauseNoiseStd(std::span<const DragSample> pause) {
   const int n = static_cast<int>(pause.size());
   if (n < 3) return 0.0;
-  double total = 0.0;
-  const double t0 = pause[0].t;
-  for (int axis = 0; axis < 3; ++axis) {
-    double mt = 0.0, mf = 0.0;
-    for (const DragSample& s : pause) {
-      mt += s.t - t0;
-      mf += s.force[axis];
-    }
-    mt /= n;
-    mf /= n;
-    double stt = 0.0, stf = 0.0;
-    for (const DragSample& s : pause) {
-      stt += (s.t - t0 - mt) * (s.t - t0 - mt);
-      stf += (s.t - t0 - mt) * (s.force[axis] - mf);
-    }
-    const double slope = stt > 0.0 ? stf / stt : 0.0;
-    double ss = 0.0;
-    for (const DragSample& s : pause) {
-      const double r = s.force[axis] - mf - slope * (s.t - t0 - mt);
-      ss += r * r;
-    }
-    total += ss / (n - 2);  // two parameters fitted per axis
-  }
-  return std::sqrt(total / 3.0);
+  // var(f[i+1] - f[i]) = 2 var(noise) for white noise; a slow trend adds
+  // only its squared increment.
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (int i = 1; i < n; ++i) mean += pause[i].force - pause[i - 1].force;
+  mean /= n - 1;
+  double ss = 0.0;
+  for (int i = 1; i < n; ++i) ss += (pause[i].force - pause[i - 1].force - mean).squaredNorm();
+  const double per_axis_variance = ss / (3.0 * (n - 2)) / 2.0;
+  return std::sqrt(per_axis_variance);
 }
 
 }  // namespace surfmap

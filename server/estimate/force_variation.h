@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
@@ -17,20 +18,26 @@ namespace surfmap {
 // (interpolated at the sample's arc length) and mu the fitted friction.
 // Normal-force changes (force-control transients, vibration) scale friction
 // too, so they cancel here; what is left is texture plus sensor noise.
-// Each pass is resampled (linear interpolation) on the grid
-// window_start + k * step_mm and detrended (least-squares line removed); the
-// result is the mean of the two passes at each grid point. The reverse pass
-// feels the same realisation of the texture, so it is not independent data:
-// averaging keeps the texture and halves the noise variance.
-// INVALID_ARGUMENT when the window holds fewer than 2 grid points.
-absl::StatusOr<Eigen::VectorXd> ForceVariationSeries(std::span<const DragSample> forward,
+// Each pass is resampled on the grid window_start + k * step_mm by taking the
+// nearest sample (the probe samples about once per grid step; linear
+// interpolation at drifting fractional offsets would low-pass the texture and
+// bias the AR fit towards a smoother process) and detrended (least-squares
+// line removed). Returns two segments, forward then reverse, both increasing
+// in arc length, for the multi-segment FitAutoregressive. They see the same
+// realisation of the texture (so they are not independent data), with
+// independent noise. INVALID_ARGUMENT when the window holds fewer than 2 grid
+// points.
+absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm);
 
-// Standard deviation of the force during the pause, per axis after removing a
-// least-squares line in time (the residual tangential force relaxes), combined
-// as sqrt(mean of the three variances); N. 0 when the pause has < 3 samples.
+// White sensor noise of the force during the pause, N: per axis the
+// standard deviation of first differences over sqrt(2), combined as
+// sqrt(mean of the three variances). Differencing detrends: the residual
+// tangential force relaxing and the force controller's slow wander (which a
+// straight line does not remove) drop out, white noise stays. 0 when the
+// pause has < 3 samples.
 double PauseNoiseStd(std::span<const DragSample> pause);
 
 }  // namespace surfmap

@@ -78,6 +78,11 @@ absl::StatusOr<ArFit> FitAutoregressive(const Eigen::VectorXd& series, const ArF
   return FitAutoregressive(std::vector<Eigen::VectorXd>{series}, options);
 }
 
+absl::StatusOr<ArFit> FitAutoregressive(std::initializer_list<Eigen::VectorXd> segments,
+                                        const ArFitOptions& options) {
+  return FitAutoregressive(std::vector<Eigen::VectorXd>(segments), options);
+}
+
 absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segments,
                                         const ArFitOptions& options) {
   std::string why;

@@ -13,6 +13,7 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
 #include <optional>
 #include <string>
 #include <vector>
@@ -51,7 +52,8 @@ struct ArFitOptions {
   // Both are the Yule-Walker "subtract the noise from lag 0" correction carried
   // into the respective estimator, and consistent when the noise is white.
   double noise_variance = 0.0;
-  int acf_max_lag = 0;              // >= 0; 0 = min(n/4, 200)
+  // >= 0; 0 = min(n/4, 200). Clamped to the shortest segment's length - 1.
+  int acf_max_lag = 0;
   // False (with a reason in *why, if given) for order outside 1..20, step_mm
   // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0.
   bool IsValid(std::string* why) const;
@@ -62,8 +64,9 @@ struct ArFit {
   // Asymptotic standard errors of a1..ap. Burg: sqrt of the diagonal of
   // sigma^2 Gamma_p^-1 / n, Gamma_p the p x p autocovariance (Toeplitz) matrix
   // of the fitted model. Least squares: s^2 (X^T X)^-1 with s^2 = RSS / (rows - p)
-  // (noise-aware: (X^T X - rows noise_variance I)^-1). Neither includes the
-  // extra spread the noise correction adds.
+  // (noise-aware: s^2 (X^T X - rows noise_variance I)^-1, s^2 the residual
+  // variance, noise included). Neither includes the extra spread the noise
+  // correction adds, so treat them as lower bounds when noise_variance > 0.
   std::vector<double> a_stderr;
   double sigma = 0.0;               // innovation standard deviation, N
   // Process variance: the pooled lag-0 sample autocovariance of the
@@ -110,6 +113,11 @@ absl::StatusOr<ArFit> FitAutoregressive(const Eigen::VectorXd& series, const ArF
 // no segments, a segment of <= order samples, fewer than 4 * (order + 1)
 // samples in all, non-finite values, zero variance.
 absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segments,
+                                        const ArFitOptions& options);
+// Same, for a braced list: FitAutoregressive({forward, reverse}, options)
+// (without this overload such a call would be ambiguous, as Eigen::VectorXd
+// has a two-argument constructor).
+absl::StatusOr<ArFit> FitAutoregressive(std::initializer_list<Eigen::VectorXd> segments,
                                         const ArFitOptions& options);
 
 // Sample autocorrelation r(0..max_lag) of a (mean-removed inside) series,

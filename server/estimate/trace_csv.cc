@@ -20,6 +20,9 @@ constexpr std::array<std::string_view, kColumnCount> kColumnNames = {
     "t", "x", "y", "z", "fx", "fy", "fz", "phase"};
 constexpr std::string_view kExpectedHeader = "t,x,y,z,fx,fy,fz,phase";
 
+// This abseil build's absl::string_view is not std::string_view.
+absl::string_view A(std::string_view s) { return absl::string_view(s.data(), s.size()); }
+
 std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t')) s.remove_prefix(1);
   while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r')) s.remove_suffix(1);
@@ -53,7 +56,7 @@ class LineError {
  public:
   LineError(std::string_view source) : source_(source) {}
   absl::Status operator()(int line, std::string_view problem) const {
-    return absl::InvalidArgumentError(absl::StrCat(source_, ":", line, ": ", problem));
+    return absl::InvalidArgumentError(absl::StrCat(A(source_), ":", line, ": ", A(problem)));
   }
 
  private:
@@ -91,11 +94,11 @@ absl::StatusOr<DragTrace> ParseTraceCsv(std::string_view text, std::string_view 
       if (!first.empty() &&
           std::from_chars(first.data(), first.data() + first.size(), probe).ec == std::errc()) {
         return error(line_number, absl::StrCat("missing header line (found data; expected ",
-                                               kExpectedHeader, ")"));
+                                               A(kExpectedHeader), ")"));
       }
       if (count > kColumnCount) {
         return error(line_number, absl::StrCat("header has ", count, " columns, expected the ",
-                                               kColumnCount, " columns ", kExpectedHeader));
+                                               kColumnCount, " columns ", A(kExpectedHeader)));
       }
       field_of_column.fill(-1);
       for (std::size_t f = 0; f < count; ++f) {
@@ -104,18 +107,18 @@ absl::StatusOr<DragTrace> ParseTraceCsv(std::string_view text, std::string_view 
           if (fields[f] == kColumnNames[c]) column = c;
         }
         if (column < 0) {
-          return error(line_number, absl::StrCat("header: unknown column '", fields[f],
-                                                 "' (expected ", kExpectedHeader, ")"));
+          return error(line_number, absl::StrCat("header: unknown column '", A(fields[f]),
+                                                 "' (expected ", A(kExpectedHeader), ")"));
         }
         if (field_of_column[column] >= 0) {
-          return error(line_number, absl::StrCat("header: duplicate column '", fields[f], "'"));
+          return error(line_number, absl::StrCat("header: duplicate column '", A(fields[f]), "'"));
         }
         field_of_column[column] = static_cast<int>(f);
       }
       for (int c = 0; c < kColumnCount; ++c) {
         if (field_of_column[c] < 0) {
-          return error(line_number, absl::StrCat("header: missing column '", kColumnNames[c],
-                                                 "' (expected ", kExpectedHeader, ")"));
+          return error(line_number, absl::StrCat("header: missing column '", A(kColumnNames[c]),
+                                                 "' (expected ", A(kExpectedHeader), ")"));
         }
       }
       have_header = true;
@@ -129,26 +132,26 @@ absl::StatusOr<DragTrace> ParseTraceCsv(std::string_view text, std::string_view 
     for (int c = 0; c < kPhase; ++c) {
       const std::string_view field = fields[field_of_column[c]];
       if (field.empty()) {
-        return error(line_number, absl::StrCat("column '", kColumnNames[c], "' is empty"));
+        return error(line_number, absl::StrCat("column '", A(kColumnNames[c]), "' is empty"));
       }
       const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), values[c]);
       if (ec == std::errc::result_out_of_range) {
-        return error(line_number, absl::StrCat("column '", kColumnNames[c], "': '", field,
+        return error(line_number, absl::StrCat("column '", A(kColumnNames[c]), "': '", A(field),
                                                "' is out of the range of a double"));
       }
       if (ec != std::errc() || end != field.data() + field.size()) {
-        return error(line_number, absl::StrCat("column '", kColumnNames[c], "': '", field,
+        return error(line_number, absl::StrCat("column '", A(kColumnNames[c]), "': '", A(field),
                                                "' is not a number"));
       }
       if (!std::isfinite(values[c])) {
-        return error(line_number, absl::StrCat("column '", kColumnNames[c], "': '", field,
+        return error(line_number, absl::StrCat("column '", A(kColumnNames[c]), "': '", A(field),
                                                "' is not finite"));
       }
     }
     const std::string_view phase_name = fields[field_of_column[kPhase]];
     const std::optional<DragPhase> phase = PhaseFromName(phase_name);
     if (!phase) {
-      return error(line_number, absl::StrCat("unknown phase '", phase_name,
+      return error(line_number, absl::StrCat("unknown phase '", A(phase_name),
                                              "' (expected fwd, pause or rev)"));
     }
     if (!trace.samples.empty()) {
@@ -159,11 +162,11 @@ absl::StatusOr<DragTrace> ParseTraceCsv(std::string_view text, std::string_view 
       }
       if (static_cast<int>(*phase) < static_cast<int>(previous_phase)) {
         return error(line_number,
-                     absl::StrCat("phase '", phase_name, "' after '", DragPhaseName(previous_phase),
+                     absl::StrCat("phase '", A(phase_name), "' after '", A(DragPhaseName(previous_phase)),
                                   "': phases must come in the order fwd, pause, rev"));
       }
     } else if (*phase != DragPhase::kForward) {
-      return error(line_number, absl::StrCat("first sample has phase '", phase_name,
+      return error(line_number, absl::StrCat("first sample has phase '", A(phase_name),
                                              "': a trace starts with its forward (fwd) pass"));
     }
     previous_t = values[kT];
@@ -180,7 +183,7 @@ absl::StatusOr<DragTrace> ParseTraceCsv(std::string_view text, std::string_view 
 
   const int last_line = line_number == 0 ? 1 : line_number;
   if (!have_header) {
-    return error(last_line, absl::StrCat("missing header line (expected ", kExpectedHeader, ")"));
+    return error(last_line, absl::StrCat("missing header line (expected ", A(kExpectedHeader), ")"));
   }
   if (!have_forward) return error(last_line, "end of input: no forward (fwd) samples");
   if (!have_reverse) return error(last_line, "end of input: no reverse (rev) samples");

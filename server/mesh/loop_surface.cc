@@ -68,27 +68,45 @@ class OsdErrorCapture {
   std::string* previous_;
 };
 
-// The primvar type OpenSubdiv's PrimvarRefiner interpolates.
-struct Point3 {
-  double x = 0, y = 0, z = 0;
-  void Clear(void* = nullptr) { x = y = z = 0; }
-  void AddWithWeight(const Point3& src, double weight) {
-    x += weight * src.x;
-    y += weight * src.y;
-    z += weight * src.z;
-  }
-  Eigen::Vector3d ToEigen() const { return {x, y, z}; }
+// PrimvarRefiner writes through `dst[i].Clear()` and
+// `dst[i].AddWithWeight(src[j], w)`: these views let it work directly in the
+// levels' Eigen arrays (no staging copies: on large meshes memory first-touch
+// is a large part of Create's cost).
+class Vec3Ref {
+ public:
+  explicit Vec3Ref(Eigen::Vector3d* p) : p_(p) {}
+  void Clear(void* = nullptr) const { p_->setZero(); }
+  void AddWithWeight(const Vec3Ref& src, double weight) const { *p_ += weight * *src.p_; }
+
+ private:
+  Eigen::Vector3d* p_;
 };
+
+class Vec3View {
+ public:
+  explicit Vec3View(Eigen::Vector3d* data) : data_(data) {}
+  Vec3Ref operator[](int i) const { return Vec3Ref(data_ + i); }
+
+ private:
+  Eigen::Vector3d* data_;
+};
+
+// Unit normal of a triangle of `positions` (zero for a degenerate one).
+Eigen::Vector3d TriangleNormal(const std::vector<Eigen::Vector3d>& positions, const std::array<int, 3>& t) {
+  const Eigen::Vector3d& a = positions[t[0]];
+  const Eigen::Vector3d n = (positions[t[1]] - a).cross(positions[t[2]] - a);
+  const double norm = n.norm();
+  return norm > 0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::Zero();
+}
 
 }  // namespace
 
 struct LoopSurface::Impl {
   int max_level = 0;
   std::vector<SurfaceLevel> levels;
-  TriangleBvh finest_tree;
-  // Per finest triangle: unit normal of the flat triangle (limit positions) and
-  // bit i set when edge (v[i], v[i+1]) lies on an open boundary.
-  std::vector<Eigen::Vector3d> finest_face_normals;
+  TriangleBvh finest_tree;  // over levels.back()'s limit positions and triangles
+  // Per finest triangle: bit i set when edge (v[i], v[i+1]) lies on an open
+  // boundary.
   std::vector<std::uint8_t> finest_boundary_edges;
 };
 
@@ -130,9 +148,10 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
   descriptor.vertIndicesPerFace = face_vertices.data();
 
   Sdc::Options sdc_options;
-  // EDGE_AND_CORNER keeps the corners of open meshes (a plate's corners,
-  // valence-2 boundary vertices) on the surface: the measured region then
-  // covers the whole part instead of a rounded-off inset. Closed meshes are
+  // EDGE_AND_CORNER keeps the corners of open meshes on the surface (a
+  // boundary vertex with a single face stays put; EDGE_ONLY would round it
+  // off), so a plate's sampled region covers the whole plate up to its
+  // corners. Boundary edges are interpolated either way; closed meshes are
   // unaffected.
   sdc_options.SetVtxBoundaryInterpolation(Sdc::Options::VTX_BOUNDARY_EDGE_AND_CORNER);
   using Factory = Far::TopologyRefinerFactory<Far::TopologyDescriptor>;
@@ -175,37 +194,19 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
     }
   }
 
-  // Refined positions of all levels, back to back.
-  std::vector<std::size_t> level_offset(max_level + 2, 0);
-  for (int k = 0; k <= max_level; ++k) level_offset[k + 1] = level_offset[k] + refiner->GetLevel(k).GetNumVertices();
-  std::vector<Point3> refined(level_offset.back());
-  for (int v = 0; v < num_control_vertices; ++v) {
-    refined[v] = {control.positions[v].x(), control.positions[v].y(), control.positions[v].z()};
-  }
-  Far::PrimvarRefinerReal<double> primvar(*refiner);
-  for (int k = 1; k <= max_level; ++k) {
-    Point3* src = refined.data() + level_offset[k - 1];
-    Point3* dst = refined.data() + level_offset[k];
-    primvar.Interpolate(k, src, dst);
-  }
-  // Limit positions and tangents at the finest level; a vertex's limit is the
-  // same at every level, so coarser levels copy a prefix.
-  const int num_finest = refiner->GetLevel(max_level).GetNumVertices();
-  std::vector<Point3> limit(num_finest), tangent1(num_finest), tangent2(num_finest);
-  primvar.Limit(refined.data() + level_offset[max_level], limit, tangent1, tangent2);
-  if (!osd_errors.errors().empty()) {
-    return absl::InternalError(absl::StrCat("OpenSubdiv limit evaluation failed: ", osd_errors.errors()));
-  }
-
+  // Topology and refined positions per level, written in place.
+  const Far::PrimvarRefinerReal<double> primvar(*refiner);
   for (int k = 0; k <= max_level; ++k) {
     const Far::TopologyLevel& topology = refiner->GetLevel(k);
     SurfaceLevel& level = impl.levels[k];
     const int num_vertices = topology.GetNumVertices();
     level.positions.resize(num_vertices);
-    level.limit_positions.resize(num_vertices);
-    for (int v = 0; v < num_vertices; ++v) {
-      level.positions[v] = refined[level_offset[k] + v].ToEigen();
-      level.limit_positions[v] = limit[v].ToEigen();
+    if (k == 0) {
+      level.positions = control.positions;
+    } else {
+      Vec3View src(impl.levels[k - 1].positions.data());
+      Vec3View dst(level.positions.data());
+      primvar.Interpolate(k, src, dst);
     }
     level.triangles.resize(topology.GetNumFaces());
     for (int f = 0; f < topology.GetNumFaces(); ++f) {
@@ -221,10 +222,10 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
     for (int v = 0; v < num_vertices; ++v) {
       const Far::ConstIndexArray ve = topology.GetVertexEdges(v);
       std::vector<int>& around = level.neighbors[v];
-      around.reserve(ve.size());
+      around.resize(ve.size());
       for (int i = 0; i < ve.size(); ++i) {
         const std::array<int, 2>& edge = level.edges[ve[i]];
-        around.push_back(edge[0] == v ? edge[1] : edge[0]);
+        around[i] = edge[0] == v ? edge[1] : edge[0];
       }
       std::sort(around.begin(), around.end());
     }
@@ -234,46 +235,51 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
     }
     if (k > 0) {
       const int num_parent_vertices = refiner->GetLevel(k - 1).GetNumVertices();
-      level.parent_edge.resize(num_vertices, -1);
+      level.parent_edge.assign(num_vertices, -1);
       for (int v = num_parent_vertices; v < num_vertices; ++v) level.parent_edge[v] = v - num_parent_vertices;
     }
   }
 
-  // Normals: the cross product of the limit tangents. Its sign is checked
-  // against the area-weighted normal of the finest limit triangles around the
-  // vertex, which follows the counter-clockwise-from-outside winding; the
-  // latter also stands in where the tangents degenerate.
+  // Limit positions and tangents at the finest level (the first tangent goes
+  // straight into limit_normals, which becomes the normal below). A vertex's
+  // limit is the same at every level, so coarser levels copy a prefix.
   SurfaceLevel& finest = impl.levels[max_level];
-  std::vector<Eigen::Vector3d> face_sum(num_finest, Eigen::Vector3d::Zero());
-  impl.finest_face_normals.resize(finest.triangles.size());
-  for (std::size_t f = 0; f < finest.triangles.size(); ++f) {
-    const auto& t = finest.triangles[f];
-    const Eigen::Vector3d& a = finest.limit_positions[t[0]];
-    const Eigen::Vector3d twice_area_normal =
-        (finest.limit_positions[t[1]] - a).cross(finest.limit_positions[t[2]] - a);
-    for (int i = 0; i < 3; ++i) face_sum[t[i]] += twice_area_normal;
-    const double norm = twice_area_normal.norm();
-    impl.finest_face_normals[f] = norm > 0 ? Eigen::Vector3d(twice_area_normal / norm) : Eigen::Vector3d::UnitZ();
-  }
-  std::vector<Eigen::Vector3d> normals(num_finest);
-  for (int v = 0; v < num_finest; ++v) {
-    const Eigen::Vector3d from_tangents = tangent1[v].ToEigen().cross(tangent2[v].ToEigen());
-    const Eigen::Vector3d& from_faces = face_sum[v];
-    Eigen::Vector3d n = from_tangents;
-    const double scale = tangent1[v].ToEigen().norm() * tangent2[v].ToEigen().norm();
-    if (!(n.norm() > 1e-9 * scale) || scale == 0.0) n = from_faces;
-    if (n.dot(from_faces) < 0) n = -n;
-    const double norm = n.norm();
-    normals[v] = norm > 0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::UnitZ();
-  }
-  for (int k = 0; k <= max_level; ++k) {
-    SurfaceLevel& level = impl.levels[k];
-    level.limit_normals.assign(normals.begin(), normals.begin() + level.limit_positions.size());
-  }
-
-  // Open-boundary edges of the finest level, for TraceDragPath.
+  const int num_finest = static_cast<int>(finest.positions.size());
+  finest.limit_positions.resize(num_finest);
+  finest.limit_normals.resize(num_finest);
   {
+    std::vector<Eigen::Vector3d> tangent2(num_finest);
+    Vec3View src(finest.positions.data());
+    Vec3View position(finest.limit_positions.data());
+    Vec3View tangent1_view(finest.limit_normals.data());
+    Vec3View tangent2_view(tangent2.data());
+    primvar.Limit(src, position, tangent1_view, tangent2_view);
+    if (!osd_errors.errors().empty()) {
+      return absl::InternalError(absl::StrCat("OpenSubdiv limit evaluation failed: ", osd_errors.errors()));
+    }
+    // Normal = tangent1 x tangent2, which OpenSubdiv orients by the face
+    // winding (counter-clockwise from outside gives outward). As a safeguard
+    // the sign is checked against the limit triangles around the vertex, which
+    // also stand in where the tangents degenerate.
     const Far::TopologyLevel& topology = refiner->GetLevel(max_level);
+    for (int v = 0; v < num_finest; ++v) {
+      const Eigen::Vector3d& t1 = finest.limit_normals[v];
+      const Eigen::Vector3d& t2 = tangent2[v];
+      Eigen::Vector3d from_faces = Eigen::Vector3d::Zero();
+      const Far::ConstIndexArray vf = topology.GetVertexFaces(v);
+      for (int i = 0; i < vf.size(); ++i) {
+        const auto& t = finest.triangles[vf[i]];
+        const Eigen::Vector3d& a = finest.limit_positions[t[0]];
+        from_faces += (finest.limit_positions[t[1]] - a).cross(finest.limit_positions[t[2]] - a);
+      }
+      Eigen::Vector3d n = t1.cross(t2);
+      if (!(n.norm() > 1e-9 * t1.norm() * t2.norm()) || n.norm() == 0.0) n = from_faces;
+      if (n.dot(from_faces) < 0) n = -n;
+      const double norm = n.norm();
+      finest.limit_normals[v] = norm > 0 ? Eigen::Vector3d(n / norm) : Eigen::Vector3d::UnitZ();
+    }
+
+    // Open-boundary edges of the finest level, for TraceDragPath.
     impl.finest_boundary_edges.assign(finest.triangles.size(), 0);
     for (std::size_t f = 0; f < finest.triangles.size(); ++f) {
       const auto& t = finest.triangles[f];
@@ -283,7 +289,15 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
       }
     }
   }
-  impl.finest_tree = TriangleBvh(finest.limit_positions, finest.triangles);
+  refiner.reset();  // release OpenSubdiv's tables before the search tree is built
+
+  for (int k = 0; k < max_level; ++k) {
+    SurfaceLevel& level = impl.levels[k];
+    const auto count = static_cast<std::ptrdiff_t>(level.positions.size());
+    level.limit_positions.assign(finest.limit_positions.begin(), finest.limit_positions.begin() + count);
+    level.limit_normals.assign(finest.limit_normals.begin(), finest.limit_normals.begin() + count);
+  }
+  impl.finest_tree = TriangleBvh(&finest.limit_positions, &finest.triangles);
   return surface;
 }
 
@@ -301,7 +315,7 @@ SurfacePoint LoopSurface::ClosestPoint(const Eigen::Vector3d& query) const {
                             hit.barycentric[1] * finest.limit_normals[t[1]] +
                             hit.barycentric[2] * finest.limit_normals[t[2]];
   const double norm = n.norm();
-  out.normal = norm > 1e-12 ? Eigen::Vector3d(n / norm) : impl_->finest_face_normals[hit.triangle];
+  out.normal = norm > 1e-12 ? Eigen::Vector3d(n / norm) : TriangleNormal(finest.limit_positions, t);
   return out;
 }
 
@@ -353,7 +367,7 @@ absl::StatusOr<SurfacePath> LoopSurface::TraceDragPath(const Eigen::Vector3d& st
         // Edge (v[i], v[i+1]) is where the weight of the opposite vertex is 0.
         if ((boundary & (1u << i)) && next.barycentric[(i + 2) % 3] <= 1e-12) on_boundary = true;
       }
-      const Eigen::Vector3d& face_normal = impl_->finest_face_normals[next.triangle];
+      const Eigen::Vector3d face_normal = TriangleNormal(finest().limit_positions, finest().triangles[next.triangle]);
       const Eigen::Vector3d pulled = target - next.position;
       const double sideways = (pulled - pulled.dot(face_normal) * face_normal).norm();
       if (on_boundary && sideways > kWalkOffFraction * step) {

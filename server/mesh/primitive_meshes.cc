@@ -84,16 +84,25 @@ absl::StatusOr<ControlMesh> MakeGridPlate(double width_mm, double height_mm, int
   ControlMesh mesh;
   for (int j = 0; j <= ny; ++j) {
     for (int i = 0; i <= nx; ++i) {
-      mesh.positions.emplace_back(width_mm * (static_cast<double>(i) / nx - 0.5),
-                                  height_mm * (static_cast<double>(j) / ny - 0.5), 0.0);
+      mesh.positions.emplace_back(width_mm * (2 * i - nx) / (2.0 * nx), height_mm * (2 * j - ny) / (2.0 * ny), 0.0);
     }
   }
   auto id = [&](int i, int j) { return j * (nx + 1) + i; };
   for (int j = 0; j < ny; ++j) {
     for (int i = 0; i < nx; ++i) {
+      // Diagonals mirrored about the plate's centre lines, so each corner
+      // vertex has a single face: with EDGE_AND_CORNER boundary rules only
+      // such vertices stay put, and the limit surface keeps the corners.
       // Counter-clockwise seen from +z.
-      mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
-      mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      const bool left = 2 * i + 1 < nx;
+      const bool bottom = 2 * j + 1 < ny;
+      if (left == bottom) {
+        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i, j + 1)});
+        mesh.triangles.push_back({id(i + 1, j), id(i + 1, j + 1), id(i, j + 1)});
+      } else {
+        mesh.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
+        mesh.triangles.push_back({id(i, j), id(i + 1, j + 1), id(i, j + 1)});
+      }
     }
   }
   return mesh;

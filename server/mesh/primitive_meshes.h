@@ -21,8 +21,9 @@ ControlMesh MakeIcosahedron(double radius);   // 12 vertices, 20 faces
 absl::StatusOr<ControlMesh> MakeIcosphere(double radius, int subdivisions);
 
 // An open flat plate in z = 0 spanning [-w/2, w/2] x [-h/2, h/2], normal +z,
-// nx x ny quads each split into two triangles. Errors: non-positive sizes,
-// nx or ny < 1.
+// nx x ny quads each split into two triangles, the diagonals chosen so that
+// each corner vertex has one face (then the Loop limit keeps the corners; a
+// 1 x 1 plate keeps two). Errors: non-positive sizes, nx or ny < 1.
 absl::StatusOr<ControlMesh> MakeGridPlate(double width_mm, double height_mm, int nx, int ny);
 
 // A closed surface of revolution about +z. `profile` is (radius, z) from the

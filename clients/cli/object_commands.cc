@@ -1,0 +1,110 @@
+#include "clients/cli/object_commands.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <google/protobuf/util/time_util.h>
+#include "absl/strings/ascii.h"
+#include "proto/surfmap/v1/surfmap.grpc.pb.h"
+
+namespace surfmap::cli {
+namespace {
+
+namespace pb = ::surfmap::v1;
+
+std::string_view FormatName(pb::MeshFormat format) {
+  switch (format) {
+    case pb::MESH_FORMAT_OBJ: return "obj";
+    case pb::MESH_FORMAT_PLY: return "ply";
+    default: return "?";
+  }
+}
+
+void PrintObjectTable(const google::protobuf::RepeatedPtrField<pb::ObjectInfo>& objects) {
+  std::printf("%6s  %-30s %-6s %9s %9s  %s\n", "id", "name", "format", "vertices", "faces", "created");
+  for (const pb::ObjectInfo& o : objects) {
+    std::printf("%6lld  %-30s %-6s %9d %9d  %s\n", static_cast<long long>(o.object_id()), o.name().c_str(),
+                std::string(FormatName(o.format())).c_str(), o.control_vertex_count(), o.control_face_count(),
+                google::protobuf::util::TimeUtil::ToString(o.created()).c_str());
+  }
+}
+
+struct UploadArgs {
+  std::string file;
+  std::string name;
+  bool json = false;
+};
+
+void RunUpload(RemoteCli& cli, const UploadArgs& args) {
+  const std::filesystem::path path(args.file);
+  const std::string ext = absl::AsciiStrToLower(path.extension().string());
+  pb::UploadObjectRequest request;
+  if (ext == ".obj") {
+    request.set_format(pb::MESH_FORMAT_OBJ);
+  } else if (ext == ".ply") {
+    request.set_format(pb::MESH_FORMAT_PLY);
+  } else {
+    return FailUsage(cli, args.file + ": unknown mesh format '" + ext + "' (expected .obj or .ply)");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return FailUsage(cli, args.file + ": cannot open file");
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  request.set_mesh(bytes.str());
+  request.set_name(args.name.empty() ? path.stem().string() : args.name);
+  pb::UploadObjectResponse response;
+  auto stub = pb::ObjectService::NewStub(cli.Channel());
+  if (!CallRpc(cli, "UploadObject", *stub, &pb::ObjectService::Stub::UploadObject, request, &response)) return;
+  if (args.json) {
+    std::printf("%s\n", MessageToJson(response.object()).c_str());
+  } else {
+    std::printf("%lld\n", static_cast<long long>(response.object().object_id()));
+  }
+}
+
+}  // namespace
+
+void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
+  CLI::App* object = app.add_subcommand("object", "Meshes to map: upload, list, show");
+  object->require_subcommand(1);
+
+  auto upload_args = std::make_shared<UploadArgs>();
+  CLI::App* upload = object->add_subcommand("upload", "Upload a control mesh (.obj or .ply, mm); prints its id");
+  upload->add_option("file", upload_args->file, "Mesh file")->required()->check(CLI::ExistingFile);
+  upload->add_option("--name", upload_args->name, "Object name (default: the file name without extension)");
+  upload->add_flag("--json", upload_args->json, "Print the ObjectInfo as JSON");
+  upload->callback([cli, upload_args] { RunUpload(*cli, *upload_args); });
+
+  auto list_json = std::make_shared<bool>(false);
+  CLI::App* list = object->add_subcommand("list", "List objects");
+  list->add_flag("--json", *list_json, "Print the response as JSON");
+  list->callback([cli, list_json] {
+    auto stub = pb::ObjectService::NewStub(cli->Channel());
+    pb::ListObjectsResponse response;
+    if (!CallRpc(*cli, "ListObjects", *stub, &pb::ObjectService::Stub::ListObjects, pb::ListObjectsRequest(),
+                 &response)) {
+      return;
+    }
+    if (*list_json) {
+      std::printf("%s\n", MessageToJson(response).c_str());
+    } else {
+      PrintObjectTable(response.objects());
+    }
+  });
+
+  auto show_id = std::make_shared<int64_t>(0);
+  CLI::App* show = object->add_subcommand("show", "Show one object (JSON)");
+  show->add_option("id", *show_id, "Object id")->required();
+  show->callback([cli, show_id] {
+    auto stub = pb::ObjectService::NewStub(cli->Channel());
+    pb::GetObjectRequest request;
+    request.set_object_id(*show_id);
+    pb::GetObjectResponse response;
+    if (!CallRpc(*cli, "GetObject", *stub, &pb::ObjectService::Stub::GetObject, request, &response)) return;
+    std::printf("%s\n", MessageToJson(response.object()).c_str());
+  });
+}
+
+}  // namespace surfmap::cli

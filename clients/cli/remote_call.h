@@ -1,0 +1,44 @@
+// What every remote command of the surfmap clients shares: the channel to
+// surfmapd, the per-call deadline and bearer token, and the one error line
+// format (`surfmap: <RPC>: <CODE>: <message>`).
+#pragma once
+
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include <grpcpp/grpcpp.h>
+
+namespace surfmap::cli {
+
+struct RemoteOptions {
+  std::string server = "127.0.0.1:50051";  // host:port of surfmapd
+  std::string token;                       // sent as `authorization: Bearer <token>` when not empty
+  double timeout_s = 30.0;                 // deadline of every unary call; <= 0 = none
+};
+
+// The address used when neither --server nor $SURFMAP_SERVER is given.
+inline constexpr std::string_view kDefaultServer = "127.0.0.1:50051";
+
+// An insecure channel (surfmapd listens on loopback or behind a TLS proxy)
+// that accepts messages up to 256 MiB (maps with meshes are large; the
+// server's own limit is lower) and sends keepalive pings so a long watch
+// notices a vanished server.
+std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options);
+
+// Sets the deadline (when timeout_s > 0 and `with_deadline`) and the
+// authorization metadata on a fresh context. Streams that last as long as a
+// job (WatchJob) pass with_deadline = false.
+void PrepareContext(const RemoteOptions& options, grpc::ClientContext* context, bool with_deadline = true);
+
+// "OK", "INVALID_ARGUMENT", ... (the canonical names).
+std::string_view StatusCodeName(grpc::StatusCode code);
+
+// "<program>: <rpc>: <CODE>: <message>" (no newline).
+std::string FormatRpcError(std::string_view rpc, const grpc::Status& status, std::string_view program = "surfmap");
+
+// Whether a call that failed with `code` may be retried as is (the server
+// was unreachable or slow; the request itself was fine).
+bool IsRetryable(grpc::StatusCode code);
+
+}  // namespace surfmap::cli

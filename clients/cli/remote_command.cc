@@ -1,0 +1,42 @@
+#include "clients/cli/remote_command.h"
+
+#include <cstdlib>
+
+#include <google/protobuf/util/json_util.h>
+
+namespace surfmap::cli {
+
+std::shared_ptr<RemoteCli> AddRemoteOptions(CLI::App& app, int* exit_code) {
+  auto cli = std::make_shared<RemoteCli>();
+  cli->exit_code = exit_code;
+  cli->options.server = std::string(kDefaultServer);
+  app.add_option("--server", cli->options.server, "surfmapd address host:port")
+      ->envname("SURFMAP_SERVER")
+      ->capture_default_str();
+  app.add_option("--token", cli->options.token, "Bearer token sent with every call")->envname("SURFMAP_TOKEN");
+  app.add_option("--timeout", cli->options.timeout_s, "Deadline of every call, seconds (watch streams: none)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  // Global options may also follow the subcommand names.
+  app.fallthrough();
+  return cli;
+}
+
+void FailUsage(RemoteCli& cli, std::string_view what) {
+  std::cout.flush();
+  std::cerr << "surfmap: " << what << "\n";
+  *cli.exit_code = kExitUsage;
+}
+
+std::string MessageToJson(const google::protobuf::Message& message, bool pretty) {
+  google::protobuf::util::JsonPrintOptions options;
+  options.preserve_proto_field_names = true;
+  options.always_print_primitive_fields = true;
+  options.add_whitespace = pretty;
+  std::string text;
+  if (!google::protobuf::util::MessageToJsonString(message, &text, options).ok()) return "{}";
+  if (!text.empty() && text.back() == '\n') text.pop_back();
+  return text;
+}
+
+}  // namespace surfmap::cli

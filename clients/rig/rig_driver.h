@@ -1,0 +1,42 @@
+// RigDriver: where a robot plugs in. A driver executes one probe command
+// (docs/METHOD.md section 1: touch down, forward drag, pause, reverse drag)
+// and returns the drag trace it recorded. SimulatedRig implements it for a
+// scene; a real robot's driver implements the same interface.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include <Eigen/Core>
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "server/estimate/drag_trace.h"
+
+namespace surfmap {
+
+struct ProbeRequest {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();        // surface point, mm
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();         // outward unit normal (as planned)
+  Eigen::Vector3d drag_direction = Eigen::Vector3d::UnitX(); // tangent, forward pass direction
+  double segment_length_mm = 20.0;
+  double speed_mm_s = 10.0;
+  double normal_force_n = 5.0;
+  std::int64_t command_id = 0;  // also seeds simulated rigs: a re-executed command gives the same trace
+};
+
+// INVALID_ARGUMENT naming the field: non-finite vectors, a zero normal or
+// direction, length outside (0, 500] mm, speed outside (0, 1000] mm/s, force
+// outside (0, 100] N.
+absl::Status ValidateProbeRequest(const ProbeRequest& request);
+
+class RigDriver {
+ public:
+  virtual ~RigDriver() = default;
+
+  // Executes the probe. Errors: INVALID_ARGUMENT for a bad request,
+  // FAILED_PRECONDITION when the rig cannot reach or drag at the location,
+  // UNAVAILABLE for a rig fault worth retrying.
+  virtual absl::StatusOr<DragTrace> Execute(const ProbeRequest& request) = 0;
+};
+
+}  // namespace surfmap

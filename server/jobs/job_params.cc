@@ -1,0 +1,95 @@
+#include "server/jobs/job_params.h"
+
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "server/codec/fit_json.h"
+
+namespace surfmap {
+namespace {
+
+const char* PropertyName(TextureProperty p) {
+  switch (p) {
+    case TextureProperty::kFriction: return "friction";
+    case TextureProperty::kRoughness: return "roughness";
+    case TextureProperty::kBoth: return "both";
+  }
+  return "?";
+}
+
+
+}  // namespace
+
+bool JobParams::IsValid(std::string* why) const {
+  auto fail = [&](std::string text) {
+    *why = std::move(text);
+    return false;
+  };
+  if (object_id <= 0) return fail("object_id must be positive");
+  if (coarsest_level < 0 || coarsest_level > 6) return fail("coarsest_level must be in 0..6");
+  if (finest_level < coarsest_level || finest_level > 6) return fail("finest_level must be in coarsest_level..6");
+  if (!std::isfinite(threshold) || threshold <= 0) return fail("threshold must be a positive number");
+  if (budget < 0) return fail("budget must be >= 0 (0 = unlimited)");
+  if (!(probe.segment_length_mm >= 1 && probe.segment_length_mm <= 200)) return fail("segment length must be in [1, 200] mm");
+  if (!(probe.speed_mm_per_s > 0 && probe.speed_mm_per_s <= 500)) return fail("speed must be in (0, 500] mm/s");
+  if (!(probe.normal_force_n > 0 && probe.normal_force_n <= 100)) return fail("normal force must be in (0, 100] N");
+  if (max_retries < 0 || max_retries > 100) return fail("max_retries must be in 0..100");
+  if (lease_ms < 100 || lease_ms > 86'400'000) return fail("lease must be between 0.1 s and 24 h");
+  std::string fit_why;
+  if (!fit.IsValid(&fit_why)) return fail("estimator settings: " + fit_why);
+  return true;
+}
+
+nlohmann::json JobParamsToJson(const JobParams& p) {
+  return {{"object_id", p.object_id},
+          {"property", PropertyName(p.property)},
+          {"mode", std::string(PlanModeName(p.mode))},
+          {"coarsest_level", p.coarsest_level},
+          {"finest_level", p.finest_level},
+          {"threshold", p.threshold},
+          {"budget", p.budget},
+          {"probe",
+           {{"segment_length_mm", p.probe.segment_length_mm},
+            {"speed_mm_s", p.probe.speed_mm_per_s},
+            {"normal_force_n", p.probe.normal_force_n}}},
+          {"seed", p.seed},
+          {"max_retries", p.max_retries},
+          {"lease_ms", p.lease_ms},
+          {"fit", FitOptionsToJson(p.fit)}};
+}
+
+absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
+  JobParams p;
+  try {
+    p.object_id = j.at("object_id").get<int64_t>();
+    const std::string property = j.at("property").get<std::string>();
+    if (property == "friction") p.property = TextureProperty::kFriction;
+    else if (property == "roughness") p.property = TextureProperty::kRoughness;
+    else if (property == "both") p.property = TextureProperty::kBoth;
+    else return absl::InvalidArgumentError(absl::StrCat("job params: unknown property '", property, "'"));
+    const std::string mode = j.at("mode").get<std::string>();
+    std::optional<PlanMode> parsed_mode = ParsePlanMode(mode);
+    if (parsed_mode) p.mode = *parsed_mode;
+    else return absl::InvalidArgumentError(absl::StrCat("job params: unknown mode '", mode, "'"));
+    p.coarsest_level = j.at("coarsest_level").get<int>();
+    p.finest_level = j.at("finest_level").get<int>();
+    p.threshold = j.at("threshold").get<double>();
+    p.budget = j.at("budget").get<int>();
+    p.probe.segment_length_mm = j.at("probe").at("segment_length_mm").get<double>();
+    p.probe.speed_mm_per_s = j.at("probe").at("speed_mm_s").get<double>();
+    p.probe.normal_force_n = j.at("probe").at("normal_force_n").get<double>();
+    p.seed = j.at("seed").get<uint64_t>();
+    p.max_retries = j.at("max_retries").get<int>();
+    p.lease_ms = j.at("lease_ms").get<int64_t>();
+    absl::StatusOr<FitOptions> fit = FitOptionsFromJson(j.at("fit"));
+    if (!fit.ok()) return fit.status();
+    p.fit = *fit;
+  } catch (const nlohmann::json::exception& e) {
+    return absl::InvalidArgumentError(absl::StrCat("job params: ", e.what()));
+  }
+  std::string why;
+  if (!p.IsValid(&why)) return absl::InvalidArgumentError("job params: " + why);
+  return p;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,408 @@
+#include "server/plan/sampling_plan.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "absl/strings/str_cat.h"
+#include "server/plan/drag_direction.h"
+#include "server/plan/site_order.h"
+
+namespace surfmap {
+namespace {
+
+std::uint64_t EdgeKey(int a, int b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+
+}  // namespace
+
+absl::Status SamplingPlan::ValidateFit(const TextureParams& fit) {
+  if (!std::isfinite(fit.mu)) return absl::InvalidArgumentError(absl::StrCat("fit: mu is ", fit.mu));
+  if (!std::isfinite(fit.mu_std) || fit.mu_std < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("fit: mu_std is ", fit.mu_std, " (must be finite and >= 0)"));
+  }
+  if (!std::isfinite(fit.sigma) || fit.sigma < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("fit: sigma is ", fit.sigma, " (must be finite and >= 0)"));
+  }
+  for (size_t j = 0; j < fit.reflection.size(); ++j) {
+    if (!std::isfinite(fit.reflection[j]) || std::abs(fit.reflection[j]) >= 1.0) {
+      return absl::InvalidArgumentError(absl::StrCat("fit: reflection coefficient k", j + 1, " is ",
+                                                     fit.reflection[j], " (a stationary model needs |k| < 1)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
+namespace {
+
+constexpr char kBudgetUsedUp[] = "sample budget used up";
+constexpr char kCancelled[] = "cancelled";
+
+}  // namespace
+
+std::string_view SiteStateName(SiteState state) {
+  switch (state) {
+    case SiteState::kPending:
+      return "pending";
+    case SiteState::kIssued:
+      return "issued";
+    case SiteState::kMeasured:
+      return "measured";
+    case SiteState::kFailed:
+      return "failed";
+    case SiteState::kSkipped:
+      return "skipped";
+  }
+  return "pending";
+}
+
+std::string_view SiteOriginName(SiteOrigin origin) {
+  switch (origin) {
+    case SiteOrigin::kInitial:
+      return "initial";
+    case SiteOrigin::kRefined:
+      return "refined";
+    case SiteOrigin::kSelected:
+      return "selected";
+  }
+  return "initial";
+}
+
+absl::Status SamplingPlan::Initialise() {
+  std::string why;
+  if (!options_.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("SamplingPlanOptions: ", why));
+  if (levels_.empty()) return absl::InvalidArgumentError("SamplingPlan: the surface has no levels");
+  const int top = static_cast<int>(levels_.size()) - 1;
+  if (options_.max_level > top) {
+    return absl::InvalidArgumentError(absl::StrCat("SamplingPlanOptions: max_level ", options_.max_level,
+                                                   " is finer than the surface's finest level ", top));
+  }
+  for (int k = 0; k <= top; ++k) {
+    const SurfaceLevel* level = levels_[k];
+    if (level == nullptr) return absl::InvalidArgumentError(absl::StrCat("SamplingPlan: level ", k, " is null"));
+    const size_t nv = level->limit_positions.size();
+    if (nv == 0) return absl::InvalidArgumentError(absl::StrCat("SamplingPlan: level ", k, " has no vertices"));
+    if (level->limit_normals.size() != nv || level->neighbors.size() != nv) {
+      return absl::InvalidArgumentError(absl::StrCat("SamplingPlan: level ", k, " has ", nv, " limit positions, ",
+                                                     level->limit_normals.size(), " normals and ",
+                                                     level->neighbors.size(), " neighbour rows"));
+    }
+    if (k > 0 && nv < levels_[k - 1]->limit_positions.size()) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("SamplingPlan: level ", k, " has fewer vertices than level ", k - 1));
+    }
+  }
+  edge_index_.assign(options_.max_level - options_.coarsest_level, {});
+  for (int k = options_.coarsest_level; k < options_.max_level; ++k) {
+    const SurfaceLevel& level = *levels_[k];
+    const int nv = VertexCount(k), nv_next = VertexCount(k + 1);
+    if (level.edge_child_vertex.size() != level.edges.size()) {
+      return absl::InvalidArgumentError(absl::StrCat("SamplingPlan: level ", k, " has ", level.edges.size(),
+                                                     " edges but ", level.edge_child_vertex.size(),
+                                                     " edge children"));
+    }
+    auto& index = edge_index_[k - options_.coarsest_level];
+    index.reserve(level.edges.size());
+    for (int e = 0; e < static_cast<int>(level.edges.size()); ++e) {
+      const auto [a, b] = level.edges[e];
+      const int child = level.edge_child_vertex[e];
+      if (a < 0 || b < 0 || a >= nv || b >= nv || child < nv || child >= nv_next) {
+        return absl::InvalidArgumentError(absl::StrCat("SamplingPlan: level ", k, " edge ", e, " (", a, ", ", b,
+                                                       ") or its child vertex ", child, " is out of range"));
+      }
+      index[EdgeKey(a, b)] = e;
+    }
+  }
+  return absl::OkStatus();
+}
+
+absl::StatusOr<SamplingPlan> SamplingPlan::Create(std::vector<const SurfaceLevel*> levels,
+                                                  const SamplingPlanOptions& options) {
+  SamplingPlan plan;
+  plan.levels_ = std::move(levels);
+  plan.options_ = options;
+  if (auto status = plan.Initialise(); !status.ok()) return status;
+  for (int v = 0; v < plan.VertexCount(options.coarsest_level); ++v) {
+    SiteRecord r;
+    r.site = {options.coarsest_level, v};
+    plan.AddSite(std::move(r));
+  }
+  if (auto status = plan.RefreshSelection(); !status.ok()) return status;
+  return plan;
+}
+
+int SamplingPlan::NaturalLevel(int vertex) const {
+  for (int k = 0; k < static_cast<int>(levels_.size()); ++k) {
+    if (vertex < VertexCount(k)) return k;
+  }
+  return static_cast<int>(levels_.size());
+}
+
+SamplingPlan::PendingKey SamplingPlan::KeyOf(const SiteRecord& r) const {
+  return {r.site.level, r.failures, SiteShuffleKey(options_.seed, r.site.vertex), r.site.vertex};
+}
+
+bool SamplingPlan::BudgetUsedUpByMeasured() const {
+  return options_.sample_budget > 0 && measured_count_ >= options_.sample_budget;
+}
+
+void SamplingPlan::AddSite(SiteRecord record) {
+  if (record.state == SiteState::kPending) {
+    if (cancelled_) {
+      record.state = SiteState::kSkipped;
+      record.reason = kCancelled;
+    } else if (BudgetUsedUpByMeasured()) {
+      record.state = SiteState::kSkipped;
+      record.reason = kBudgetUsedUp;
+    } else {
+      pending_.insert(KeyOf(record));
+    }
+  }
+  const int v = record.site.vertex;
+  sites_.emplace(v, std::move(record));
+}
+
+void SamplingPlan::SkipAllPending(std::string_view reason) {
+  for (const auto& key : pending_) {
+    SiteRecord& r = sites_.at(std::get<3>(key));
+    r.state = SiteState::kSkipped;
+    r.reason = std::string(reason);
+  }
+  pending_.clear();
+}
+
+std::optional<ProbeCommand> SamplingPlan::NextCommand() {
+  if (pending_.empty()) return std::nullopt;
+  if (options_.sample_budget > 0 &&
+      measured_count_ + static_cast<int>(outstanding_.size()) >= options_.sample_budget) {
+    return std::nullopt;  // the rest of the budget is held by issued sites
+  }
+  const PendingKey key = *pending_.begin();
+  pending_.erase(pending_.begin());
+  SiteRecord& r = sites_.at(std::get<3>(key));
+  r.state = SiteState::kIssued;
+  r.sequence = next_sequence_++;
+  outstanding_[r.sequence] = r.site.vertex;
+
+  const SurfaceLevel& finest = *levels_.back();
+  ProbeCommand command;
+  command.sequence = r.sequence;
+  command.site = r.site;
+  command.attempt = r.failures + 1;
+  command.position = finest.limit_positions[r.site.vertex];
+  const Eigen::Vector3d& n = finest.limit_normals[r.site.vertex];
+  command.normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+  command.drag_direction = TangentDragDirection(command.normal);
+  command.probe = options_.probe;
+  // A selection error can only come from the map rejecting a fit, and every
+  // fit was validated by RecordFit; the command is valid either way.
+  (void)RefreshSelection();
+  return command;
+}
+
+absl::StatusOr<int> SamplingPlan::OutstandingVertex(std::uint64_t sequence) const {
+  auto it = outstanding_.find(sequence);
+  if (it == outstanding_.end()) {
+    return absl::NotFoundError(absl::StrCat("command ", sequence,
+                                            " is not outstanding (unknown, already answered, or superseded)"));
+  }
+  return it->second;
+}
+
+absl::Status SamplingPlan::RecordFit(std::uint64_t sequence, const TextureParams& fit) {
+  if (auto status = ValidateFit(fit); !status.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("command ", sequence, ": ", status.message()));
+  }
+  auto vertex = OutstandingVertex(sequence);
+  if (!vertex.ok()) return vertex.status();
+  outstanding_.erase(sequence);
+  SiteRecord& r = sites_.at(*vertex);
+  r.state = SiteState::kMeasured;
+  r.fit = fit;
+  r.reason.clear();
+  ++measured_count_;
+  map_stale_ = true;
+  if (BudgetUsedUpByMeasured()) SkipAllPending(kBudgetUsedUp);
+  if (options_.mode == PlanMode::kAdaptive) CompareEdgesOf(*vertex);
+  return RefreshSelection();
+}
+
+absl::Status SamplingPlan::RecordFitForSite(SiteId site, const TextureParams& fit) {
+  const SiteRecord* r = FindSite(site.vertex);
+  if (r == nullptr || r->site.level != site.level || r->state != SiteState::kIssued) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("site (level ", site.level, ", vertex ", site.vertex, ") is not issued"));
+  }
+  return RecordFit(r->sequence, fit);
+}
+
+absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_view reason) {
+  auto vertex = OutstandingVertex(sequence);
+  if (!vertex.ok()) return vertex.status();
+  outstanding_.erase(sequence);
+  SiteRecord& r = sites_.at(*vertex);
+  ++r.failures;
+  if (r.failures > options_.max_retries) {
+    r.state = SiteState::kFailed;
+    r.reason = absl::StrCat(std::string(reason), " (failed ", r.failures, " time", r.failures == 1 ? "" : "s", ")");
+  } else {
+    r.state = SiteState::kPending;
+    r.reason = std::string(reason);  // the latest failure, kept for inspection
+    if (cancelled_) {
+      r.state = SiteState::kSkipped;
+      r.reason = kCancelled;
+    } else if (BudgetUsedUpByMeasured()) {
+      r.state = SiteState::kSkipped;
+      r.reason = kBudgetUsedUp;
+    } else {
+      pending_.insert(KeyOf(r));
+    }
+  }
+  return RefreshSelection();
+}
+
+absl::Status SamplingPlan::RecordFailureForSite(SiteId site, std::string_view reason) {
+  const SiteRecord* r = FindSite(site.vertex);
+  if (r == nullptr || r->site.level != site.level || r->state != SiteState::kIssued) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("site (level ", site.level, ", vertex ", site.vertex, ") is not issued"));
+  }
+  return RecordFailure(r->sequence, reason);
+}
+
+void SamplingPlan::Cancel() {
+  cancelled_ = true;
+  SkipAllPending(kCancelled);
+}
+
+void SamplingPlan::CompareEdgesOf(int vertex) {
+  const SiteRecord& r = sites_.at(vertex);
+  for (int k = r.site.level; k < options_.max_level; ++k) {
+    const SurfaceLevel& level = *levels_[k];
+    for (int u : level.neighbors[vertex]) {
+      auto it = sites_.find(u);
+      if (it == sites_.end() || it->second.state != SiteState::kMeasured) continue;
+      const double d = TextureDistance(*r.fit, *it->second.fit, options_.distance);
+      if (!(d > options_.threshold)) continue;
+      const auto& index = edge_index_[k - options_.coarsest_level];
+      auto e = index.find(EdgeKey(vertex, u));
+      if (e == index.end()) continue;  // a neighbour row without an edge: nothing to split
+      const int child = level.edge_child_vertex[e->second];
+      if (sites_.count(child)) continue;
+      SiteRecord refined;
+      refined.site = {k + 1, child};
+      refined.origin = SiteOrigin::kRefined;
+      refined.parent_a = std::min(vertex, u);
+      refined.parent_b = std::max(vertex, u);
+      refined.parent_distance = d;
+      AddSite(std::move(refined));
+    }
+  }
+}
+
+absl::Status SamplingPlan::RefreshSelection() {
+  if (options_.mode != PlanMode::kUncertainty || cancelled_) return absl::OkStatus();
+  // Re-make the choice of a fresh selected site with the newest information.
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    const int v = std::get<3>(*it);
+    const SiteRecord& r = sites_.at(v);
+    if (r.origin == SiteOrigin::kSelected && r.failures == 0) {
+      sites_.erase(v);
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  if (!pending_.empty() || measured_count_ == 0) return absl::OkStatus();
+  if (measured_count_ + static_cast<int>(outstanding_.size()) >= options_.sample_budget) return absl::OkStatus();
+  if (!map_) {
+    auto map = FrictionMap::Create(*levels_.back(), options_.map);
+    if (!map.ok()) return map.status();
+    map_ = std::move(*map);
+  }
+  if (map_stale_) {
+    if (auto status = map_->SetSamples(MeasuredSamples()); !status.ok()) return status;
+    map_stale_ = false;
+  }
+  std::vector<int> issued;
+  for (const auto& [sequence, v] : outstanding_) issued.push_back(v);
+  std::sort(issued.begin(), issued.end());
+  if (auto status = map_->SetPendingVertices(std::move(issued)); !status.ok()) return status;
+
+  const double scale = map_->correlation_length_mm() / std::max(map_->prior_mu_std(), 1e-12);
+  const auto& mu_std = map_->mu_std();
+  const auto& gradient = map_->mu_gradient();
+  int best = -1;
+  double best_score = -1.0;
+  std::uint64_t best_key = 0;
+  const int candidates = VertexCount(options_.max_level);
+  for (int v = 0; v < candidates; ++v) {
+    if (sites_.count(v)) continue;
+    const double score = mu_std[v] * (1.0 + options_.gradient_weight * gradient[v] * scale);
+    const std::uint64_t key = SiteShuffleKey(options_.seed, v);
+    if (score > best_score || (score == best_score && key < best_key)) {
+      best = v;
+      best_score = score;
+      best_key = key;
+    }
+  }
+  if (best < 0 || best_score < options_.min_uncertainty_score) return absl::OkStatus();
+  SiteRecord r;
+  r.site = {std::max(options_.coarsest_level, NaturalLevel(best)), best};
+  r.origin = SiteOrigin::kSelected;
+  AddSite(std::move(r));
+  return absl::OkStatus();
+}
+
+PlanProgress SamplingPlan::Progress() const {
+  PlanProgress p;
+  for (int k = options_.coarsest_level; k <= options_.max_level; ++k) p.levels.push_back({.level = k});
+  for (const auto& [v, r] : sites_) {
+    LevelProgress& l = p.levels[r.site.level - options_.coarsest_level];
+    switch (r.state) {
+      case SiteState::kPending:
+        ++l.pending, ++p.pending;
+        break;
+      case SiteState::kIssued:
+        ++l.issued, ++p.issued;
+        break;
+      case SiteState::kMeasured:
+        ++l.measured, ++p.measured;
+        break;
+      case SiteState::kFailed:
+        ++l.failed, ++p.failed;
+        break;
+      case SiteState::kSkipped:
+        ++l.skipped, ++p.skipped;
+        break;
+    }
+  }
+  if (options_.sample_budget > 0) p.budget_left = std::max(0, options_.sample_budget - p.measured - p.issued);
+  p.done = IsComplete();
+  return p;
+}
+
+bool SamplingPlan::IsComplete() const { return pending_.empty() && outstanding_.empty(); }
+
+std::vector<SiteRecord> SamplingPlan::Sites() const {
+  std::vector<SiteRecord> out;
+  out.reserve(sites_.size());
+  for (const auto& [v, r] : sites_) out.push_back(r);
+  return out;
+}
+
+const SiteRecord* SamplingPlan::FindSite(int vertex) const {
+  auto it = sites_.find(vertex);
+  return it == sites_.end() ? nullptr : &it->second;
+}
+
+std::vector<MapSample> SamplingPlan::MeasuredSamples() const {
+  std::vector<MapSample> out;
+  for (const auto& [v, r] : sites_) {
+    if (r.state == SiteState::kMeasured) out.push_back({v, *r.fit});
+  }
+  return out;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,364 @@
+// SamplingPlan::SaveJson / Restore: the complete plan state as JSON.
+//
+//   {"format": "surfmap.sampling_plan", "version": 1,
+//    "options": {...}, "surface": {"vertex_counts": [...], "edge_counts": [...],
+//    "triangle_counts": [...]}, "next_sequence": n, "cancelled": false,
+//    "sites": [{"vertex", "level", "state", "origin", "failures", "sequence",
+//               "reason", "fit": {"mu", "mu_std", "reflection", "sigma"},
+//               "parent_a", "parent_b", "parent_distance"}, ...]}
+//
+// Doubles are written with round-trip precision, so a restored plan compares
+// and scores exactly as the saved one did.
+#include <string>
+
+#include <nlohmann/json.hpp>
+#include "absl/strings/str_cat.h"
+#include "server/plan/sampling_plan.h"
+
+namespace surfmap {
+namespace {
+
+using nlohmann::json;
+
+constexpr char kFormat[] = "surfmap.sampling_plan";
+constexpr int kVersion = 1;
+
+std::string_view PropertyName(TextureProperty p) {
+  switch (p) {
+    case TextureProperty::kFriction:
+      return "friction";
+    case TextureProperty::kRoughness:
+      return "roughness";
+    case TextureProperty::kBoth:
+      return "both";
+  }
+  return "both";
+}
+
+std::string_view WeightsName(LaplacianWeights w) {
+  switch (w) {
+    case LaplacianWeights::kCotangent:
+      return "cotangent";
+    case LaplacianWeights::kCotangentClamped:
+      return "cotangent_clamped";
+    case LaplacianWeights::kUniform:
+      return "uniform";
+  }
+  return "cotangent";
+}
+
+// Typed field access with messages that name the field.
+class Reader {
+ public:
+  explicit Reader(absl::Status* status) : status_(status) {}
+
+  const json* Field(const json& j, const std::string& where, const char* key) {
+    if (!status_->ok()) return nullptr;
+    if (!j.is_object() || !j.contains(key)) {
+      Fail(absl::StrCat(where, ".", key, " is missing"));
+      return nullptr;
+    }
+    return &j.at(key);
+  }
+  double Double(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    if (f == nullptr) return 0.0;
+    if (!f->is_number()) return Fail(absl::StrCat(where, ".", key, " must be a number")), 0.0;
+    return f->get<double>();
+  }
+  std::int64_t Int(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    if (f == nullptr) return 0;
+    if (!f->is_number_integer()) return Fail(absl::StrCat(where, ".", key, " must be an integer")), 0;
+    return f->get<std::int64_t>();
+  }
+  std::uint64_t Unsigned(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    if (f == nullptr) return 0;
+    if (!f->is_number_unsigned()) {
+      return Fail(absl::StrCat(where, ".", key, " must be a non-negative integer")), 0;
+    }
+    return f->get<std::uint64_t>();
+  }
+  bool Bool(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    if (f == nullptr) return false;
+    if (!f->is_boolean()) return Fail(absl::StrCat(where, ".", key, " must be true or false")), false;
+    return f->get<bool>();
+  }
+  std::string String(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    if (f == nullptr) return "";
+    if (!f->is_string()) return Fail(absl::StrCat(where, ".", key, " must be a string")), "";
+    return f->get<std::string>();
+  }
+  std::vector<double> Doubles(const json& j, const std::string& where, const char* key) {
+    const json* f = Field(j, where, key);
+    std::vector<double> out;
+    if (f == nullptr) return out;
+    if (!f->is_array()) return Fail(absl::StrCat(where, ".", key, " must be an array")), out;
+    for (const auto& x : *f) {
+      if (!x.is_number()) return Fail(absl::StrCat(where, ".", key, " must hold numbers")), out;
+      out.push_back(x.get<double>());
+    }
+    return out;
+  }
+  void Fail(std::string message) {
+    if (status_->ok()) *status_ = absl::InvalidArgumentError(absl::StrCat("plan JSON: ", message));
+  }
+
+ private:
+  absl::Status* status_;
+};
+
+json OptionsToJson(const SamplingPlanOptions& o) {
+  return {
+      {"mode", PlanModeName(o.mode)},
+      {"coarsest_level", o.coarsest_level},
+      {"max_level", o.max_level},
+      {"threshold", o.threshold},
+      {"distance",
+       {{"property", PropertyName(o.distance.property)},
+        {"mu_scale", o.distance.mu_scale},
+        {"reflection_scale", o.distance.reflection_scale},
+        {"log_sigma_scale", o.distance.log_sigma_scale}}},
+      {"sample_budget", o.sample_budget},
+      {"max_retries", o.max_retries},
+      {"probe",
+       {{"segment_length_mm", o.probe.segment_length_mm},
+        {"speed_mm_per_s", o.probe.speed_mm_per_s},
+        {"normal_force_n", o.probe.normal_force_n}}},
+      {"seed", o.seed},
+      {"gradient_weight", o.gradient_weight},
+      {"min_uncertainty_score", o.min_uncertainty_score},
+      {"map",
+       {{"weights", WeightsName(o.map.weights)},
+        {"correlation_length_mm", o.map.correlation_length_mm},
+        {"prior_mu_std_floor", o.map.prior_mu_std_floor}}},
+  };
+}
+
+SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
+  SamplingPlanOptions o;
+  const std::string mode = in.String(j, "options", "mode");
+  if (auto m = ParsePlanMode(mode)) {
+    o.mode = *m;
+  } else if (!mode.empty()) {
+    in.Fail(absl::StrCat("options.mode \"", mode, "\" is not adaptive, uniform or uncertainty"));
+  }
+  o.coarsest_level = static_cast<int>(in.Int(j, "options", "coarsest_level"));
+  o.max_level = static_cast<int>(in.Int(j, "options", "max_level"));
+  o.threshold = in.Double(j, "options", "threshold");
+  if (const json* d = in.Field(j, "options", "distance")) {
+    const std::string property = in.String(*d, "options.distance", "property");
+    bool known = false;
+    for (auto p : {TextureProperty::kFriction, TextureProperty::kRoughness, TextureProperty::kBoth}) {
+      if (PropertyName(p) == property) o.distance.property = p, known = true;
+    }
+    if (!known) in.Fail(absl::StrCat("options.distance.property \"", property, "\" is not friction, roughness or both"));
+    o.distance.mu_scale = in.Double(*d, "options.distance", "mu_scale");
+    o.distance.reflection_scale = in.Double(*d, "options.distance", "reflection_scale");
+    o.distance.log_sigma_scale = in.Double(*d, "options.distance", "log_sigma_scale");
+  }
+  o.sample_budget = static_cast<int>(in.Int(j, "options", "sample_budget"));
+  o.max_retries = static_cast<int>(in.Int(j, "options", "max_retries"));
+  if (const json* p = in.Field(j, "options", "probe")) {
+    o.probe.segment_length_mm = in.Double(*p, "options.probe", "segment_length_mm");
+    o.probe.speed_mm_per_s = in.Double(*p, "options.probe", "speed_mm_per_s");
+    o.probe.normal_force_n = in.Double(*p, "options.probe", "normal_force_n");
+  }
+  o.seed = in.Unsigned(j, "options", "seed");
+  o.gradient_weight = in.Double(j, "options", "gradient_weight");
+  o.min_uncertainty_score = in.Double(j, "options", "min_uncertainty_score");
+  if (const json* m = in.Field(j, "options", "map")) {
+    const std::string weights = in.String(*m, "options.map", "weights");
+    bool known = false;
+    for (auto w : {LaplacianWeights::kCotangent, LaplacianWeights::kCotangentClamped, LaplacianWeights::kUniform}) {
+      if (WeightsName(w) == weights) o.map.weights = w, known = true;
+    }
+    if (!known) in.Fail(absl::StrCat("options.map.weights \"", weights, "\" is not a known weighting"));
+    o.map.correlation_length_mm = in.Double(*m, "options.map", "correlation_length_mm");
+    o.map.prior_mu_std_floor = in.Double(*m, "options.map", "prior_mu_std_floor");
+  }
+  return o;
+}
+
+json SurfaceToJson(const std::vector<const SurfaceLevel*>& levels) {
+  json vertices = json::array(), edges = json::array(), triangles = json::array();
+  for (const SurfaceLevel* l : levels) {
+    vertices.push_back(l->limit_positions.size());
+    edges.push_back(l->edges.size());
+    triangles.push_back(l->triangles.size());
+  }
+  return {{"vertex_counts", vertices}, {"edge_counts", edges}, {"triangle_counts", triangles}};
+}
+
+}  // namespace
+
+std::string SamplingPlan::SaveJson() const {
+  json sites = json::array();
+  for (const auto& [v, r] : sites_) {
+    json s = {{"vertex", v},
+              {"level", r.site.level},
+              {"state", SiteStateName(r.state)},
+              {"origin", SiteOriginName(r.origin)},
+              {"failures", r.failures},
+              {"sequence", r.sequence},
+              {"reason", r.reason}};
+    if (r.fit) {
+      s["fit"] = {{"mu", r.fit->mu},
+                  {"mu_std", r.fit->mu_std},
+                  {"reflection", r.fit->reflection},
+                  {"sigma", r.fit->sigma}};
+    }
+    if (r.origin == SiteOrigin::kRefined) {
+      s["parent_a"] = r.parent_a;
+      s["parent_b"] = r.parent_b;
+      s["parent_distance"] = r.parent_distance;
+    }
+    sites.push_back(std::move(s));
+  }
+  json j = {{"format", kFormat},
+            {"version", kVersion},
+            {"options", OptionsToJson(options_)},
+            {"surface", SurfaceToJson(levels_)},
+            {"next_sequence", next_sequence_},
+            {"cancelled", cancelled_},
+            {"sites", std::move(sites)}};
+  return j.dump();
+}
+
+absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::vector<const SurfaceLevel*> levels) {
+  json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded()) return absl::InvalidArgumentError("plan JSON: not valid JSON");
+  absl::Status status;
+  Reader in(&status);
+  const std::string format = in.String(j, "plan", "format");
+  if (status.ok() && format != kFormat) {
+    return absl::InvalidArgumentError(absl::StrCat("plan JSON: format \"", format, "\" is not ", kFormat));
+  }
+  const std::int64_t version = in.Int(j, "plan", "version");
+  if (status.ok() && version != kVersion) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("plan JSON: version ", version, " is not supported (this build reads version ", kVersion, ")"));
+  }
+  SamplingPlan plan;
+  if (const json* o = in.Field(j, "plan", "options")) plan.options_ = OptionsFromJson(*o, in);
+  if (!status.ok()) return status;
+  plan.levels_ = std::move(levels);
+  if (auto s = plan.Initialise(); !s.ok()) return s;
+
+  // The surface must be the one the plan was made for.
+  if (const json* s = in.Field(j, "plan", "surface")) {
+    const json expected = SurfaceToJson(plan.levels_);
+    for (const char* key : {"vertex_counts", "edge_counts", "triangle_counts"}) {
+      const json* saved = in.Field(*s, "surface", key);
+      if (saved != nullptr && *saved != expected.at(key)) {
+        in.Fail(absl::StrCat("surface.", key, " ", saved->dump(), " differ from the given surface's ",
+                             expected.at(key).dump()));
+      }
+    }
+  }
+  plan.next_sequence_ = in.Unsigned(j, "plan", "next_sequence");
+  plan.cancelled_ = in.Bool(j, "plan", "cancelled");
+  const json* sites = in.Field(j, "plan", "sites");
+  if (!status.ok()) return status;
+  if (!sites->is_array()) return absl::InvalidArgumentError("plan JSON: sites must be an array");
+  if (plan.next_sequence_ == 0) return absl::InvalidArgumentError("plan JSON: next_sequence must be >= 1");
+
+  const int candidates = plan.VertexCount(plan.options_.max_level);
+  for (size_t i = 0; i < sites->size(); ++i) {
+    const json& js = (*sites)[i];
+    const std::string where = absl::StrCat("sites[", i, "]");
+    SiteRecord r;
+    const std::int64_t vertex = in.Int(js, where, "vertex");
+    r.site.level = static_cast<int>(in.Int(js, where, "level"));
+    const std::string state = in.String(js, where, "state");
+    const std::string origin = in.String(js, where, "origin");
+    const std::int64_t failures = in.Int(js, where, "failures");
+    r.sequence = in.Unsigned(js, where, "sequence");
+    r.reason = in.String(js, where, "reason");
+    if (!status.ok()) return status;
+    if (vertex < 0 || vertex >= candidates) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".vertex ", vertex,
+                                                     " is outside level ", plan.options_.max_level, "'s 0..",
+                                                     candidates - 1));
+    }
+    r.site.vertex = static_cast<int>(vertex);
+    const int expected_level = std::max(plan.options_.coarsest_level, plan.NaturalLevel(r.site.vertex));
+    if (r.site.level != expected_level) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".level ", r.site.level, " for vertex ",
+                                                     vertex, " should be ", expected_level));
+    }
+    bool known_state = false;
+    for (auto s : {SiteState::kPending, SiteState::kIssued, SiteState::kMeasured, SiteState::kFailed,
+                   SiteState::kSkipped}) {
+      if (SiteStateName(s) == state) r.state = s, known_state = true;
+    }
+    if (!known_state) return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".state \"", state, "\" is unknown"));
+    bool known_origin = false;
+    for (auto o : {SiteOrigin::kInitial, SiteOrigin::kRefined, SiteOrigin::kSelected}) {
+      if (SiteOriginName(o) == origin) r.origin = o, known_origin = true;
+    }
+    if (!known_origin) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".origin \"", origin, "\" is unknown"));
+    }
+    if (failures < 0 || failures > plan.options_.max_retries + 1) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".failures ", failures,
+                                                     " is outside 0..", plan.options_.max_retries + 1));
+    }
+    r.failures = static_cast<int>(failures);
+    if (r.sequence >= plan.next_sequence_) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".sequence ", r.sequence,
+                                                     " is not below next_sequence ", plan.next_sequence_));
+    }
+    if (r.origin == SiteOrigin::kRefined) {
+      r.parent_a = static_cast<int>(in.Int(js, where, "parent_a"));
+      r.parent_b = static_cast<int>(in.Int(js, where, "parent_b"));
+      r.parent_distance = in.Double(js, where, "parent_distance");
+    }
+    if (r.state == SiteState::kMeasured) {
+      const json* f = in.Field(js, where, "fit");
+      if (f != nullptr) {
+        const std::string fw = where + ".fit";
+        TextureParams fit;
+        fit.mu = in.Double(*f, fw, "mu");
+        fit.mu_std = in.Double(*f, fw, "mu_std");
+        fit.reflection = in.Doubles(*f, fw, "reflection");
+        fit.sigma = in.Double(*f, fw, "sigma");
+        r.fit = fit;
+      }
+    }
+    if (!status.ok()) return status;
+    if (r.fit) {
+      if (auto s = ValidateFit(*r.fit); !s.ok()) {
+        return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".", s.message()));
+      }
+    }
+    if (plan.sites_.count(r.site.vertex)) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, " repeats vertex ", vertex));
+    }
+    switch (r.state) {
+      case SiteState::kPending:
+        plan.pending_.insert(plan.KeyOf(r));
+        break;
+      case SiteState::kIssued:
+        if (r.sequence == 0 || plan.outstanding_.count(r.sequence)) {
+          return absl::InvalidArgumentError(
+              absl::StrCat("plan JSON: ", where, " is issued with a missing or repeated sequence ", r.sequence));
+        }
+        plan.outstanding_[r.sequence] = r.site.vertex;
+        break;
+      case SiteState::kMeasured:
+        ++plan.measured_count_;
+        break;
+      default:
+        break;
+    }
+    plan.sites_.emplace(r.site.vertex, std::move(r));
+  }
+  if (auto s = plan.RefreshSelection(); !s.ok()) return s;
+  return plan;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,152 @@
+#include <deque>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+#include "server/plan/plan_test_support.h"
+#include "server/plan/sampling_plan.h"
+
+namespace surfmap {
+namespace {
+
+using testing::Drive;
+using testing::IssuedRecord;
+using testing::Pointers;
+using testing::SynthesiseFit;
+using testing::TwoMaterialPlate;
+
+SamplingPlanOptions OptionsFor(PlanMode mode) {
+  SamplingPlanOptions o;
+  o.mode = mode;
+  o.max_level = 3;
+  o.threshold = 1.0;
+  o.seed = 99;
+  o.sample_budget = mode == PlanMode::kUncertainty ? 90 : 0;
+  o.max_retries = 1;
+  return o;
+}
+
+class SaveRestoreTest : public ::testing::TestWithParam<PlanMode> {};
+
+TEST_P(SaveRestoreTest, RestoredPlanIssuesTheSameCommandsAsAnUninterruptedOne) {
+  const auto levels = TwoMaterialPlate(3);
+  const SurfaceLevel& finest = levels.back();
+  const SamplingPlanOptions options = OptionsFor(GetParam());
+
+  auto uninterrupted = SamplingPlan::Create(Pointers(levels), options);
+  ASSERT_TRUE(uninterrupted.ok()) << uninterrupted.status();
+  std::deque<ProbeCommand> queue_a;
+  const std::vector<IssuedRecord> expected = Drive(*uninterrupted, finest, /*rigs=*/3, queue_a);
+  ASSERT_GT(expected.size(), 70u);
+
+  for (int stop_after : {10, 61, 75}) {
+    SCOPED_TRACE(stop_after);
+    auto first = SamplingPlan::Create(Pointers(levels), options);
+    ASSERT_TRUE(first.ok());
+    std::deque<ProbeCommand> queue;  // the rigs' commands survive the restart
+    std::vector<IssuedRecord> issued = Drive(*first, finest, 3, queue, stop_after);
+    ASSERT_FALSE(queue.empty());  // commands are outstanding across the save
+    const std::string saved = first->SaveJson();
+
+    auto restored = SamplingPlan::Restore(saved, Pointers(levels));
+    ASSERT_TRUE(restored.ok()) << restored.status();
+    EXPECT_EQ(restored->SaveJson(), saved);
+    EXPECT_EQ(restored->Progress().issued, static_cast<int>(queue.size()));
+    const std::vector<IssuedRecord> rest = Drive(*restored, finest, 3, queue);
+    issued.insert(issued.end(), rest.begin(), rest.end());
+    EXPECT_EQ(issued, expected);
+    EXPECT_EQ(restored->SaveJson(), uninterrupted->SaveJson());
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, SaveRestoreTest,
+                         ::testing::Values(PlanMode::kAdaptive, PlanMode::kUncertainty, PlanMode::kUniform),
+                         [](const auto& info) { return std::string(PlanModeName(info.param)); });
+
+TEST(SaveRestoreTest, KeepsFailuresRetriesAndCancellation) {
+  const auto levels = TwoMaterialPlate(1);
+  auto plan = SamplingPlan::Create(Pointers(levels), OptionsFor(PlanMode::kAdaptive));
+  // max_level 3 > 1: use a shallower plan.
+  SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);
+  o.max_level = 1;
+  plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  auto a = plan->NextCommand();
+  ASSERT_TRUE(plan->RecordFailure(a->sequence, "contact lost").ok());
+  auto b = plan->NextCommand();
+  plan->Cancel();
+  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_FALSE(restored->NextCommand().has_value());
+  const SiteRecord* r = restored->FindSite(a->site.vertex);
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->failures, 1);
+  EXPECT_EQ(r->state, SiteState::kSkipped);
+  // The outstanding command is still accepted by its sequence number.
+  EXPECT_TRUE(restored->RecordFit(b->sequence, SynthesiseFit(b->position, b->site.vertex)).ok());
+  EXPECT_TRUE(restored->IsComplete());
+}
+
+TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
+  const auto levels = TwoMaterialPlate(2);
+  SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);
+  o.max_level = 2;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok());
+  auto c = plan->NextCommand();
+  ASSERT_TRUE(plan->RecordFit(c->sequence, SynthesiseFit(c->position, c->site.vertex)).ok());
+  (void)plan->NextCommand();
+  const nlohmann::json good = nlohmann::json::parse(plan->SaveJson());
+  ASSERT_TRUE(SamplingPlan::Restore(good.dump(), Pointers(levels)).ok());
+
+  auto expect_error = [&](const nlohmann::json& j, const std::string& needle) {
+    auto restored = SamplingPlan::Restore(j.dump(), Pointers(levels));
+    ASSERT_FALSE(restored.ok()) << "accepted: " << needle;
+    EXPECT_EQ(restored.status().code(), absl::StatusCode::kInvalidArgument);
+    EXPECT_NE(restored.status().message().find(needle), std::string::npos) << restored.status();
+  };
+  EXPECT_FALSE(SamplingPlan::Restore("{not json", Pointers(levels)).ok());
+  nlohmann::json j = good;
+  j["version"] = 2;
+  expect_error(j, "version 2");
+  j = good;
+  j["format"] = "something else";
+  expect_error(j, "format");
+  j = good;
+  j.erase("next_sequence");
+  expect_error(j, "next_sequence is missing");
+  j = good;
+  j["surface"]["vertex_counts"][2] = 10;
+  expect_error(j, "surface.vertex_counts");
+  j = good;
+  j["sites"][0]["level"] = 1;
+  expect_error(j, "sites[0].level");
+  j = good;
+  j["sites"][1]["vertex"] = j["sites"][0]["vertex"];
+  expect_error(j, "repeats vertex");
+  j = good;
+  j["sites"][0]["vertex"] = 100000;
+  expect_error(j, "sites[0].vertex");
+  j = good;
+  j["sites"][0]["state"] = "lost";
+  expect_error(j, "sites[0].state");
+  j = good;
+  j["options"]["max_level"] = 7;
+  expect_error(j, "max_level");
+  // The measured site without its fit, and with a bad one.
+  for (size_t i = 0; i < good["sites"].size(); ++i) {
+    if (good["sites"][i]["state"] == "measured") {
+      j = good;
+      j["sites"][i].erase("fit");
+      expect_error(j, "fit is missing");
+      j = good;
+      j["sites"][i]["fit"]["reflection"] = {1.5};
+      expect_error(j, "reflection");
+    }
+  }
+  // Another surface.
+  const auto other = TwoMaterialPlate(3);
+  EXPECT_FALSE(SamplingPlan::Restore(good.dump(), Pointers(other)).ok());
+}
+
+}  // namespace
+}  // namespace surfmap

@@ -1,0 +1,54 @@
+// Options of a sampling plan (see sampling_plan.h).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "server/estimate/texture.h"
+#include "server/map/friction_map.h"
+#include "server/plan/probe_command.h"
+
+namespace surfmap {
+
+enum class PlanMode {
+  // The paper's rule: measure every vertex of `coarsest_level`; refine an edge
+  // of level k < max_level whose ends differ by more than `threshold`.
+  kAdaptive,
+  // Every vertex of `coarsest_level` and nothing else (a baseline: set
+  // coarsest_level to the level to compare against).
+  kUniform,
+  // Every vertex of `coarsest_level` first, then one site at a time wherever
+  // the interpolated map (server/map) is most uncertain, weighted by its local
+  // value gradient, among the vertices of levels coarsest..max_level not yet
+  // sampled. Needs a sample budget.
+  kUncertainty,
+};
+
+struct SamplingPlanOptions {
+  PlanMode mode = PlanMode::kAdaptive;
+  int coarsest_level = 0;
+  int max_level = 2;          // the finest level refinement may reach (<= the surface's)
+  double threshold = 1.0;     // kAdaptive: refine where TextureDistance(ends) > threshold
+  TextureDistanceOptions distance;
+  // At most this many sites measured + issued; 0 = unlimited (not allowed for
+  // kUncertainty). Failed sites do not count.
+  int sample_budget = 0;
+  int max_retries = 2;        // a failed site is re-queued this many times, then fails for good
+  ProbeParameters probe;
+  std::uint64_t seed = 1;     // issue order among sites of one level (site_order.h)
+  // kUncertainty: score = mu_std * (1 + gradient_weight * mu_gradient * l / s)
+  // (l, s: the map's correlation length and prior std); stop when the best
+  // score falls below min_uncertainty_score.
+  double gradient_weight = 1.0;
+  double min_uncertainty_score = 0.0;
+  FrictionMapOptions map;     // kUncertainty: the map that scores candidate sites
+
+  bool IsValid(std::string* why) const;
+};
+
+std::string_view PlanModeName(PlanMode mode);  // "adaptive", "uniform", "uncertainty"
+std::optional<PlanMode> ParsePlanMode(std::string_view name);
+
+}  // namespace surfmap

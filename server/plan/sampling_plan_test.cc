@@ -1,0 +1,291 @@
+#include "server/plan/sampling_plan.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+#include "server/plan/plan_test_support.h"
+
+namespace surfmap {
+namespace {
+
+using testing::DriveToEnd;
+using testing::Pointers;
+using testing::SynthesiseFit;
+using testing::TwoMaterialPlate;
+
+constexpr double kCoarseCell = 100.0 / 9.0;
+
+SamplingPlanOptions Adaptive(int max_level = 3) {
+  SamplingPlanOptions o;
+  o.mode = PlanMode::kAdaptive;
+  o.coarsest_level = 0;
+  o.max_level = max_level;
+  o.threshold = 1.0;  // mu differs by 0.37 = 7.4 scales across the boundary; noise gives ~0.14
+  o.seed = 42;
+  return o;
+}
+
+TEST(SamplingPlanTest, AdaptiveRefinesOnlyAcrossTheBoundary) {
+  const auto levels = TwoMaterialPlate(3);
+  auto plan = SamplingPlan::Create(Pointers(levels), Adaptive(3));
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  DriveToEnd(*plan, levels.back());
+  ASSERT_TRUE(plan->IsComplete());
+
+  std::vector<int> refined_per_level(4, 0);
+  for (const SiteRecord& r : plan->Sites()) {
+    EXPECT_EQ(r.state, SiteState::kMeasured) << "vertex " << r.site.vertex;
+    if (r.origin == SiteOrigin::kInitial) {
+      EXPECT_EQ(r.site.level, 0);
+      continue;
+    }
+    ASSERT_EQ(r.origin, SiteOrigin::kRefined);
+    ++refined_per_level[r.site.level];
+    // It splits an edge of level k = level - 1 whose ends lie on both sides,
+    // so it lies within half that level's edge width (in x) of x = 0.
+    const double parent_width = kCoarseCell / std::pow(2.0, r.site.level - 1);
+    const double x = levels.back().limit_positions[r.site.vertex].x();
+    EXPECT_LE(std::abs(x), 0.5 * parent_width + 1e-9) << "vertex " << r.site.vertex << " level " << r.site.level;
+    EXPECT_GT(r.parent_distance, 1.0);
+    const double xa = levels.back().limit_positions[r.parent_a].x();
+    const double xb = levels.back().limit_positions[r.parent_b].x();
+    EXPECT_LT(std::min(xa, xb), 0.0);
+    EXPECT_GE(std::max(xa, xb), 0.0);
+  }
+  // Level 1 splits every coarse edge that crosses x = 0: 6 horizontal edges
+  // and 5 diagonals. Each split vertex then bisects one crossing edge per
+  // level: the threshold rule refines pairwise, it does not fill in the
+  // boundary line between its samples.
+  EXPECT_EQ(refined_per_level[1], 11);
+  EXPECT_GE(refined_per_level[2], 11);
+  EXPECT_GE(refined_per_level[3], 11);
+  const PlanProgress p = plan->Progress();
+  EXPECT_EQ(p.levels[0].measured, 60);
+  EXPECT_EQ(p.measured, 60 + refined_per_level[1] + refined_per_level[2] + refined_per_level[3]);
+  EXPECT_TRUE(p.done);
+  EXPECT_EQ(p.budget_left, -1);
+}
+
+TEST(SamplingPlanTest, AdaptiveOnAUniformMaterialDoesNotRefine) {
+  auto levels = TwoMaterialPlate(2);
+  for (auto& l : levels) {  // shift the plate right of the boundary: all sandpaper
+    for (auto& p : l.limit_positions) p.x() += 200.0;
+  }
+  auto plan = SamplingPlan::Create(Pointers(levels), Adaptive(2));
+  ASSERT_TRUE(plan.ok());
+  const auto issued = DriveToEnd(*plan, levels.back());
+  EXPECT_EQ(issued.size(), 60u);
+}
+
+TEST(SamplingPlanTest, UniformModeIssuesExactlyTheLevelsVertices) {
+  const auto levels = TwoMaterialPlate(3);
+  SamplingPlanOptions o = Adaptive(3);
+  o.mode = PlanMode::kUniform;
+  o.coarsest_level = 2;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  const auto issued = DriveToEnd(*plan, levels.back(), 3);
+  std::set<int> vertices;
+  for (const auto& i : issued) {
+    EXPECT_EQ(i.site.level, 2);
+    vertices.insert(i.site.vertex);
+  }
+  EXPECT_EQ(issued.size(), levels[2].limit_positions.size());
+  EXPECT_EQ(vertices.size(), levels[2].limit_positions.size());
+  EXPECT_EQ(*vertices.rbegin(), static_cast<int>(levels[2].limit_positions.size()) - 1);
+  EXPECT_TRUE(plan->IsComplete());
+}
+
+TEST(SamplingPlanTest, BudgetIsRespectedWithSeveralRigs) {
+  const auto levels = TwoMaterialPlate(3);
+  SamplingPlanOptions o = Adaptive(3);
+  o.sample_budget = 75;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok());
+  std::deque<ProbeCommand> outstanding;
+  int issued_total = 0;
+  while (true) {
+    while (outstanding.size() < 4) {
+      auto c = plan->NextCommand();
+      if (!c) break;
+      outstanding.push_back(*c);
+      ++issued_total;
+      const PlanProgress p = plan->Progress();
+      ASSERT_LE(p.measured + p.issued, 75);
+    }
+    if (outstanding.empty()) break;
+    const auto c = outstanding.front();
+    outstanding.pop_front();
+    ASSERT_TRUE(plan->RecordFit(c.sequence, SynthesiseFit(levels.back().limit_positions[c.site.vertex],
+                                                          c.site.vertex)).ok());
+  }
+  const PlanProgress p = plan->Progress();
+  EXPECT_EQ(issued_total, 75);
+  EXPECT_EQ(p.measured, 75);
+  EXPECT_EQ(p.budget_left, 0);
+  EXPECT_GT(p.skipped, 0);  // refinements proposed after the budget ran out
+  EXPECT_EQ(p.pending, 0);
+  EXPECT_TRUE(p.done);
+  for (const auto& r : plan->Sites()) {
+    if (r.state == SiteState::kSkipped) EXPECT_EQ(r.reason, "sample budget used up");
+  }
+}
+
+TEST(SamplingPlanTest, FailuresAreRetriedUpToMaxRetriesThenFailForGood) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = Adaptive(1);
+  o.max_retries = 2;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok());
+  const int unreachable = 17;
+  std::vector<int> attempts_seen;
+  int other_coarse_issued = 0;
+  int other_coarse_before_retry = -1;
+  while (auto c = plan->NextCommand()) {
+    if (c->site.vertex == unreachable) {
+      attempts_seen.push_back(c->attempt);
+      if (c->attempt == 2) other_coarse_before_retry = other_coarse_issued;
+      ASSERT_TRUE(plan->RecordFailure(c->sequence, "out of reach of the arm").ok());
+      continue;
+    }
+    if (c->site.level == 0) ++other_coarse_issued;
+    ASSERT_TRUE(plan->RecordFit(c->sequence, SynthesiseFit(levels.back().limit_positions[c->site.vertex],
+                                                           c->site.vertex)).ok());
+  }
+  // The retry went behind every fresh site of its level.
+  EXPECT_EQ(other_coarse_before_retry, 59);
+  EXPECT_EQ(attempts_seen, (std::vector<int>{1, 2, 3}));
+  const SiteRecord* r = plan->FindSite(unreachable);
+  ASSERT_NE(r, nullptr);
+  EXPECT_EQ(r->state, SiteState::kFailed);
+  EXPECT_EQ(r->failures, 3);
+  EXPECT_NE(r->reason.find("out of reach of the arm"), std::string::npos) << r->reason;
+  EXPECT_TRUE(plan->IsComplete());
+  const PlanProgress p = plan->Progress();
+  EXPECT_EQ(p.failed, 1);
+  EXPECT_EQ(p.levels[0].measured, 59);
+}
+
+TEST(SamplingPlanTest, NextCommandWaitsForOutstandingMeasurements) {
+  const auto levels = TwoMaterialPlate(2);
+  auto plan = SamplingPlan::Create(Pointers(levels), Adaptive(2));
+  ASSERT_TRUE(plan.ok());
+  std::vector<ProbeCommand> commands;
+  while (auto c = plan->NextCommand()) commands.push_back(*c);
+  ASSERT_EQ(commands.size(), 60u);  // every coarse site; refinement needs fits
+  EXPECT_FALSE(plan->IsComplete());
+  EXPECT_EQ(plan->Progress().issued, 60);
+  for (const auto& c : commands) {
+    ASSERT_TRUE(plan->RecordFit(c.sequence, SynthesiseFit(levels.back().limit_positions[c.site.vertex],
+                                                          c.site.vertex)).ok());
+  }
+  EXPECT_GT(plan->Progress().pending, 0);
+  EXPECT_TRUE(plan->NextCommand().has_value());
+}
+
+TEST(SamplingPlanTest, CommandsCarryTheSiteGeometryAndProbeParameters) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = Adaptive(1);
+  o.probe = {.segment_length_mm = 15.0, .speed_mm_per_s = 8.0, .normal_force_n = 4.0};
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok());
+  std::uint64_t last = 0;
+  while (auto c = plan->NextCommand()) {
+    EXPECT_GT(c->sequence, last);
+    last = c->sequence;
+    EXPECT_TRUE(c->position.isApprox(levels.back().limit_positions[c->site.vertex]));
+    EXPECT_NEAR(c->normal.z(), 1.0, 1e-12);
+    EXPECT_NEAR(c->drag_direction.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(c->drag_direction.dot(c->normal), 0.0, 1e-12);
+    EXPECT_NEAR(c->drag_direction.x(), 1.0, 1e-12);  // the world axis least aligned with +z: x
+    EXPECT_EQ(c->probe.segment_length_mm, 15.0);
+    EXPECT_EQ(c->probe.speed_mm_per_s, 8.0);
+    EXPECT_EQ(c->probe.normal_force_n, 4.0);
+    EXPECT_EQ(c->attempt, 1);
+  }
+  EXPECT_EQ(last, 60u);
+}
+
+TEST(SamplingPlanTest, DeterministicForASeedAndShuffledByIt) {
+  const auto levels = TwoMaterialPlate(2);
+  auto run = [&](std::uint64_t seed) {
+    SamplingPlanOptions o = Adaptive(2);
+    o.seed = seed;
+    auto plan = SamplingPlan::Create(Pointers(levels), o);
+    EXPECT_TRUE(plan.ok());
+    return DriveToEnd(*plan, levels.back(), 2);
+  };
+  const auto a = run(7), b = run(7), c = run(8);
+  EXPECT_EQ(a, b);
+  ASSERT_EQ(a.size(), c.size());  // the same sites...
+  EXPECT_NE(a, c);                // ...in another order
+  // Lowest level first: a level-0 site never follows a level-1 site.
+  bool seen_level1 = false;
+  for (const auto& r : a) {
+    if (r.site.level >= 1) seen_level1 = true;
+    if (seen_level1) EXPECT_GE(r.site.level, 1);
+  }
+}
+
+TEST(SamplingPlanTest, RecordingRejectsUnknownDuplicateAndInvalidAnswers) {
+  const auto levels = TwoMaterialPlate(1);
+  auto plan = SamplingPlan::Create(Pointers(levels), Adaptive(1));
+  ASSERT_TRUE(plan.ok());
+  auto c = plan->NextCommand();
+  ASSERT_TRUE(c.has_value());
+  TextureParams bad;
+  bad.mu = std::nan("");
+  EXPECT_EQ(plan->RecordFit(c->sequence, bad).code(), absl::StatusCode::kInvalidArgument);
+  bad.mu = 0.2;
+  bad.reflection = {1.2};
+  EXPECT_EQ(plan->RecordFit(c->sequence, bad).code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(plan->RecordFit(999, SynthesiseFit(c->position, 0)).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(plan->RecordFitForSite({0, 12345}, SynthesiseFit(c->position, 0)).code(),
+            absl::StatusCode::kFailedPrecondition);
+  ASSERT_TRUE(plan->RecordFitForSite(c->site, SynthesiseFit(c->position, c->site.vertex)).ok());
+  EXPECT_EQ(plan->RecordFit(c->sequence, SynthesiseFit(c->position, 0)).code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(plan->RecordFailure(c->sequence, "late").code(), absl::StatusCode::kNotFound);
+  // An answer to a command superseded by a retry is refused.
+  auto d = plan->NextCommand();
+  ASSERT_TRUE(plan->RecordFailure(d->sequence, "rig dropped it").ok());
+  EXPECT_EQ(plan->RecordFit(d->sequence, SynthesiseFit(d->position, 0)).code(), absl::StatusCode::kNotFound);
+}
+
+TEST(SamplingPlanTest, CancelSkipsPendingButAcceptsOutstandingAnswers) {
+  const auto levels = TwoMaterialPlate(2);
+  auto plan = SamplingPlan::Create(Pointers(levels), Adaptive(2));
+  ASSERT_TRUE(plan.ok());
+  auto c = plan->NextCommand();
+  plan->Cancel();
+  EXPECT_FALSE(plan->NextCommand().has_value());
+  EXPECT_FALSE(plan->IsComplete());
+  ASSERT_TRUE(plan->RecordFit(c->sequence, SynthesiseFit(c->position, c->site.vertex)).ok());
+  EXPECT_TRUE(plan->IsComplete());
+  const PlanProgress p = plan->Progress();
+  EXPECT_EQ(p.measured, 1);
+  EXPECT_EQ(p.skipped, 59);
+}
+
+TEST(SamplingPlanTest, RejectsInvalidOptionsAndSurfaces) {
+  const auto levels = TwoMaterialPlate(2);
+  SamplingPlanOptions o = Adaptive(3);  // finer than the surface
+  EXPECT_EQ(SamplingPlan::Create(Pointers(levels), o).status().code(), absl::StatusCode::kInvalidArgument);
+  o = Adaptive(2);
+  o.coarsest_level = 3;
+  EXPECT_FALSE(SamplingPlan::Create(Pointers(levels), o).ok());
+  o = Adaptive(2);
+  o.mode = PlanMode::kUncertainty;  // without a budget
+  EXPECT_FALSE(SamplingPlan::Create(Pointers(levels), o).ok());
+  o = Adaptive(2);
+  o.distance.mu_scale = 0;
+  EXPECT_FALSE(SamplingPlan::Create(Pointers(levels), o).ok());
+  EXPECT_FALSE(SamplingPlan::Create({}, Adaptive(0)).ok());
+  auto broken = levels;
+  broken[0].edge_child_vertex.pop_back();
+  EXPECT_FALSE(SamplingPlan::Create(Pointers(broken), Adaptive(2)).ok());
+}
+
+}  // namespace
+}  // namespace surfmap

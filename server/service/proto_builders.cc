@@ -1,0 +1,139 @@
+#include "server/service/proto_builders.h"
+
+#include <cmath>
+#include <map>
+
+#include "absl/strings/str_cat.h"
+#include "server/estimate/roughness.h"
+#include "server/jobs/command_json.h"
+#include "server/service/proto_conversion.h"
+
+namespace surfmap {
+
+pb::JobProgress ProgressToProto(const PlanProgress& p) {
+  pb::JobProgress out;
+  out.set_measured(p.measured);
+  out.set_pending(p.pending);
+  out.set_issued(p.issued);
+  out.set_failed(p.failed);
+  out.set_skipped(p.skipped);
+  out.set_budget_left(p.budget_left);
+  out.set_complete(p.done);
+  for (const LevelProgress& l : p.levels) {
+    pb::LevelProgress* level = out.add_levels();
+    level->set_level(l.level);
+    level->set_measured(l.measured);
+    level->set_pending(l.pending);
+    level->set_issued(l.issued);
+    level->set_failed(l.failed);
+  }
+  return out;
+}
+
+pb::JobInfo JobInfoToProto(const JobSnapshot& job) {
+  pb::JobInfo out;
+  out.set_job_id(job.record.id);
+  *out.mutable_spec() = JobParamsToProto(job.params);
+  out.set_state(JobStateToProto(job.record.state));
+  *out.mutable_progress() = ProgressToProto(job.progress);
+  *out.mutable_created() = TimestampFromUnixMs(job.record.created_unix_ms);
+  *out.mutable_updated() = TimestampFromUnixMs(job.record.updated_unix_ms);
+  return out;
+}
+
+pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
+  pb::ObjectInfo out;
+  out.set_object_id(o.id);
+  out.set_name(o.name);
+  out.set_format(o.mesh_format == "ply" ? pb::MESH_FORMAT_PLY : pb::MESH_FORMAT_OBJ);
+  out.set_control_vertex_count(static_cast<int32_t>(o.control_vertices));
+  out.set_control_face_count(static_cast<int32_t>(o.control_faces));
+  *out.mutable_created() = TimestampFromUnixMs(o.created_unix_ms);
+  return out;
+}
+
+pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit) {
+  pb::Sample s;
+  s.set_trace_id(trace.id);
+  s.set_command_id(command.id);
+  s.set_job_id(command.job_id);
+  s.mutable_site()->set_level(command.site_level);
+  s.mutable_site()->set_vertex(static_cast<int32_t>(command.site_vertex));
+  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command.command_json);
+  if (probe.ok()) {
+    *s.mutable_position() = ToProto(probe->position);
+    *s.mutable_drag_direction() = ToProto(probe->drag_direction);
+    s.set_segment_length_mm(probe->probe.segment_length_mm);
+  }
+  *s.mutable_fit() = FitToProto(fit);
+  *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
+  return s;
+}
+
+absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
+                                       int32_t fit_version) {
+  absl::StatusOr<FitRecord> fit = store->GetFit(trace.id, fit_version);
+  if (!fit.ok()) return fit.status();
+  return BuildSample(trace, command, *fit);
+}
+
+absl::Status FillMapLevel(Store* store, int64_t job_id, const MapSnapshot& snapshot, int level, pb::MapLevel* out) {
+  const SurfaceLevel& surface_level = snapshot.surface->level(level);
+  const int n = static_cast<int>(surface_level.limit_positions.size());
+  out->set_job_id(job_id);
+  out->set_level(level);
+  out->set_vertex_count(n);
+  if (snapshot.map) {
+    const FrictionMap& map = *snapshot.map;
+    out->mutable_mu()->Reserve(n);
+    out->mutable_mu_uncertainty()->Reserve(n);
+    for (int v = 0; v < n; ++v) {
+      out->add_mu(map.mu()[v]);
+      out->add_mu_uncertainty(map.mu_std()[v]);
+    }
+    if (map.roughness_order() > 0) {
+      std::vector<double> k(map.roughness_order());
+      for (int v = 0; v < n; ++v) {
+        for (int j = 0; j < map.roughness_order(); ++j) k[j] = map.reflection()[j][v];
+        std::vector<double> a = ReflectionToAr(k);
+        out->add_sigma(std::exp(map.log_sigma()[v]));
+        out->add_a1(a.size() > 0 ? a[0] : 0.0);
+        out->add_a2(a.size() > 1 ? a[1] : 0.0);
+      }
+    }
+  }
+  // The measured samples (latest fits), with their sites and drags.
+  absl::StatusOr<std::vector<CommandRecord>> commands = store->ListCommands(job_id);
+  if (!commands.ok()) return commands.status();
+  std::map<int64_t, const CommandRecord*> by_id;
+  for (const CommandRecord& c : *commands) by_id[c.id] = &c;
+  absl::StatusOr<std::vector<TraceRecord>> traces = store->ListTraces(job_id, /*include_samples=*/false);
+  if (!traces.ok()) return traces.status();
+  absl::StatusOr<std::vector<FitRecord>> fits = store->ListFits(job_id, 0);
+  if (!fits.ok()) return fits.status();
+  std::map<int64_t, const FitRecord*> fit_by_trace;
+  for (const FitRecord& f : *fits) fit_by_trace[f.trace_id] = &f;
+  for (const TraceRecord& t : *traces) {
+    auto c = by_id.find(t.command_id);
+    auto f = fit_by_trace.find(t.id);
+    if (c == by_id.end() || f == fit_by_trace.end()) continue;
+    *out->add_samples() = BuildSample(t, *c->second, *f->second);
+  }
+  return absl::OkStatus();
+}
+
+void FillMesh(const SurfaceLevel& level, int level_index, int64_t object_id, pb::GetMeshResponse* out) {
+  out->set_object_id(object_id);
+  out->set_level(level_index);
+  out->mutable_positions()->Reserve(static_cast<int>(level.limit_positions.size()));
+  for (const Eigen::Vector3d& p : level.limit_positions) *out->add_positions() = ToProto(p);
+  for (const Eigen::Vector3d& n : level.limit_normals) *out->add_normals() = ToProto(n);
+  out->mutable_triangle_indices()->Reserve(static_cast<int>(level.triangles.size() * 3));
+  for (const auto& t : level.triangles) {
+    out->add_triangle_indices(t[0]);
+    out->add_triangle_indices(t[1]);
+    out->add_triangle_indices(t[2]);
+  }
+}
+
+}  // namespace surfmap

@@ -1,0 +1,28 @@
+// Builds the API's composite messages from domain snapshots (shared by the
+// services and the watch stream).
+#pragma once
+
+#include "absl/status/statusor.h"
+#include "proto/surfmap/v1/surfmap.pb.h"
+#include "server/jobs/job_coordinator.h"
+
+namespace surfmap {
+
+namespace pb = ::surfmap::v1;
+
+pb::JobProgress ProgressToProto(const PlanProgress& progress);
+pb::JobInfo JobInfoToProto(const JobSnapshot& job);
+pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
+
+// A sample: the command's site and drag with the trace's fit (version, 0 = latest).
+absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
+                                       int32_t fit_version);
+pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit);
+
+// Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
+// vertices of `level`, by the numbering contract), and the measured samples.
+absl::Status FillMapLevel(Store* store, int64_t job_id, const MapSnapshot& snapshot, int level,
+                          pb::MapLevel* out);
+void FillMesh(const SurfaceLevel& level, int level_index, int64_t object_id, pb::GetMeshResponse* out);
+
+}  // namespace surfmap

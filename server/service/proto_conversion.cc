@@ -1,0 +1,215 @@
+#include "server/service/proto_conversion.h"
+
+#include <nlohmann/json.hpp>
+#include "absl/strings/str_cat.h"
+#include "server/codec/fit_json.h"
+
+namespace surfmap {
+
+pb::Vec3 ToProto(const Eigen::Vector3d& v) {
+  pb::Vec3 out;
+  out.set_x(v.x());
+  out.set_y(v.y());
+  out.set_z(v.z());
+  return out;
+}
+
+Eigen::Vector3d FromProto(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+
+google::protobuf::Timestamp TimestampFromUnixMs(int64_t unix_ms) {
+  google::protobuf::Timestamp ts;
+  ts.set_seconds(unix_ms / 1000);
+  ts.set_nanos(static_cast<int32_t>((unix_ms % 1000) * 1'000'000));
+  return ts;
+}
+
+absl::StatusOr<DragTrace> DragTraceFromProto(const pb::TraceSamples& s, int max_samples) {
+  const int n = s.t_size();
+  if (n == 0) return absl::InvalidArgumentError("trace has no samples");
+  if (n > max_samples) {
+    return absl::ResourceExhaustedError(absl::StrCat("trace has ", n, " samples; the limit is ", max_samples));
+  }
+  const std::pair<const char*, int> columns[] = {{"x", s.x_size()},   {"y", s.y_size()},   {"z", s.z_size()},
+                                                 {"fx", s.fx_size()}, {"fy", s.fy_size()}, {"fz", s.fz_size()},
+                                                 {"phases", s.phases_size()}};
+  for (const auto& [name, size] : columns) {
+    if (size != n) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("trace column '", name, "' has ", size, " values but 't' has ", n));
+    }
+  }
+  DragTrace trace;
+  trace.samples.resize(n);
+  for (int i = 0; i < n; ++i) {
+    DragSample& d = trace.samples[i];
+    d.t = s.t(i);
+    d.position = {s.x(i), s.y(i), s.z(i)};
+    d.force = {s.fx(i), s.fy(i), s.fz(i)};
+    switch (s.phases(i)) {
+      case pb::PHASE_FORWARD: d.phase = DragPhase::kForward; break;
+      case pb::PHASE_PAUSE: d.phase = DragPhase::kPause; break;
+      case pb::PHASE_REVERSE: d.phase = DragPhase::kReverse; break;
+      default:
+        return absl::InvalidArgumentError(absl::StrCat("trace sample ", i, ": phase must be FORWARD, PAUSE or REVERSE"));
+    }
+  }
+  return trace;
+}
+
+void AppendSamples(const pb::TraceSamples& more, pb::TraceSamples* into) {
+  into->mutable_t()->Add(more.t().begin(), more.t().end());
+  into->mutable_x()->Add(more.x().begin(), more.x().end());
+  into->mutable_y()->Add(more.y().begin(), more.y().end());
+  into->mutable_z()->Add(more.z().begin(), more.z().end());
+  into->mutable_fx()->Add(more.fx().begin(), more.fx().end());
+  into->mutable_fy()->Add(more.fy().begin(), more.fy().end());
+  into->mutable_fz()->Add(more.fz().begin(), more.fz().end());
+  into->mutable_phases()->Add(more.phases().begin(), more.phases().end());
+}
+
+pb::TraceSamples DragTraceToProto(const DragTrace& trace) {
+  pb::TraceSamples s;
+  const int n = static_cast<int>(trace.samples.size());
+  for (auto* column : {s.mutable_t(), s.mutable_x(), s.mutable_y(), s.mutable_z(), s.mutable_fx(), s.mutable_fy(),
+                       s.mutable_fz()}) {
+    column->Reserve(n);
+  }
+  for (const DragSample& d : trace.samples) {
+    s.add_t(d.t);
+    s.add_x(d.position.x());
+    s.add_y(d.position.y());
+    s.add_z(d.position.z());
+    s.add_fx(d.force.x());
+    s.add_fy(d.force.y());
+    s.add_fz(d.force.z());
+    s.add_phases(d.phase == DragPhase::kForward ? pb::PHASE_FORWARD
+                 : d.phase == DragPhase::kPause ? pb::PHASE_PAUSE
+                                                : pb::PHASE_REVERSE);
+  }
+  return s;
+}
+
+absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings) {
+  FitOptions o;
+  if (settings.step_mm() != 0) o.step_mm = settings.step_mm();
+  if (settings.ar_order() != 0) o.ar_order = settings.ar_order();
+  switch (settings.ar_method()) {
+    case pb::AR_METHOD_BURG: o.ar_method = ArMethod::kBurg; break;
+    case pb::AR_METHOD_LEAST_SQUARES: o.ar_method = ArMethod::kLeastSquares; break;
+    case pb::AR_METHOD_UNSPECIFIED:
+      return absl::InvalidArgumentError("estimator settings: ar_method must be BURG or LEAST_SQUARES");
+    default: return absl::InvalidArgumentError("estimator settings: unknown ar_method");
+  }
+  o.noise_aware = settings.noise_aware();
+  std::string why;
+  if (!o.IsValid(&why)) return absl::InvalidArgumentError("estimator settings: " + why);
+  return o;
+}
+
+absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t default_lease_ms) {
+  JobParams p;
+  p.object_id = spec.object_id();
+  if (p.object_id <= 0) return absl::InvalidArgumentError("spec.object_id must be a positive object id");
+  switch (spec.property()) {
+    case pb::PROPERTY_FRICTION: p.property = TextureProperty::kFriction; break;
+    case pb::PROPERTY_ROUGHNESS: p.property = TextureProperty::kRoughness; break;
+    case pb::PROPERTY_BOTH: p.property = TextureProperty::kBoth; break;
+    case pb::PROPERTY_UNSPECIFIED:
+      return absl::InvalidArgumentError("spec.property must be FRICTION, ROUGHNESS or BOTH (UNSPECIFIED is rejected)");
+    default: return absl::InvalidArgumentError(absl::StrCat("spec.property: unknown value ", spec.property()));
+  }
+  switch (spec.mode()) {
+    case pb::SAMPLING_MODE_ADAPTIVE: p.mode = PlanMode::kAdaptive; break;
+    case pb::SAMPLING_MODE_UNIFORM: p.mode = PlanMode::kUniform; break;
+    case pb::SAMPLING_MODE_UNCERTAINTY: p.mode = PlanMode::kUncertainty; break;
+    case pb::SAMPLING_MODE_UNSPECIFIED:
+      return absl::InvalidArgumentError(
+          "spec.mode must be ADAPTIVE, UNIFORM or UNCERTAINTY (UNSPECIFIED is rejected)");
+    default: return absl::InvalidArgumentError(absl::StrCat("spec.mode: unknown value ", spec.mode()));
+  }
+  p.coarsest_level = spec.coarsest_level();
+  p.finest_level = spec.finest_level();
+  p.threshold = spec.threshold() != 0 ? spec.threshold() : p.threshold;
+  p.budget = spec.budget();
+  if (spec.has_probe()) {
+    if (spec.probe().segment_length_mm() != 0) p.probe.segment_length_mm = spec.probe().segment_length_mm();
+    if (spec.probe().speed_mm_s() != 0) p.probe.speed_mm_per_s = spec.probe().speed_mm_s();
+    if (spec.probe().normal_force_n() != 0) p.probe.normal_force_n = spec.probe().normal_force_n();
+  }
+  p.seed = spec.seed() != 0 ? spec.seed() : 1;
+  p.max_retries = spec.max_retries() != 0 ? spec.max_retries() : p.max_retries;
+  p.lease_ms = default_lease_ms;
+  if (spec.has_lease()) p.lease_ms = spec.lease().seconds() * 1000 + spec.lease().nanos() / 1'000'000;
+  std::string why;
+  if (!p.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
+  return p;
+}
+
+pb::JobSpec JobParamsToProto(const JobParams& p) {
+  pb::JobSpec spec;
+  spec.set_object_id(p.object_id);
+  spec.set_property(p.property == TextureProperty::kFriction    ? pb::PROPERTY_FRICTION
+                    : p.property == TextureProperty::kRoughness ? pb::PROPERTY_ROUGHNESS
+                                                                : pb::PROPERTY_BOTH);
+  spec.set_mode(p.mode == PlanMode::kAdaptive  ? pb::SAMPLING_MODE_ADAPTIVE
+                : p.mode == PlanMode::kUniform ? pb::SAMPLING_MODE_UNIFORM
+                                                       : pb::SAMPLING_MODE_UNCERTAINTY);
+  spec.set_coarsest_level(p.coarsest_level);
+  spec.set_finest_level(p.finest_level);
+  spec.set_threshold(p.threshold);
+  spec.set_budget(p.budget);
+  spec.mutable_probe()->set_segment_length_mm(p.probe.segment_length_mm);
+  spec.mutable_probe()->set_speed_mm_s(p.probe.speed_mm_per_s);
+  spec.mutable_probe()->set_normal_force_n(p.probe.normal_force_n);
+  spec.set_seed(p.seed);
+  spec.set_max_retries(p.max_retries);
+  spec.mutable_lease()->set_seconds(p.lease_ms / 1000);
+  spec.mutable_lease()->set_nanos(static_cast<int32_t>((p.lease_ms % 1000) * 1'000'000));
+  return spec;
+}
+
+pb::Fit FitToProto(const FitRecord& record) {
+  pb::Fit out;
+  out.set_fit_id(record.id);
+  out.set_version(record.version);
+  out.set_estimator(record.estimator_name);
+  out.set_estimator_version(record.estimator_version);
+  out.set_options_json(record.options_json);
+  nlohmann::json j = nlohmann::json::parse(record.result_json, nullptr, false);
+  absl::StatusOr<TraceFit> fit = j.is_discarded() ? absl::DataLossError("stored fit is not JSON")
+                                                  : TraceFitFromJson(j);
+  if (!fit.ok()) return out;  // the ids and provenance still identify it
+  const FrictionFit& f = fit->friction;
+  pb::FrictionEstimate* fe = out.mutable_friction();
+  fe->set_mu(f.mu);
+  fe->set_mu_std(f.mu_std);
+  fe->set_mu_median(f.mu_median);
+  *fe->mutable_normal() = ToProto(f.normal);
+  fe->set_pair_count(f.n_pairs);
+  fe->set_window_start_mm(f.window_start_mm);
+  fe->set_window_end_mm(f.window_end_mm);
+  const ArFit& r = fit->roughness;
+  pb::RoughnessEstimate* re = out.mutable_roughness();
+  for (double a : r.a) re->add_ar_coefficients(a);
+  for (double e : r.a_stderr) re->add_ar_stderr(e);
+  for (double k : r.reflection) re->add_reflection(k);
+  re->set_sigma(r.sigma);
+  re->set_stationary(r.stationary);
+  re->set_acf_decay_mm(r.acf_decay_mm);
+  re->set_dominant_wavelength_mm(r.dominant_wavelength_mm.value_or(0.0));
+  re->set_below_noise_floor(r.below_noise_floor);
+  out.set_noise_std(fit->noise_std);
+  return out;
+}
+
+pb::JobState JobStateToProto(JobState state) {
+  switch (state) {
+    case JobState::kRunning: return pb::JOB_STATE_RUNNING;
+    case JobState::kPaused: return pb::JOB_STATE_PAUSED;
+    case JobState::kCompleted: return pb::JOB_STATE_COMPLETED;
+    case JobState::kCancelled: return pb::JOB_STATE_CANCELLED;
+  }
+  return pb::JOB_STATE_UNSPECIFIED;
+}
+
+}  // namespace surfmap

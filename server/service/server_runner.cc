@@ -1,0 +1,92 @@
+#include "server/service/server_runner.h"
+
+#include <csignal>
+#include <cstdio>
+#include <fstream>
+#include <thread>
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/grpcpp.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <spdlog/spdlog.h>
+#include "absl/strings/str_cat.h"
+#include "server/jobs/job_coordinator.h"
+#include "server/service/grpc_services.h"
+#include "storage/sqlite_store.h"
+
+namespace surfmap {
+namespace {
+
+absl::Status WritePortFile(const std::string& path, int port) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << port << "\n";
+    if (!out) return absl::UnavailableError(absl::StrCat("cannot write port file ", tmp));
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    return absl::UnavailableError(absl::StrCat("cannot rename ", tmp, " to ", path));
+  }
+  return absl::OkStatus();
+}
+
+}  // namespace
+
+absl::Status RunServer(const ServerConfig& config, const std::string& port_file) {
+  // Signals are handled by sigwait below: block them before any thread starts
+  // so every thread inherits the mask.
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  absl::StatusOr<std::unique_ptr<SqliteStore>> store = SqliteStore::Open(config.db_path);
+  if (!store.ok()) return store.status();
+  JobCoordinator coordinator(store->get(), static_cast<int64_t>(config.default_lease_s * 1000));
+  if (absl::Status s = coordinator.LoadJobs(); !s.ok()) return s;
+  WorkerPool pool(config.worker_threads, /*max_queued=*/4096);
+  RequestGate gate(config.tokens);
+  ServiceContext services{&coordinator, &gate, &config, &pool};
+
+  ObjectServiceImpl objects(services);
+  JobServiceImpl jobs(services);
+  ProbeServiceImpl probes(services);
+  MapServiceImpl maps(services);
+  TraceServiceImpl traces(services);
+
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  int port = 0;
+  builder.AddListeningPort(config.listen, grpc::InsecureServerCredentials(), &port);
+  builder.SetMaxReceiveMessageSize(config.max_message_bytes);
+  builder.SetMaxSendMessageSize(config.max_message_bytes);
+  builder.RegisterService(&objects);
+  builder.RegisterService(&jobs);
+  builder.RegisterService(&probes);
+  builder.RegisterService(&maps);
+  builder.RegisterService(&traces);
+  std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
+  if (!server || port == 0) return absl::UnavailableError(absl::StrCat("cannot listen on ", config.listen));
+
+  const std::string host = config.listen.substr(0, config.listen.rfind(':'));
+  spdlog::info("surfmapd listening on {}:{} db={} auth={}", host, port, config.db_path,
+               config.tokens.empty() ? "open" : "tokens");
+  if (!port_file.empty()) {
+    if (absl::Status s = WritePortFile(port_file, port); !s.ok()) return s;
+  }
+
+  int signal_number = 0;
+  sigwait(&signals, &signal_number);
+  spdlog::info("surfmapd: signal {} received, shutting down (deadline {:.1f} s)", signal_number,
+               config.shutdown_deadline_s);
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(config.shutdown_deadline_s * 1000));
+  server->Shutdown(deadline);  // in-flight calls finish or are cancelled at the deadline
+  server->Wait();
+  spdlog::info("surfmapd: stopped");
+  return absl::OkStatus();
+}
+
+}  // namespace surfmap

@@ -1,0 +1,547 @@
+#include "storage/sqlite_store.h"
+
+#include <atomic>
+#include <map>
+#include <set>
+#include <thread>
+
+#include "gtest/gtest.h"
+#include "storage/store_test_support_for_test.h"
+#include "storage/temp_db_dir_for_test.h"
+
+namespace surfmap {
+namespace {
+
+constexpr int64_t kStartMs = 1'700'000'000'000;
+
+class SqliteStoreTest : public ::testing::Test {
+ protected:
+  void SetUp() override { Reopen(); }
+
+  void Reopen() {
+    store_.reset();
+    SqliteStoreOptions options;
+    options.clock = [this] { return now_ms_.load(); };
+    absl::StatusOr<std::unique_ptr<SqliteStore>> store = SqliteStore::Open(path_, options);
+    ASSERT_TRUE(store.ok()) << store.status();
+    store_ = std::move(*store);
+  }
+
+  CreatedJob Job(int n_commands) {
+    absl::StatusOr<CreatedJob> job = MakeTestJob(*store_, n_commands);
+    EXPECT_TRUE(job.ok()) << job.status();
+    return job.ok() ? *job : CreatedJob{};
+  }
+
+  CommandRecord Lease(int64_t job_id, const std::string& owner, int64_t now = kStartMs,
+                      int64_t duration = 60'000) {
+    absl::StatusOr<std::optional<CommandRecord>> c =
+        store_->LeaseNextCommand(LeaseRequest{job_id, owner, now, duration});
+    EXPECT_TRUE(c.ok()) << c.status();
+    EXPECT_TRUE(c.ok() && c->has_value()) << "no command to lease";
+    return (c.ok() && c->has_value()) ? **c : CommandRecord{};
+  }
+
+  // Rows per table, read through a separate connection.
+  std::map<std::string, int64_t> TableCounts() {
+    auto db = SqliteConnection::Open(path_, {});
+    EXPECT_TRUE(db.ok());
+    std::map<std::string, int64_t> counts;
+    for (const char* t : {"objects", "jobs", "plans", "commands", "traces", "fits", "events"}) {
+      counts[t] = *(*db)->QueryInt(std::string("SELECT COUNT(*) FROM ") + t);
+    }
+    counts["plan_revision_sum"] = *(*db)->QueryInt("SELECT TOTAL(revision) FROM plans");
+    counts["leased"] = *(*db)->QueryInt("SELECT COUNT(*) FROM commands WHERE state = 'leased'");
+    counts["job_states"] = *(*db)->QueryInt("SELECT COUNT(*) FROM jobs WHERE state = 'running'");
+    return counts;
+  }
+
+  TempDbDir dir_;
+  std::string path_ = dir_.Path("surfmap.db");
+  std::atomic<int64_t> now_ms_{kStartMs};
+  std::unique_ptr<SqliteStore> store_;
+};
+
+TEST_F(SqliteStoreTest, ObjectsRoundTripIncludingBinaryMesh) {
+  std::string bytes("ply\0\x01\xff binary", 16);
+  absl::StatusOr<int64_t> id = store_->CreateObject(NewObject{"cup", "ply", bytes, 8, 12});
+  ASSERT_TRUE(id.ok()) << id.status();
+  absl::StatusOr<ObjectRecord> got = store_->GetObject(*id, true);
+  ASSERT_TRUE(got.ok()) << got.status();
+  EXPECT_EQ(got->name, "cup");
+  EXPECT_EQ(got->mesh_format, "ply");
+  EXPECT_EQ(got->mesh_bytes, bytes);
+  EXPECT_EQ(got->control_vertices, 8);
+  EXPECT_EQ(got->control_faces, 12);
+  EXPECT_EQ(got->created_unix_ms, kStartMs);
+  absl::StatusOr<std::vector<ObjectRecord>> all = store_->ListObjects();
+  ASSERT_TRUE(all.ok());
+  ASSERT_EQ(all->size(), 1u);
+  EXPECT_TRUE((*all)[0].mesh_bytes.empty());  // listing leaves the mesh out
+}
+
+TEST_F(SqliteStoreTest, InvalidInputsAndUnknownIdsGiveNamedErrors) {
+  absl::StatusOr<int64_t> bad = store_->CreateObject(NewObject{"x", "stl", "abc", 0, 0});
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad.status().message().find("stl"), std::string::npos);
+
+  absl::StatusOr<ObjectRecord> missing = store_->GetObject(77, false);
+  EXPECT_EQ(missing.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(missing.status().message().find("object 77"), std::string::npos);
+
+  NewJob job;
+  job.object_id = 5;
+  job.plan_json = "{}";
+  absl::StatusOr<CreatedJob> created = store_->CreateJob(job);
+  EXPECT_EQ(created.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(created.status().message().find("object 5"), std::string::npos);
+
+  EXPECT_EQ(store_->GetJob(9).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->GetPlan(9).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->GetCommand(9).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->GetTrace(9, true).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->GetFit(9, 0).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->ListCommands(9).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->ListTraces(9, false).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_F(SqliteStoreTest, CreateJobWritesJobPlanCommandsAndEventTogether) {
+  CreatedJob created = Job(3);
+  ASSERT_EQ(created.command_ids.size(), 3u);
+  absl::StatusOr<JobRecord> job = store_->GetJob(created.job.id);
+  ASSERT_TRUE(job.ok());
+  EXPECT_EQ(job->state, JobState::kRunning);
+  EXPECT_EQ(job->params_json, R"({"threshold":0.1})");
+  absl::StatusOr<PlanRecord> plan = store_->GetPlan(created.job.id);
+  ASSERT_TRUE(plan.ok());
+  EXPECT_EQ(plan->revision, 1);
+  absl::StatusOr<std::vector<CommandRecord>> commands = store_->ListCommands(created.job.id);
+  ASSERT_TRUE(commands.ok());
+  ASSERT_EQ(commands->size(), 3u);
+  for (int i = 0; i < 3; ++i) {
+    EXPECT_EQ((*commands)[i].id, created.command_ids[i]);
+    EXPECT_EQ((*commands)[i].site_vertex, i);
+    EXPECT_EQ((*commands)[i].state, CommandState::kPending);
+    EXPECT_EQ((*commands)[i].attempt, 0);
+  }
+  absl::StatusOr<std::vector<EventRecord>> events = store_->ListEvents(created.job.id, 0, 100);
+  ASSERT_TRUE(events.ok());
+  ASSERT_EQ(events->size(), 1u);
+  EXPECT_EQ((*events)[0].kind, "job_created");
+}
+
+TEST_F(SqliteStoreTest, CreateJobWithBadCommandJsonWritesNothing) {
+  absl::StatusOr<int64_t> object = store_->CreateObject(NewObject{"o", "obj", "v", 0, 0});
+  ASSERT_TRUE(object.ok());
+  auto before = TableCounts();
+  NewJob job;
+  job.object_id = *object;
+  job.plan_json = "{}";
+  job.commands = {MakeTestCommand(0, 0), NewCommand{0, 1, "{oops"}};
+  absl::StatusOr<CreatedJob> created = store_->CreateJob(job);
+  ASSERT_FALSE(created.ok());
+  EXPECT_EQ(created.status().code(), absl::StatusCode::kInvalidArgument) << created.status();
+  EXPECT_NE(created.status().message().find("commands[1]"), std::string::npos) << created.status();
+  EXPECT_EQ(TableCounts(), before);
+}
+
+TEST_F(SqliteStoreTest, AcceptTraceStoresEverythingAndSamplesBitExactly) {
+  CreatedJob job = Job(2);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  EXPECT_EQ(command.id, job.command_ids[0]);
+  EXPECT_EQ(command.state, CommandState::kLeased);
+  EXPECT_EQ(command.attempt, 1);
+
+  AcceptTraceRequest request = MakeTestAccept(command, 1000);
+  request.samples[3].fx = -0.0;
+  request.samples[4].fy = std::numeric_limits<double>::denorm_min();
+  request.expected_plan_revision = 1;
+  request.new_commands = {MakeTestCommand(1, 7)};
+  const std::vector<StoredSample> sent = request.samples;
+  now_ms_ = kStartMs + 500;
+  absl::StatusOr<AcceptTraceResult> result = store_->AcceptTrace(request);
+  ASSERT_TRUE(result.ok()) << result.status();
+  EXPECT_FALSE(result->already_accepted);
+  EXPECT_GT(result->trace_id, 0);
+  EXPECT_GT(result->fit_id, 0);
+  EXPECT_EQ(result->plan_revision, 2);
+  ASSERT_EQ(result->new_command_ids.size(), 1u);
+
+  absl::StatusOr<TraceRecord> trace = store_->GetTrace(result->trace_id, true);
+  ASSERT_TRUE(trace.ok()) << trace.status();
+  EXPECT_EQ(trace->command_id, command.id);
+  EXPECT_EQ(trace->n_samples, 1000);
+  EXPECT_EQ(trace->received_unix_ms, kStartMs + 500);
+  ASSERT_EQ(trace->samples.size(), sent.size());
+  for (size_t i = 0; i < sent.size(); ++i) {
+    ASSERT_TRUE(BitwiseEqual(trace->samples[i], sent[i])) << "sample " << i;
+  }
+  absl::StatusOr<FitRecord> fit = store_->GetFit(result->trace_id, 0);
+  ASSERT_TRUE(fit.ok());
+  EXPECT_EQ(fit->id, result->fit_id);
+  EXPECT_EQ(fit->version, 1);
+  EXPECT_EQ(fit->estimator_name, "differential+ar2");
+  EXPECT_EQ(fit->options_json, R"({"window":0.8})");
+  ASSERT_TRUE(fit->mu.has_value());
+  EXPECT_DOUBLE_EQ(*fit->mu, 0.1 + 0.001 * command.id);
+  EXPECT_EQ(store_->GetCommand(command.id)->state, CommandState::kDone);
+  EXPECT_EQ(store_->GetPlan(job.job.id)->plan_json, request.new_plan_json);
+  EXPECT_EQ(store_->GetCommand(result->new_command_ids[0])->site_level, 1);
+  absl::StatusOr<std::vector<TraceRecord>> traces = store_->ListTraces(job.job.id, false);
+  ASSERT_TRUE(traces.ok());
+  ASSERT_EQ(traces->size(), 1u);
+  EXPECT_TRUE((*traces)[0].samples.empty());
+  absl::StatusOr<std::vector<EventRecord>> events = store_->ListEvents(job.job.id, 0, 10);
+  ASSERT_EQ(events->size(), 2u);
+  EXPECT_EQ((*events)[1].kind, "trace_accepted");
+}
+
+TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {
+  CreatedJob job = Job(2);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 50);
+  request.new_commands = {MakeTestCommand(1, 3)};
+  absl::StatusOr<AcceptTraceResult> first = store_->AcceptTrace(request);
+  ASSERT_TRUE(first.ok()) << first.status();
+  auto after_first = TableCounts();
+
+  // The rig retries (its reply was lost), even with different content.
+  request.samples = MakeTestSamples(10, 99);
+  absl::StatusOr<AcceptTraceResult> retry = store_->AcceptTrace(request);
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  EXPECT_TRUE(retry->already_accepted);
+  EXPECT_EQ(retry->trace_id, first->trace_id);
+  EXPECT_EQ(retry->fit_id, first->fit_id);
+  EXPECT_EQ(retry->plan_revision, first->plan_revision);
+  EXPECT_EQ(TableCounts(), after_first);
+  EXPECT_EQ(store_->GetTrace(first->trace_id, true)->n_samples, 50);
+
+  // Same command under the wrong job is an error, not a silent success.
+  request.job_id = job.job.id + 1;
+  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, AcceptTraceThatFailsHalfWayLeavesDatabaseUnchanged) {
+  CreatedJob job = Job(2);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  auto before = TableCounts();
+  // Everything valid up to the last write: the event's detail is not JSON.
+  AcceptTraceRequest request = MakeTestAccept(command, 200);
+  request.new_commands = {MakeTestCommand(1, 1), MakeTestCommand(1, 2)};
+  request.new_job_state = JobState::kPaused;
+  request.events.push_back(NewEvent{"note", "{broken"});
+  absl::StatusOr<AcceptTraceResult> result = store_->AcceptTrace(request);
+  ASSERT_FALSE(result.ok());
+  EXPECT_EQ(result.status().code(), absl::StatusCode::kInvalidArgument) << result.status();
+  EXPECT_NE(result.status().message().find("events[1]"), std::string::npos) << result.status();
+  EXPECT_NE(result.status().message().find("command " + std::to_string(command.id)),
+            std::string::npos);
+  EXPECT_EQ(TableCounts(), before);
+  EXPECT_EQ(store_->GetCommand(command.id)->state, CommandState::kLeased);
+
+  // Same with a bad new command in the middle.
+  request.events.pop_back();
+  request.new_commands[1].command_json = "[";
+  ASSERT_FALSE(store_->AcceptTrace(request).ok());
+  EXPECT_EQ(TableCounts(), before);
+
+  // Fixed, it goes through.
+  request.new_commands[1] = MakeTestCommand(1, 2);
+  EXPECT_TRUE(store_->AcceptTrace(request).ok());
+  EXPECT_EQ(store_->GetJob(job.job.id)->state, JobState::kPaused);
+}
+
+TEST_F(SqliteStoreTest, AcceptTraceRefusesCommandsInTheWrongState) {
+  CreatedJob job = Job(3);
+  // Never leased.
+  CommandRecord pending = *store_->GetCommand(job.command_ids[2]);
+  absl::StatusOr<AcceptTraceResult> r = store_->AcceptTrace(MakeTestAccept(pending, 10));
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kFailedPrecondition) << r.status();
+  EXPECT_NE(r.status().message().find("pending, not leased"), std::string::npos) << r.status();
+
+  // Leased to someone else.
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 10);
+  request.lease_owner = "rig-b";
+  r = store_->AcceptTrace(request);
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(r.status().message().find("leased to 'rig-a'"), std::string::npos) << r.status();
+
+  // Unknown command.
+  request.command_id = 12345;
+  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kNotFound);
+
+  // Cancelled job: refused, nothing written.
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{job.job.id, JobState::kCancelled,
+                                                    {NewEvent{"job_cancelled", "{}"}}})
+                  .ok());
+  auto before = TableCounts();
+  r = store_->AcceptTrace(MakeTestAccept(command, 10));
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(r.status().message().find("cancelled"), std::string::npos) << r.status();
+  EXPECT_EQ(TableCounts(), before);
+
+  // No samples: rejected before queuing.
+  AcceptTraceRequest empty = MakeTestAccept(command, 10);
+  empty.samples.clear();
+  EXPECT_EQ(store_->AcceptTrace(empty).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, StalePlanRevisionIsAborted) {
+  CreatedJob job = Job(2);
+  CommandRecord a = Lease(job.job.id, "rig-a");
+  CommandRecord b = Lease(job.job.id, "rig-b");
+  AcceptTraceRequest ra = MakeTestAccept(a, 10);
+  AcceptTraceRequest rb = MakeTestAccept(b, 10);
+  ra.expected_plan_revision = 1;
+  rb.expected_plan_revision = 1;  // computed from the same plan
+  ASSERT_TRUE(store_->AcceptTrace(ra).ok());
+  absl::StatusOr<AcceptTraceResult> r = store_->AcceptTrace(rb);
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kAborted) << r.status();
+  rb.expected_plan_revision = 2;
+  r = store_->AcceptTrace(rb);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->plan_revision, 3);
+}
+
+TEST_F(SqliteStoreTest, ExpiredLeaseIsReissuedAndLiveLeaseIsNot) {
+  CreatedJob job = Job(1);
+  CommandRecord first = Lease(job.job.id, "rig-a", kStartMs, 1000);
+  EXPECT_EQ(first.lease_deadline_unix_ms, kStartMs + 1000);
+  // Still leased: nothing to hand out.
+  absl::StatusOr<std::optional<CommandRecord>> none =
+      store_->LeaseNextCommand(LeaseRequest{job.job.id, "rig-b", kStartMs + 999, 1000});
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(none->has_value());
+  // At the deadline the lease has expired.
+  CommandRecord again = Lease(job.job.id, "rig-b", kStartMs + 1000, 1000);
+  EXPECT_EQ(again.id, first.id);
+  EXPECT_EQ(again.lease_owner, "rig-b");
+  EXPECT_EQ(again.attempt, 2);
+  // The first rig's late trace is refused (the lease moved); rig-b's is accepted.
+  AcceptTraceRequest late = MakeTestAccept(first, 10);
+  EXPECT_EQ(store_->AcceptTrace(late).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_TRUE(store_->AcceptTrace(MakeTestAccept(again, 10)).ok());
+}
+
+TEST_F(SqliteStoreTest, LeasingSkipsPausedJobsAndHonoursJobFilter) {
+  CreatedJob j1 = Job(1);
+  CreatedJob j2 = Job(1);
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{j1.job.id, JobState::kPaused, {}}).ok());
+  CommandRecord any = Lease(0, "rig-a");
+  EXPECT_EQ(any.job_id, j2.job.id);
+  absl::StatusOr<std::optional<CommandRecord>> none =
+      store_->LeaseNextCommand(LeaseRequest{j1.job.id, "rig-a", kStartMs, 1000});
+  ASSERT_TRUE(none.ok());
+  EXPECT_FALSE(none->has_value());
+  EXPECT_EQ(store_->LeaseNextCommand(LeaseRequest{999, "rig-a", kStartMs, 1000}).status().code(),
+            absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->LeaseNextCommand(LeaseRequest{0, "", kStartMs, 1000}).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, ConcurrentLeasingNeverHandsACommandOutTwice) {
+  constexpr int kCommands = 300;
+  constexpr int kThreads = 12;
+  CreatedJob job = Job(kCommands);
+  std::vector<std::vector<int64_t>> got(kThreads);
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([this, t, &got] {
+      const std::string owner = "rig-" + std::to_string(t);
+      while (true) {
+        absl::StatusOr<std::optional<CommandRecord>> c =
+            store_->LeaseNextCommand(LeaseRequest{0, owner, kStartMs, 60'000});
+        if (!c.ok() || !c->has_value()) return;
+        EXPECT_EQ((*c)->lease_owner, owner);
+        got[t].push_back((*c)->id);
+      }
+    });
+  }
+  for (std::thread& th : threads) th.join();
+  std::set<int64_t> distinct;
+  size_t total = 0;
+  for (const auto& ids : got) {
+    total += ids.size();
+    distinct.insert(ids.begin(), ids.end());
+  }
+  EXPECT_EQ(total, static_cast<size_t>(kCommands));
+  EXPECT_EQ(distinct.size(), static_cast<size_t>(kCommands));
+  for (const CommandRecord& c : *store_->ListCommands(job.job.id)) {
+    EXPECT_EQ(c.state, CommandState::kLeased);
+    EXPECT_EQ(c.attempt, 1);
+  }
+  // Group commit did batch the concurrent leases.
+  EXPECT_GT(store_->writer_stats().writes, store_->writer_stats().transactions);
+}
+
+TEST_F(SqliteStoreTest, ConcurrentAcceptsFromManyRigsAllLand) {
+  constexpr int kCommands = 64;
+  constexpr int kThreads = 8;
+  CreatedJob job = Job(kCommands);
+  std::atomic<int> accepted{0};
+  std::vector<std::thread> threads;
+  for (int t = 0; t < kThreads; ++t) {
+    threads.emplace_back([this, t, &accepted] {
+      const std::string owner = "rig-" + std::to_string(t);
+      while (true) {
+        absl::StatusOr<std::optional<CommandRecord>> c =
+            store_->LeaseNextCommand(LeaseRequest{0, owner, kStartMs, 60'000});
+        if (!c.ok() || !c->has_value()) return;
+        AcceptTraceRequest r = MakeTestAccept(**c, 300);
+        r.new_plan_json.clear();  // plan updates from concurrent rigs would conflict
+        absl::StatusOr<AcceptTraceResult> result = store_->AcceptTrace(r);
+        EXPECT_TRUE(result.ok()) << result.status();
+        if (result.ok()) ++accepted;
+      }
+    });
+  }
+  for (std::thread& th : threads) th.join();
+  EXPECT_EQ(accepted.load(), kCommands);
+  absl::StatusOr<std::vector<TraceRecord>> traces = store_->ListTraces(job.job.id, true);
+  ASSERT_TRUE(traces.ok());
+  ASSERT_EQ(traces->size(), static_cast<size_t>(kCommands));
+  for (const TraceRecord& t : *traces) {
+    std::vector<StoredSample> expected = MakeTestSamples(300, static_cast<uint64_t>(t.command_id));
+    ASSERT_EQ(t.samples.size(), expected.size());
+    for (size_t i = 0; i < expected.size(); ++i) ASSERT_TRUE(BitwiseEqual(t.samples[i], expected[i]));
+  }
+}
+
+TEST_F(SqliteStoreTest, JobStateTransitions) {
+  CreatedJob job = Job(1);
+  absl::StatusOr<JobRecord> paused =
+      store_->UpdateJobState(JobStateChange{job.job.id, JobState::kPaused, {NewEvent{"paused"}}});
+  ASSERT_TRUE(paused.ok());
+  EXPECT_EQ(paused->state, JobState::kPaused);
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{job.job.id, JobState::kRunning, {}}).ok());
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{job.job.id, JobState::kCompleted, {}}).ok());
+  absl::StatusOr<JobRecord> again =
+      store_->UpdateJobState(JobStateChange{job.job.id, JobState::kRunning, {NewEvent{"x"}}});
+  EXPECT_EQ(again.status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_NE(again.status().message().find("from completed to running"), std::string::npos)
+      << again.status();
+  EXPECT_EQ(store_->ListEvents(job.job.id, 0, 100)->size(), 2u);  // created, paused
+  absl::StatusOr<std::vector<JobRecord>> jobs = store_->ListJobs(job.job.object_id);
+  ASSERT_EQ(jobs->size(), 1u);
+  EXPECT_EQ((*jobs)[0].state, JobState::kCompleted);
+}
+
+TEST_F(SqliteStoreTest, RefitsGetOneVersionPerBatchAndListFitsSelectsVersions) {
+  CreatedJob job = Job(3);
+  std::vector<int64_t> trace_ids;
+  for (int i = 0; i < 3; ++i) {
+    CommandRecord c = Lease(job.job.id, "rig");
+    AcceptTraceRequest r = MakeTestAccept(c, 20);
+    if (i == 2) r.fit.reset();  // a trace stored without a fit
+    trace_ids.push_back(store_->AcceptTrace(r)->trace_id);
+  }
+  EXPECT_EQ(store_->ListFits(job.job.id, 1)->size(), 2u);
+
+  // Refit traces 0 and 2: one version for the batch (2), though trace 2 had none.
+  NewFit refit = MakeTestFit(0.2);
+  refit.estimator_version = "2.0.0";
+  refit.a1.reset();
+  absl::StatusOr<std::vector<FitRecord>> added =
+      store_->AddFits({TraceFit{trace_ids[0], refit}, TraceFit{trace_ids[2], refit}});
+  ASSERT_TRUE(added.ok()) << added.status();
+  ASSERT_EQ(added->size(), 2u);
+  EXPECT_EQ((*added)[0].version, 2);
+  EXPECT_EQ((*added)[1].version, 2);
+
+  absl::StatusOr<FitRecord> latest = store_->GetFit(trace_ids[0], 0);
+  EXPECT_EQ(latest->version, 2);
+  EXPECT_EQ(latest->estimator_version, "2.0.0");
+  EXPECT_FALSE(latest->a1.has_value());
+  EXPECT_EQ(store_->GetFit(trace_ids[0], 1)->estimator_version, "1.0.0");
+  EXPECT_EQ(store_->GetFit(trace_ids[1], 2).status().code(), absl::StatusCode::kNotFound);
+
+  absl::StatusOr<std::vector<FitRecord>> v2 = store_->ListFits(job.job.id, 2);
+  ASSERT_EQ(v2->size(), 2u);
+  absl::StatusOr<std::vector<FitRecord>> newest = store_->ListFits(job.job.id, 0);
+  ASSERT_EQ(newest->size(), 3u);
+  EXPECT_EQ((*newest)[0].version, 2);
+  EXPECT_EQ((*newest)[1].version, 1);
+  EXPECT_EQ((*newest)[2].version, 2);
+
+  // A batch naming an unknown trace writes nothing.
+  auto before = TableCounts();
+  absl::StatusOr<std::vector<FitRecord>> bad =
+      store_->AddFits({TraceFit{trace_ids[1], refit}, TraceFit{424242, refit}});
+  EXPECT_EQ(bad.status().code(), absl::StatusCode::kNotFound);
+  EXPECT_NE(bad.status().message().find("fits[1]: trace 424242"), std::string::npos)
+      << bad.status();
+  EXPECT_EQ(TableCounts(), before);
+  EXPECT_EQ(store_->AddFits({TraceFit{trace_ids[1], refit}, TraceFit{trace_ids[1], refit}})
+                .status()
+                .code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, EventsPageByIdAcrossJobs) {
+  CreatedJob j1 = Job(1);
+  CreatedJob j2 = Job(1);
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(store_->UpdateJobState(JobStateChange{
+        j1.job.id, i % 2 == 0 ? JobState::kPaused : JobState::kRunning, {NewEvent{"toggle"}}}).ok());
+  }
+  absl::StatusOr<std::vector<EventRecord>> all = store_->ListEvents(0, 0, 100);
+  ASSERT_EQ(all->size(), 7u);
+  for (size_t i = 1; i < all->size(); ++i) EXPECT_GT((*all)[i].id, (*all)[i - 1].id);
+  absl::StatusOr<std::vector<EventRecord>> page = store_->ListEvents(j1.job.id, (*all)[2].id, 2);
+  ASSERT_EQ(page->size(), 2u);
+  EXPECT_EQ((*page)[0].kind, "toggle");
+  EXPECT_GT((*page)[0].id, (*all)[2].id);
+  EXPECT_EQ(store_->ListEvents(j2.job.id, 0, 100)->size(), 1u);
+  EXPECT_EQ(store_->ListEvents(0, 0, 0).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, ReopenKeepsEverything) {
+  CreatedJob job = Job(2);
+  CommandRecord c = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest r = MakeTestAccept(c, 123);
+  absl::StatusOr<AcceptTraceResult> result = store_->AcceptTrace(r);
+  ASSERT_TRUE(result.ok());
+  auto before = TableCounts();
+  Reopen();
+  EXPECT_EQ(TableCounts(), before);
+  absl::StatusOr<TraceRecord> trace = store_->GetTrace(result->trace_id, true);
+  ASSERT_TRUE(trace.ok());
+  ASSERT_EQ(trace->samples.size(), 123u);
+  for (size_t i = 0; i < r.samples.size(); ++i) EXPECT_TRUE(BitwiseEqual(trace->samples[i], r.samples[i]));
+  // Leasing continues where it stopped.
+  EXPECT_EQ(Lease(job.job.id, "rig-a").id, job.command_ids[1]);
+}
+
+TEST_F(SqliteStoreTest, AsyncCallbacksRunAfterCommit) {
+  CreatedJob job = Job(4);
+  std::vector<CommandRecord> leased;
+  for (int i = 0; i < 4; ++i) leased.push_back(Lease(job.job.id, "rig"));
+  std::mutex mu;
+  std::condition_variable cv;
+  int done = 0;
+  std::vector<int64_t> trace_ids;
+  for (const CommandRecord& c : leased) {
+    AcceptTraceRequest r = MakeTestAccept(c, 30);
+    r.new_plan_json.clear();
+    store_->AcceptTraceAsync(std::move(r), [&, path = path_](absl::StatusOr<AcceptTraceResult> res) {
+      ASSERT_TRUE(res.ok()) << res.status();
+      // Visible to a brand-new connection: committed before the callback.
+      auto db = SqliteConnection::Open(path, {});
+      absl::StatusOr<SqliteStatement> q = (*db)->Prepare("SELECT COUNT(*) FROM traces WHERE id = ?1");
+      q->BindInt(1, res->trace_id);
+      EXPECT_TRUE(*q->Step());
+      EXPECT_EQ(q->ColumnInt(0), 1);
+      std::lock_guard<std::mutex> lock(mu);
+      trace_ids.push_back(res->trace_id);
+      ++done;
+      cv.notify_all();
+    });
+  }
+  std::unique_lock<std::mutex> lock(mu);
+  cv.wait(lock, [&] { return done == 4; });
+  EXPECT_EQ(std::set<int64_t>(trace_ids.begin(), trace_ids.end()).size(), 4u);
+}
+
+}  // namespace
+}  // namespace surfmap

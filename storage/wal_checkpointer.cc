@@ -1,0 +1,69 @@
+#include "storage/wal_checkpointer.h"
+
+#include <sqlite3.h>
+
+namespace surfmap {
+
+absl::StatusOr<std::unique_ptr<WalCheckpointer>> WalCheckpointer::Start(
+    const std::string& path, SqliteConnection& writer_db, WalCheckpointOptions options) {
+  SqliteOpenOptions open_options;
+  open_options.create = false;
+  absl::StatusOr<std::unique_ptr<SqliteConnection>> db = SqliteConnection::Open(path, open_options);
+  if (!db.ok()) return db.status();
+  std::unique_ptr<WalCheckpointer> checkpointer(
+      new WalCheckpointer(std::move(*db), options));
+  // Replaces the writer's autocheckpoint (which is itself a WAL hook).
+  sqlite3_wal_hook(writer_db.handle(), &WalCheckpointer::OnWalCommit, checkpointer.get());
+  return checkpointer;
+}
+
+WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, WalCheckpointOptions options)
+    : db_(std::move(db)), options_(options), thread_([this] { Loop(); }) {}
+
+WalCheckpointer::~WalCheckpointer() {
+  {
+    std::lock_guard<std::mutex> lock(mu_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+  thread_.join();
+}
+
+int64_t WalCheckpointer::checkpoints() const {
+  std::lock_guard<std::mutex> lock(mu_);
+  return checkpoints_;
+}
+
+int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int wal_pages) {
+  auto* checkpointer = static_cast<WalCheckpointer*>(self);
+  if (wal_pages >= checkpointer->options_.inline_pages) {
+    // Fallen far behind: back-pressure on the writer. An error here would be
+    // reported as a failed commit although the commit succeeded, so ignore it.
+    sqlite3_wal_checkpoint_v2(db, name, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+  } else if (wal_pages >= checkpointer->options_.wake_pages) {
+    {
+      std::lock_guard<std::mutex> lock(checkpointer->mu_);
+      checkpointer->requested_ = true;
+    }
+    checkpointer->wake_.notify_one();
+  }
+  return SQLITE_OK;
+}
+
+void WalCheckpointer::Loop() {
+  while (true) {
+    {
+      std::unique_lock<std::mutex> lock(mu_);
+      wake_.wait(lock, [this] { return requested_ || stopping_; });
+      requested_ = false;
+    }
+    // Failures (e.g. busy) are harmless: the next request retries, and the
+    // inline fallback bounds the WAL.
+    sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+    std::lock_guard<std::mutex> lock(mu_);
+    ++checkpoints_;
+    if (stopping_) return;
+  }
+}
+
+}  // namespace surfmap

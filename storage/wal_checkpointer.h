@@ -1,0 +1,56 @@
+// WalCheckpointer: copies the WAL back into the database file on its own
+// thread and connection, so checkpoint I/O (a write of every page plus an
+// fsync of the database file) stays off the group-commit writer's commit path.
+//
+// It replaces SQLite's automatic checkpoint on the writer connection: a WAL
+// hook on that connection wakes this thread once the WAL holds
+// `wake_pages`. If checkpoints fall behind and the WAL reaches `inline_pages`,
+// the hook checkpoints on the writer thread itself (back-pressure, so the WAL
+// cannot grow without bound). PASSIVE checkpoints never block the writer or
+// readers; the WAL restarts from its beginning once it is fully copied back.
+#pragma once
+
+#include <condition_variable>
+#include <memory>
+#include <mutex>
+#include <thread>
+
+#include "absl/status/statusor.h"
+#include "storage/sqlite_connection.h"
+
+namespace surfmap {
+
+struct WalCheckpointOptions {
+  int wake_pages = 1000;     // SQLite's default autocheckpoint size (~4 MB)
+  int inline_pages = 32000;  // ~128 MB: the writer checkpoints itself
+};
+
+class WalCheckpointer {
+ public:
+  // Opens its own connection to path and installs the WAL hook on `writer_db`
+  // (which must not be in use by another thread during this call, and must be
+  // closed before this object is destroyed: the hook points here).
+  static absl::StatusOr<std::unique_ptr<WalCheckpointer>> Start(const std::string& path,
+                                                                SqliteConnection& writer_db,
+                                                                WalCheckpointOptions options);
+  // Runs a last checkpoint and stops the thread.
+  ~WalCheckpointer();
+
+  int64_t checkpoints() const;
+
+ private:
+  WalCheckpointer(std::unique_ptr<SqliteConnection> db, WalCheckpointOptions options);
+  static int OnWalCommit(void* self, struct sqlite3* db, const char* name, int wal_pages);
+  void Loop();
+
+  std::unique_ptr<SqliteConnection> db_;
+  const WalCheckpointOptions options_;
+  mutable std::mutex mu_;
+  std::condition_variable wake_;
+  bool requested_ = false;  // guarded by mu_
+  bool stopping_ = false;   // guarded by mu_
+  int64_t checkpoints_ = 0; // guarded by mu_
+  std::thread thread_;
+};
+
+}  // namespace surfmap
