@@ -12,6 +12,7 @@ function(surfmap_add_test)
   endif()
   gtest_discover_tests(${T_NAME}
     WORKING_DIRECTORY ${PROJECT_SOURCE_DIR}
+    TEST_PREFIX "${T_NAME}."
     PROPERTIES TIMEOUT ${T_TIMEOUT} LABELS "${T_LABELS}"
     DISCOVERY_TIMEOUT 60)
 endfunction()

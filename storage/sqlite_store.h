@@ -75,6 +75,10 @@ class SqliteStore : public Store {
 
   // Transactions, writes and batch sizes so far (for benchmarks and tests).
   GroupCommitStats writer_stats() const { return writer_->stats(); }
+  // Checkpoints run by the background checkpointer (0 if it is off).
+  int64_t background_checkpoints() const {
+    return checkpointer_ ? checkpointer_->checkpoints() : 0;
+  }
   const std::string& path() const { return path_; }
 
  private:

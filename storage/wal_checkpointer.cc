@@ -37,10 +37,15 @@ int64_t WalCheckpointer::checkpoints() const {
 int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int wal_pages) {
   auto* checkpointer = static_cast<WalCheckpointer*>(self);
   if (wal_pages >= checkpointer->options_.inline_pages) {
-    // Fallen far behind: back-pressure on the writer. An error here would be
-    // reported as a failed commit although the commit succeeded, so ignore it.
+    // Catch up fully on the writer thread (see the header). Errors are
+    // ignored: returning one would report a failed commit although the commit
+    // succeeded, and the next commit retries.
     sqlite3_wal_checkpoint_v2(db, name, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
-  } else if (wal_pages >= checkpointer->options_.wake_pages) {
+    return SQLITE_OK;
+  }
+  int backfilled = checkpointer->backfilled_.load(std::memory_order_relaxed);
+  if (wal_pages < backfilled) backfilled = 0;  // the WAL restarted
+  if (wal_pages - backfilled >= checkpointer->options_.wake_pages) {
     {
       std::lock_guard<std::mutex> lock(checkpointer->mu_);
       checkpointer->requested_ = true;
@@ -59,7 +64,12 @@ void WalCheckpointer::Loop() {
     }
     // Failures (e.g. busy) are harmless: the next request retries, and the
     // inline fallback bounds the WAL.
-    sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+    int wal_frames = 0;
+    int copied = 0;
+    if (sqlite3_wal_checkpoint_v2(db_->handle(), nullptr, SQLITE_CHECKPOINT_PASSIVE, &wal_frames,
+                                  &copied) == SQLITE_OK) {
+      backfilled_.store(copied, std::memory_order_relaxed);
+    }
     std::lock_guard<std::mutex> lock(mu_);
     ++checkpoints_;
     if (stopping_) return;

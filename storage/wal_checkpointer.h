@@ -3,13 +3,20 @@
 // fsync of the database file) stays off the group-commit writer's commit path.
 //
 // It replaces SQLite's automatic checkpoint on the writer connection: a WAL
-// hook on that connection wakes this thread once the WAL holds
-// `wake_pages`. If checkpoints fall behind and the WAL reaches `inline_pages`,
-// the hook checkpoints on the writer thread itself (back-pressure, so the WAL
-// cannot grow without bound). PASSIVE checkpoints never block the writer or
-// readers; the WAL restarts from its beginning once it is fully copied back.
+// hook on that connection wakes this thread once the WAL holds `wake_pages`
+// frames not yet copied back; this thread then copies them with a PASSIVE
+// checkpoint, which blocks neither the writer nor readers.
+//
+// A passive checkpoint copies only the frames present when it starts, so under
+// continuous writes it never quite catches up and the WAL would never restart
+// from its beginning. Hence, once the WAL holds `inline_pages` frames, the hook
+// checkpoints on the writer thread itself, between two batches: nothing is
+// appended meanwhile, it catches up fully (cheaply: the background passes
+// already copied most frames) and the next write restarts the WAL. This bounds
+// the WAL at about inline_pages pages plus one batch.
 #pragma once
 
+#include <atomic>
 #include <condition_variable>
 #include <memory>
 #include <mutex>
@@ -22,7 +29,7 @@ namespace surfmap {
 
 struct WalCheckpointOptions {
   int wake_pages = 1000;     // SQLite's default autocheckpoint size (~4 MB)
-  int inline_pages = 32000;  // ~128 MB: the writer checkpoints itself
+  int inline_pages = 4000;   // ~16 MB: the writer catches up itself
 };
 
 class WalCheckpointer {
@@ -50,6 +57,9 @@ class WalCheckpointer {
   bool requested_ = false;  // guarded by mu_
   bool stopping_ = false;   // guarded by mu_
   int64_t checkpoints_ = 0; // guarded by mu_
+  // WAL frames the last checkpoint copied back; the WAL restarting from frame
+  // 0 shows as a commit with fewer frames than this.
+  std::atomic<int> backfilled_{0};
   std::thread thread_;
 };
 

@@ -73,8 +73,9 @@ json Summary(const pb::MapLevel& map) {
   return summary;
 }
 
+// (absl::string_view is not std::string_view in this abseil build: concatenate std::strings.)
 absl::Status Invalid(std::string_view source, std::string_view path, std::string_view problem) {
-  return absl::InvalidArgumentError(absl::StrCat(source, ": ", path, ": ", problem));
+  return absl::InvalidArgumentError(std::string(source) + ": " + std::string(path) + ": " + std::string(problem));
 }
 
 absl::StatusOr<std::vector<double>> ReadNumbers(const json& parent, const char* key, std::string_view path,
@@ -94,7 +95,7 @@ absl::StatusOr<std::vector<double>> ReadNumbers(const json& parent, const char* 
     } else if (v.is_number()) {
       out.push_back(v.get<double>());
     } else {
-      return Invalid(source, absl::StrCat(path, "[", i, "]"), "must be a number or null");
+      return Invalid(source, std::string(path) + "[" + std::to_string(i) + "]", "must be a number or null");
     }
   }
   return out;
@@ -160,7 +161,7 @@ json MapToJson(const pb::GetMapResponse& response, const pb::JobInfo* job) {
 absl::StatusOr<MapDocument> MapDocumentFromJson(const json& j, std::string_view source) {
   if (!j.is_object()) return Invalid(source, "$", "must be a JSON object");
   if (!j.contains("format") || j["format"] != kMapJsonFormat) {
-    return Invalid(source, "format", absl::StrCat("must be \"", kMapJsonFormat, "\" (not a surfmap map file?)"));
+    return Invalid(source, "format", "must be \"" + std::string(kMapJsonFormat) + "\" (not a surfmap map file?)");
   }
   MapDocument doc;
   if (!j.contains("vertex_count") || !j["vertex_count"].is_number_integer()) {

@@ -2,7 +2,6 @@
 
 #include <chrono>
 
-#include "absl/strings/str_cat.h"
 
 namespace surfmap::cli {
 
@@ -48,7 +47,10 @@ std::string_view StatusCodeName(grpc::StatusCode code) {
 }
 
 std::string FormatRpcError(std::string_view rpc, const grpc::Status& status, std::string_view program) {
-  return absl::StrCat(program, ": ", rpc, ": ", StatusCodeName(status.error_code()), ": ", status.error_message());
+  std::string line(program);
+  line.append(": ").append(rpc).append(": ").append(StatusCodeName(status.error_code()));
+  line.append(": ").append(status.error_message());
+  return line;
 }
 
 bool IsRetryable(grpc::StatusCode code) {

@@ -22,6 +22,8 @@ constexpr std::array<std::array<double, 3>, 17> kViridis = {{
     {0.845561, 0.887322, 0.099702}, {0.993248, 0.906157, 0.143936},
 }};
 
+constexpr double kGreyFloor = 40.0 / 255.0;
+
 std::uint8_t ToByte(double v) {
   return static_cast<std::uint8_t>(std::clamp(std::lround(v * 255.0), 0L, 255L));
 }
@@ -53,7 +55,7 @@ Rgb MapColor(ColorMap map, double t) {
   t = std::clamp(t, 0.0, 1.0);
   switch (map) {
     case ColorMap::kGrey: {
-      const std::uint8_t g = ToByte(t);
+      const std::uint8_t g = ToByte(kGreyFloor + (1.0 - kGreyFloor) * t);
       return {g, g, g};
     }
     case ColorMap::kViridis: {

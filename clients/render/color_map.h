@@ -9,7 +9,9 @@
 namespace surfmap {
 
 enum class ColorMap {
-  kGrey,     // black -> white; whiter = more friction, as in Lloyd & Pai Fig. 14
+  // dark grey (40) -> white; whiter = more friction, as in Lloyd & Pai Fig. 14.
+  // Not from black, so Lambert shading still shows the shape of low-mu parts.
+  kGrey,
   kViridis,  // perceptually uniform, colour-blind safe (matplotlib's viridis)
 };
 

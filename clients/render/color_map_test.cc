@@ -8,11 +8,12 @@
 namespace surfmap {
 namespace {
 
-TEST(ColorMapTest, GreyIsBlackToWhite) {
-  EXPECT_EQ(MapColor(ColorMap::kGrey, 0.0), (Rgb{0, 0, 0}));
+TEST(ColorMapTest, GreyIsDarkGreyToWhite) {
+  EXPECT_EQ(MapColor(ColorMap::kGrey, 0.0), (Rgb{40, 40, 40}));
   EXPECT_EQ(MapColor(ColorMap::kGrey, 1.0), (Rgb{255, 255, 255}));
   EXPECT_EQ(MapColor(ColorMap::kGrey, 2.0), (Rgb{255, 255, 255}));  // clamped
-  EXPECT_EQ(MapColor(ColorMap::kGrey, std::nan("")), (Rgb{0, 0, 0}));
+  EXPECT_EQ(MapColor(ColorMap::kGrey, std::nan("")), (Rgb{40, 40, 40}));
+  EXPECT_NEAR(MapColor(ColorMap::kGrey, 0.5)[0], 147.5, 0.6);
 }
 
 TEST(ColorMapTest, ViridisEndsMatchMatplotlib) {

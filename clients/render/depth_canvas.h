@@ -27,6 +27,8 @@ struct DepthCanvas {
 // `shade(barycentric)` gives the colour of a covered pixel; barycentrics are
 // screen-affine (exact for orthographic views, close enough for the narrow
 // perspective used here). Pixels are covered when their centre is inside.
+inline constexpr double kEdgeTolerance = 1e-7;
+
 template <typename Shade>
 void RasterizeTriangle(DepthCanvas& canvas, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                        const Eigen::Vector3d& c, Shade&& shade) {
@@ -44,7 +46,10 @@ void RasterizeTriangle(DepthCanvas& canvas, const Eigen::Vector3d& a, const Eige
       const double w0 = ((b.x() - px) * (c.y() - py) - (b.y() - py) * (c.x() - px)) * inv_area;
       const double w1 = ((c.x() - px) * (a.y() - py) - (c.y() - py) * (a.x() - px)) * inv_area;
       const double w2 = 1.0 - w0 - w1;
-      if (w0 < 0 || w1 < 0 || w2 < 0) continue;
+      // A small tolerance closes the cracks where a shared edge passes exactly
+      // through pixel centres (axis-aligned grids seen head-on); the z-buffer
+      // resolves the resulting one-pixel overlap.
+      if (w0 < -kEdgeTolerance || w1 < -kEdgeTolerance || w2 < -kEdgeTolerance) continue;
       const float z = static_cast<float>(w0 * a.z() + w1 * b.z() + w2 * c.z());
       float& zbuf = canvas.depth[static_cast<size_t>(y) * canvas.image.width + x];
       if (z >= zbuf) continue;

@@ -95,10 +95,10 @@ TEST(WriteMapPlyTest, ValuesNormalsAndColoursRoundTrip) {
   EXPECT_NEAR(std::stod(p.vertex_rows[2][7]), 0.03, 1e-7);
   EXPECT_NEAR(std::stod(p.vertex_rows[0][5]), 1.0, 1e-7);  // computed normal of a CCW square: +z
   EXPECT_EQ(p.vertex_rows[3][6], "nan");
-  // Grey over [0.1, 0.5]: min black, max white, 0.3 mid grey, unknown = no-data colour.
-  EXPECT_EQ(p.vertex_rows[0][8], "0");
+  // Grey over [0.1, 0.5]: min dark grey, max white, 0.3 half-way, unknown = no-data colour.
+  EXPECT_EQ(p.vertex_rows[0][8], "40");
   EXPECT_EQ(p.vertex_rows[1][8], "255");
-  EXPECT_NEAR(std::stoi(p.vertex_rows[2][9]), 127.5, 0.6);
+  EXPECT_NEAR(std::stoi(p.vertex_rows[2][9]), 147.5, 0.6);
   EXPECT_EQ(p.vertex_rows[3][8], "170");
 }
 
@@ -111,7 +111,7 @@ TEST(WriteMapPlyTest, ExplicitRangeAndComment) {
   ASSERT_TRUE(ply.ok());
   EXPECT_NE(ply->find("comment bottle level 3\n"), std::string::npos);
   const ParsedPly p = Parse(*ply);
-  EXPECT_EQ(p.vertex_rows[1][8], "128");  // 0.5 of [0, 1]
+  EXPECT_NEAR(std::stoi(p.vertex_rows[1][8]), 147.5, 0.6);  // 0.5 of [0, 1]
 }
 
 TEST(WriteMapPlyTest, RejectsInvalidMesh) {

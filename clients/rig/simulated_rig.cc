@@ -19,6 +19,11 @@ std::uint64_t Mix(std::uint64_t x) {
   return x ^ (x >> 31);
 }
 
+// A drag that cannot go on along the surface: OUT_OF_RANGE is the mesh
+// module's "leaves the open boundary"; INTERNAL "stuck" is what a walk
+// straight into a boundary edge can report instead (seen on the plate).
+bool IsBlockedPath(const absl::Status& s) { return absl::IsOutOfRange(s) || absl::IsInternal(s); }
+
 absl::Status WithContext(const absl::Status& s, std::string_view context) {
   return absl::Status(s.code(), absl::StrCat(std::string(context), ": ", s.message()));
 }
@@ -93,14 +98,14 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
   };
 
   absl::StatusOr<SurfacePath> path = trace(request.drag_direction, wanted);
-  if (!path.ok() && absl::IsOutOfRange(path.status())) {
+  if (!path.ok() && IsBlockedPath(path.status())) {
     // An open boundary ahead: drag the other way, as a lab operator would.
     const absl::Status forward_status = path.status();
     path = trace(-request.drag_direction, wanted);
     if (path.ok()) {
       out.reversed = true;
       out.note = absl::StrCat("reversed the drag direction: ", forward_status.message());
-    } else if (absl::IsOutOfRange(path.status())) {
+    } else if (IsBlockedPath(path.status())) {
       // Too close to the boundary both ways: the longest drag that fits, by
       // bisection on the length (each trial is a cheap surface walk).
       double best_length = 0.0;

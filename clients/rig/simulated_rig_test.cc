@@ -21,6 +21,7 @@ class BottleRigTest : public ::testing::Test {
     ASSERT_TRUE(rig.ok()) << rig.status();
     rig_ = rig->release();
   }
+  void SetUp() override { ASSERT_NE(rig_, nullptr) << "the bottle rig could not be built"; }
   static void TearDownTestSuite() {
     delete rig_;
     rig_ = nullptr;

@@ -84,9 +84,10 @@ absl::StatusOr<FrictionFit> FitFriction(std::span<const DragSample> forward,
           "forward sample %d (s=%.3f mm): forward and reverse forces are opposite, no normal", i,
           s));
     }
-    // atan2 of |cross| and dot keeps full accuracy at small angles (acos does not).
-    const double theta = std::atan2(fh.cross(rh).norm(), fh.dot(rh));
-    double mu = std::tan(0.5 * theta);
+    // tan(theta / 2) = sin(theta) / (1 + cos(theta)) = |fh x rh| / (1 + fh . rh):
+    // the same value as tan(atan2(|cross|, dot) / 2), as accurate at small
+    // angles (no acos), without the two transcendental calls.
+    double mu = fh.cross(rh).norm() / (1.0 + fh.dot(rh));
     // Sign: forward friction points against the forward motion, so fh - rh
     // has a negative component along it; the opposite means negative friction.
     const int prev = std::max(0, i - 1), next = std::min(nf - 1, i + 1);

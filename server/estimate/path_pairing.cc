@@ -100,9 +100,9 @@ absl::StatusOr<PathPairing> PairPasses(std::span<const DragSample> forward,
   for (int j = nr - 1; j >= 0; --j) {
     const Eigen::Vector3d& q = reverse[j].position;
     // Look ahead as far as the probe moved since the previous reverse sample,
-    // plus a margin for position noise and uneven sample spacing.
+    // plus a margin (0.1 mm, 20x the position noise of a typical rig).
     const double moved = j == nr - 1 ? 0.0 : (q - reverse[j + 1].position).norm();
-    const double reach = std::max(previous_s, pairing.forward_s[k]) + moved + 0.3;
+    const double reach = std::max(previous_s, pairing.forward_s[k]) + moved + 0.1;
     Foot best = ProjectOnSegment(path, pairing.forward_s, k, q);
     int best_k = k;
     for (int m = k + 1; m < segments && pairing.forward_s[m] <= reach; ++m) {

@@ -257,10 +257,10 @@ absl::StatusOr<JobSnapshot> JobCoordinator::SetJobState(int64_t job_id, JobState
     if (absl::Status s = ReloadIfNeeded(**runtime); !s.ok()) return s;
     JobState from = (*runtime)->state;
     if (!IsJobTransitionAllowed(from, target)) {
-      return absl::FailedPreconditionError(absl::StrCat("job ", job_id, " is ", JobStateName(from), "; cannot become ",
-                                                        JobStateName(target)));
+      return absl::FailedPreconditionError(absl::StrCat("job ", job_id, " is ", std::string(JobStateName(from)), "; cannot become ",
+                                                        std::string(JobStateName(target))));
     }
-    JobStateChange change{job_id, target, {Event("job_state", {{"from", JobStateName(from)}, {"to", JobStateName(target)}})}};
+    JobStateChange change{job_id, target, {Event("job_state", {{"from", std::string(JobStateName(from))}, {"to", std::string(JobStateName(target))}})}};
     record = store_->UpdateJobState(change);
     if (!record.ok()) return record.status();
     (*runtime)->state = target;
@@ -436,7 +436,7 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
     return;
   }
   if (command->state != CommandState::kLeased) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ", CommandStateName(command->state),
+    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ", std::string(CommandStateName(command->state)),
                                                     ", not leased: nothing to report")));
     return;
   }

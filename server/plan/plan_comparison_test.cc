@@ -84,6 +84,16 @@ TEST(PlanComparisonTest, UncertaintySamplingMatchesOrBeatsTheThresholdRuleAtEqua
   std::printf("uncertainty, 3 rigs  %7d  %7.4f  %6.2f%%\n", u_rigs.samples, u_rigs.rmse, 100 * u_rigs.misclassified);
   std::printf("uniform level 1      %7d  %7.4f  %6.2f%%\n", u1.samples, u1.rmse, 100 * u1.misclassified);
 
+  // The gradient weight trades exploring far from data against refining
+  // where the map changes.
+  for (double weight : {0.0, 3.0, 10.0}) {
+    SamplingPlanOptions o = uncertainty;
+    o.gradient_weight = weight;
+    const MapError w = RunPlan(o, levels);
+    std::printf("uncertainty, gradient_weight %4.1f: %d samples, RMSE %.4f, misclassified %.2f%%\n", weight,
+                w.samples, w.rmse, 100 * w.misclassified);
+  }
+
   EXPECT_EQ(u.samples, a.samples);
   EXPECT_LT(a.rmse, u0.rmse);
   EXPECT_LT(u.rmse, u0.rmse);

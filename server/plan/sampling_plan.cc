@@ -330,16 +330,21 @@ absl::Status SamplingPlan::RefreshSelection() {
   std::sort(issued.begin(), issued.end());
   if (auto status = map_->SetPendingVertices(std::move(issued)); !status.ok()) return status;
 
-  const double scale = map_->correlation_length_mm() / std::max(map_->prior_mu_std(), 1e-12);
+  // g * d is about the jump across the gap between two differing samples
+  // whatever the gap's width, so a steep but narrow gap is not preferred over
+  // a wide one (which would refine a few gaps depth-first).
+  const double inv_s = 1.0 / std::max(map_->prior_mu_std(), 1e-12);
   const auto& mu_std = map_->mu_std();
   const auto& gradient = map_->mu_gradient();
+  const auto& distance = map_->distance_to_sample_mm();
   int best = -1;
   double best_score = -1.0;
   std::uint64_t best_key = 0;
   const int candidates = VertexCount(options_.max_level);
   for (int v = 0; v < candidates; ++v) {
     if (sites_.count(v)) continue;
-    const double score = mu_std[v] * (1.0 + options_.gradient_weight * gradient[v] * scale);
+    const double jump = std::isfinite(distance[v]) ? gradient[v] * distance[v] * inv_s : 0.0;
+    const double score = mu_std[v] * (1.0 + options_.gradient_weight * jump);
     const std::uint64_t key = SiteShuffleKey(options_.seed, v);
     if (score > best_score || (score == best_score && key < best_key)) {
       best = v;

@@ -38,9 +38,12 @@ struct SamplingPlanOptions {
   int max_retries = 2;        // a failed site is re-queued this many times, then fails for good
   ProbeParameters probe;
   std::uint64_t seed = 1;     // issue order among sites of one level (site_order.h)
-  // kUncertainty: score = mu_std * (1 + gradient_weight * mu_gradient * l / s)
-  // (l, s: the map's correlation length and prior std); stop when the best
-  // score falls below min_uncertainty_score.
+  // kUncertainty: score = mu_std * (1 + gradient_weight * g * d / s), with the
+  // map's mu_std, local gradient g, distance d to the nearest sample or issued
+  // site, and prior std s (friction_map.h). g * d ~ the jump across a gap
+  // between differing samples, whatever its width: gaps across a boundary
+  // are split breadth-first. Stop when the best score falls below
+  // min_uncertainty_score.
   double gradient_weight = 1.0;
   double min_uncertainty_score = 0.0;
   FrictionMapOptions map;     // kUncertainty: the map that scores candidate sites

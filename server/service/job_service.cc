@@ -155,7 +155,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     if (!job.ok()) return job.status();
     *response->mutable_job() = JobInfoToProto(*job);
     spdlog::info("rpc=CreateJob job_id={} object_id={} mode={} levels={}..{} initial_sites={}", job->record.id,
-                 params->object_id, PlanModeName(params->mode), params->coarsest_level, params->finest_level,
+                 params->object_id, std::string(PlanModeName(params->mode)), params->coarsest_level, params->finest_level,
                  job->progress.pending + job->progress.issued);
     return absl::OkStatus();
   });
@@ -190,7 +190,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::ChangeState(grpc::CallbackServerContex
     absl::StatusOr<JobSnapshot> job = s_.coordinator->SetJobState(request->job_id(), target);
     if (!job.ok()) return job.status();
     *response->mutable_job() = JobInfoToProto(*job);
-    spdlog::info("rpc={} job_id={} state={}", method, request->job_id(), JobStateName(target));
+    spdlog::info("rpc={} job_id={} state={}", method, request->job_id(), std::string(JobStateName(target)));
     return absl::OkStatus();
   });
 }

@@ -1,0 +1,320 @@
+#include "clients/cli/map_commands.h"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+
+#include "absl/strings/ascii.h"
+#include "absl/strings/numbers.h"
+#include "absl/strings/str_cat.h"
+#include "absl/strings/str_split.h"
+#include "clients/cli/map_json.h"
+#include "clients/cli/map_overlay.h"
+#include "clients/render/map_ply.h"
+#include "clients/render/map_render.h"
+#include "proto/surfmap/v1/surfmap.grpc.pb.h"
+#include "server/estimate/drag_trace.h"
+#include "server/estimate/trace_csv.h"
+
+namespace surfmap::cli {
+namespace {
+
+namespace pb = ::surfmap::v1;
+
+struct MapGetArgs {
+  int64_t job_id = 0;
+  std::string format;
+  std::string output;
+  int level = -1;
+  std::string view = "0,1,0";
+  std::string color_map = "grey";
+  int width = 480;
+  std::vector<double> mu_range;
+  bool one_view = false;
+};
+
+// Writes `bytes` to `path` via a temporary file and rename, so a reader never
+// sees half a map.
+bool WriteFileAtomically(RemoteCli& cli, const std::string& path, const std::string& bytes) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.close();
+    if (!out) {
+      FailUsage(cli, path + ": cannot write file");
+      return false;
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) {
+    FailUsage(cli, path + ": cannot write file: " + ec.message());
+    return false;
+  }
+  return true;
+}
+
+void RunMapGet(RemoteCli& cli, const MapGetArgs& args) {
+  absl::StatusOr<std::string> format = ResolveMapFormat(args.format, args.output);
+  if (!format.ok()) return FailUsage(cli, std::string(format.status().message()));
+  if (args.output.empty()) return FailUsage(cli, "map get: -o FILE is required");
+  MapRenderOptions render;
+  if (*format == "png") {
+    absl::StatusOr<Eigen::Vector3d> view = ParsePoint(args.view);
+    if (!view.ok()) return FailUsage(cli, absl::StrCat("--view: ", view.status().message()));
+    render.view_direction = *view;
+    absl::StatusOr<ColorMap> map = ParseColorMap(args.color_map);
+    if (!map.ok()) return FailUsage(cli, absl::StrCat("--color-map: ", map.status().message()));
+    render.color_map = *map;
+    render.view_width = render.view_height = args.width;
+    render.two_views = !args.one_view;
+    if (args.mu_range.size() == 2) {
+      render.value_min = args.mu_range[0];
+      render.value_max = args.mu_range[1];
+    }
+    std::string why;
+    if (!render.IsValid(&why)) return FailUsage(cli, "map get: " + why);
+  }
+
+  auto map_stub = pb::MapService::NewStub(cli.Channel());
+  pb::GetMapRequest request;
+  request.set_job_id(args.job_id);
+  request.set_level(args.level);
+  request.set_include_mesh(true);
+  pb::GetMapResponse response;
+  if (!CallRpc(cli, "GetMap", *map_stub, &pb::MapService::Stub::GetMap, request, &response)) return;
+
+  std::string bytes;
+  if (*format == "json") {
+    auto job_stub = pb::JobService::NewStub(cli.Channel());
+    pb::GetJobRequest job_request;
+    job_request.set_job_id(args.job_id);
+    pb::GetJobResponse job;
+    if (!CallRpc(cli, "GetJob", *job_stub, &pb::JobService::Stub::GetJob, job_request, &job)) return;
+    bytes = MapToJson(response, &job.job()).dump(1) + "\n";
+  } else {
+    MapMesh mesh = MapMeshFromResponse(response);
+    if (*format == "png") {
+      MapOverlay overlay = SampleOverlay(mesh, response.map());
+      absl::StatusOr<std::string> png = RenderMapPng(mesh, overlay, render);
+      if (!png.ok()) return FailUsage(cli, absl::StrCat("map get: rendering: ", png.status().message()));
+      bytes = *std::move(png);
+    } else {
+      MapPlyOptions ply;
+      ply.comment = absl::StrCat("surfmap job ", response.map().job_id(), " level ", response.map().level(),
+                                 ", ", response.map().samples_size(), " samples");
+      if (args.mu_range.size() == 2) {
+        ply.value_min = args.mu_range[0];
+        ply.value_max = args.mu_range[1];
+      }
+      absl::StatusOr<std::string> text = WriteMapPly(mesh, ply);
+      if (!text.ok()) return FailUsage(cli, absl::StrCat("map get: ply: ", text.status().message()));
+      bytes = *std::move(text);
+    }
+  }
+  if (!WriteFileAtomically(cli, args.output, bytes)) return;
+  std::printf("%s: level %d, %d vertices, %d samples\n", args.output.c_str(), response.map().level(),
+              response.map().vertex_count(), response.map().samples_size());
+}
+
+struct MapQueryArgs {
+  int64_t job_id = 0;
+  std::vector<std::string> points;
+  bool json = false;
+};
+
+void RunMapQuery(RemoteCli& cli, const MapQueryArgs& args) {
+  pb::QueryMapRequest request;
+  request.set_job_id(args.job_id);
+  for (const std::string& text : args.points) {
+    absl::StatusOr<Eigen::Vector3d> p = ParsePoint(text);
+    if (!p.ok()) return FailUsage(cli, std::string(p.status().message()));
+    pb::Vec3* v = request.add_points();
+    v->set_x(p->x());
+    v->set_y(p->y());
+    v->set_z(p->z());
+  }
+  auto stub = pb::MapService::NewStub(cli.Channel());
+  pb::QueryMapResponse response;
+  if (!CallRpc(cli, "QueryMap", *stub, &pb::MapService::Stub::QueryMap, request, &response)) return;
+  if (args.json) {
+    std::printf("%s\n", MessageToJson(response).c_str());
+    return;
+  }
+  std::printf("%-24s %-26s %8s %8s %8s %8s %7s %7s\n", "query", "surface point", "dist_mm", "mu", "mu_std",
+              "sigma", "a1", "a2");
+  for (int i = 0; i < response.values_size(); ++i) {
+    const pb::MapValue& v = response.values(i);
+    const std::string query = i < static_cast<int>(args.points.size()) ? args.points[i] : "?";
+    std::printf("%-24s %8.2f %8.2f %8.2f %8.3f %8.4f %8.4f %8.4f %7.3f %7.3f\n", query.c_str(), v.surface_point().x(),
+                v.surface_point().y(), v.surface_point().z(), v.distance_mm(), v.mu(), v.mu_uncertainty(), v.sigma(),
+                v.a1(), v.a2());
+  }
+}
+
+// TraceSamples -> the domain trace, for the CSV writer. Columns of unequal
+// length are a server bug; report rather than guess.
+absl::StatusOr<DragTrace> TraceFromProto(const pb::TraceSamples& s) {
+  const int n = s.t_size();
+  if (s.x_size() != n || s.y_size() != n || s.z_size() != n || s.fx_size() != n || s.fy_size() != n ||
+      s.fz_size() != n || s.phases_size() != n) {
+    return absl::DataLossError("trace columns have different lengths");
+  }
+  DragTrace trace;
+  trace.samples.reserve(n);
+  for (int i = 0; i < n; ++i) {
+    DragSample sample;
+    sample.t = s.t(i);
+    sample.position = {s.x(i), s.y(i), s.z(i)};
+    sample.force = {s.fx(i), s.fy(i), s.fz(i)};
+    switch (s.phases(i)) {
+      case pb::PHASE_FORWARD: sample.phase = DragPhase::kForward; break;
+      case pb::PHASE_PAUSE: sample.phase = DragPhase::kPause; break;
+      case pb::PHASE_REVERSE: sample.phase = DragPhase::kReverse; break;
+      default: return absl::DataLossError(absl::StrCat("trace sample ", i, " has no phase"));
+    }
+    trace.samples.push_back(sample);
+  }
+  return trace;
+}
+
+}  // namespace
+
+absl::StatusOr<Eigen::Vector3d> ParsePoint(std::string_view text) {
+  std::vector<std::string_view> parts = absl::StrSplit(text, ',');
+  Eigen::Vector3d p;
+  if (parts.size() != 3) {
+    return absl::InvalidArgumentError(absl::StrCat("'", text, "': expected X,Y,Z (three numbers)"));
+  }
+  for (int k = 0; k < 3; ++k) {
+    if (!absl::SimpleAtod(absl::StripAsciiWhitespace(parts[k]), &p[k]) || !std::isfinite(p[k])) {
+      return absl::InvalidArgumentError(absl::StrCat("'", text, "': coordinate ", k + 1, " is not a finite number"));
+    }
+  }
+  return p;
+}
+
+absl::StatusOr<std::string> ResolveMapFormat(std::string_view format, std::string_view output_path) {
+  std::string f = absl::AsciiStrToLower(format);
+  if (f.empty()) {
+    f = absl::AsciiStrToLower(std::filesystem::path(std::string(output_path)).extension().string());
+    if (!f.empty() && f[0] == '.') f.erase(0, 1);
+    if (f != "json" && f != "png" && f != "ply") {
+      return absl::InvalidArgumentError(
+          absl::StrCat("map get: cannot tell the format from '", output_path, "': use --format json|png|ply"));
+    }
+  }
+  if (f != "json" && f != "png" && f != "ply") {
+    return absl::InvalidArgumentError(absl::StrCat("map get: unknown format '", format, "' (json, png or ply)"));
+  }
+  return f;
+}
+
+void AddMapCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
+  CLI::App* map = app.add_subcommand("map", "The friction/roughness map of a job: get, query");
+  map->require_subcommand(1);
+
+  auto g = std::make_shared<MapGetArgs>();
+  CLI::App* get = map->add_subcommand("get", "Write a job's map as JSON, PNG or PLY");
+  get->add_option("job", g->job_id, "Job id")->required();
+  get->add_option("--format", g->format, "json, png or ply (default: from the -o extension)");
+  get->add_option("-o,--output", g->output, "Output file")->required();
+  get->add_option("--level", g->level, "Subdivision level (-1 = the job's finest)")->capture_default_str();
+  get->add_option("--view", g->view, "png: the direction the first camera looks, X,Y,Z")->capture_default_str();
+  get->add_flag("--one-view", g->one_view, "png: only the first view (default: also from the opposite side)");
+  get->add_option("--color-map", g->color_map, "png: grey (whiter = more friction) or viridis")
+      ->capture_default_str();
+  get->add_option("--width", g->width, "png: pixels per view")->check(CLI::Range(16, 8192))->capture_default_str();
+  get->add_option("--mu-range", g->mu_range, "png/ply: colour scale LO HI (default: the map's range)")
+      ->expected(2);
+  get->callback([cli, g] { RunMapGet(*cli, *g); });
+
+  auto q = std::make_shared<MapQueryArgs>();
+  CLI::App* query = map->add_subcommand("query", "The map at points (projected onto the surface)");
+  query->add_option("job", q->job_id, "Job id")->required();
+  query->add_option("points", q->points, "Points X,Y,Z in mm")->required();
+  query->add_flag("--json", q->json, "Print the response as JSON");
+  query->callback([cli, q] { RunMapQuery(*cli, *q); });
+}
+
+void AddTraceCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
+  auto sample_id = std::make_shared<int64_t>(0);
+  auto fit_version = std::make_shared<int>(0);
+  CLI::App* sample = app.add_subcommand("sample", "Fitted samples: get");
+  sample->require_subcommand(1);
+  CLI::App* sample_get = sample->add_subcommand("get", "A sample (site, position, fit) as JSON");
+  sample_get->add_option("trace_id", *sample_id, "Trace id")->required();
+  sample_get->add_option("--fit-version", *fit_version, "Fit version (0 = latest)");
+  sample_get->callback([cli, sample_id, fit_version] {
+    auto stub = pb::MapService::NewStub(cli->Channel());
+    pb::GetSampleRequest request;
+    request.set_trace_id(*sample_id);
+    request.set_fit_version(*fit_version);
+    pb::GetSampleResponse response;
+    if (!CallRpc(*cli, "GetSample", *stub, &pb::MapService::Stub::GetSample, request, &response)) return;
+    std::printf("%s\n", MessageToJson(response.sample()).c_str());
+  });
+
+  auto trace_id = std::make_shared<int64_t>(0);
+  auto trace_out = std::make_shared<std::string>();
+  CLI::App* trace = app.add_subcommand("trace", "Raw drag traces: get");
+  trace->require_subcommand(1);
+  CLI::App* trace_get = trace->add_subcommand("get", "A raw trace as CSV (t,x,y,z,fx,fy,fz,phase)");
+  trace_get->add_option("trace_id", *trace_id, "Trace id")->required();
+  trace_get->add_option("-o,--output", *trace_out, "Output CSV file (default: stdout)");
+  trace_get->callback([cli, trace_id, trace_out] {
+    auto stub = pb::TraceService::NewStub(cli->Channel());
+    pb::GetTraceRequest request;
+    request.set_trace_id(*trace_id);
+    pb::GetTraceResponse response;
+    if (!CallRpc(*cli, "GetTrace", *stub, &pb::TraceService::Stub::GetTrace, request, &response)) return;
+    absl::StatusOr<DragTrace> trace = TraceFromProto(response.samples());
+    if (!trace.ok()) return FailUsage(*cli, absl::StrCat("trace ", *trace_id, ": ", trace.status().message()));
+    const std::string csv = absl::StrCat("# surfmap trace ", response.trace_id(), " (command ", response.command_id(),
+                                         ", job ", response.job_id(), ")\n", FormatTraceCsv(*trace));
+    if (trace_out->empty()) {
+      std::fwrite(csv.data(), 1, csv.size(), stdout);
+    } else {
+      std::ofstream out(*trace_out, std::ios::binary | std::ios::trunc);
+      out << csv;
+      out.close();
+      if (!out) return FailUsage(*cli, *trace_out + ": cannot write file");
+    }
+  });
+
+  struct RefitArgs {
+    int64_t job_id = 0;
+    std::string method = "burg";
+    int order = 2;
+    double step_mm = 0.1;
+    bool no_noise_correction = false;
+  };
+  auto r = std::make_shared<RefitArgs>();
+  CLI::App* refit = app.add_subcommand("refit", "Re-estimate every trace of a job with other estimator settings");
+  refit->add_option("job", r->job_id, "Job id")->required();
+  refit->add_option("--method", r->method, "AR estimator")->check(CLI::IsMember({"burg", "ls"}))->capture_default_str();
+  refit->add_option("--order", r->order, "AR model order p")->check(CLI::Range(1, 20))->capture_default_str();
+  refit->add_option("--step-mm", r->step_mm, "Roughness arc-length grid step L in mm")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  refit->add_flag("--no-noise-correction", r->no_noise_correction,
+                  "Do not use the pause's noise floor to de-bias the roughness fit");
+  refit->callback([cli, r] {
+    auto stub = pb::TraceService::NewStub(cli->Channel());
+    pb::RefitJobRequest request;
+    request.set_job_id(r->job_id);
+    pb::EstimatorSettings* s = request.mutable_settings();
+    s->set_step_mm(r->step_mm);
+    s->set_ar_order(r->order);
+    s->set_ar_method(r->method == "ls" ? pb::AR_METHOD_LEAST_SQUARES : pb::AR_METHOD_BURG);
+    s->set_noise_aware(!r->no_noise_correction);
+    pb::RefitJobResponse response;
+    if (!CallRpc(*cli, "RefitJob", *stub, &pb::TraceService::Stub::RefitJob, request, &response)) return;
+    std::printf("job %lld: fit version %d, %d traces refitted, %d failed\n", static_cast<long long>(r->job_id),
+                response.fit_version(), response.refitted(), response.failed());
+  });
+}
+
+}  // namespace surfmap::cli

@@ -1,0 +1,81 @@
+#include "clients/cli/progress_line.h"
+
+#include <cstdio>
+#include <string>
+
+#include <gtest/gtest.h>
+
+namespace surfmap::cli {
+namespace {
+
+namespace pb = ::surfmap::v1;
+
+pb::JobProgress Progress(int measured, int issued, int pending, int budget_left) {
+  pb::JobProgress p;
+  p.set_measured(measured);
+  p.set_issued(issued);
+  p.set_pending(pending);
+  p.set_budget_left(budget_left);
+  return p;
+}
+
+TEST(ProgressFractionTest, ShareOfKnownSitesWithoutBudget) {
+  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(30, 10, 60, -1)), 0.3);
+}
+
+TEST(ProgressFractionTest, BudgetCapsTheKnownWork) {
+  // 100 known sites but only 20 more samples allowed: 30 of 50.
+  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(30, 10, 60, 20)), 0.6);
+}
+
+TEST(ProgressFractionTest, CompleteOrEmptyIsFull) {
+  pb::JobProgress p = Progress(5, 0, 7, -1);
+  p.set_complete(true);
+  EXPECT_DOUBLE_EQ(ProgressFraction(p), 1.0);
+  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(0, 0, 0, -1)), 1.0);
+}
+
+TEST(FormatProgressLineTest, BarCountsAndLevels) {
+  pb::JobProgress p = Progress(42, 6, 45, -1);
+  pb::LevelProgress* l0 = p.add_levels();
+  l0->set_level(0);
+  l0->set_measured(42);
+  pb::LevelProgress* l1 = p.add_levels();
+  l1->set_level(1);
+  l1->set_pending(45);
+  EXPECT_EQ(FormatProgressLine(p, 10),
+            "[####------]  45%  42/93 measured, 6 issued, 45 pending, 0 failed | L0 42/0 L1 0/45");
+  EXPECT_EQ(FormatProgressLine(p, 0), " 45%  42/93 measured, 6 issued, 45 pending, 0 failed | L0 42/0 L1 0/45");
+}
+
+TEST(FormatProgressLineTest, MentionsBudgetAndSkipped) {
+  pb::JobProgress p = Progress(10, 0, 0, 5);
+  p.set_skipped(3);
+  EXPECT_EQ(FormatProgressLine(p, 0), "100%  10/10 measured, 0 issued, 0 pending, 0 failed, 3 skipped, budget left 5");
+}
+
+std::string Captured(bool redraw, const std::vector<std::string>& lines) {
+  std::FILE* f = std::tmpfile();
+  {
+    ProgressDisplay display(f, redraw);
+    for (const std::string& l : lines) display.Show(l);
+  }
+  std::rewind(f);
+  std::string out;
+  char buf[256];
+  size_t n;
+  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
+  std::fclose(f);
+  return out;
+}
+
+TEST(ProgressDisplayTest, PlainLinesSkipRepeats) {
+  EXPECT_EQ(Captured(false, {"a", "a", "b"}), "a\nb\n");
+}
+
+TEST(ProgressDisplayTest, RedrawsInPlaceAndEndsTheLine) {
+  EXPECT_EQ(Captured(true, {"a", "a", "b"}), "\ra\x1b[K\rb\x1b[K\n");
+}
+
+}  // namespace
+}  // namespace surfmap::cli

@@ -1,0 +1,55 @@
+#include "clients/rig_client/probe_conversion.h"
+
+#include "absl/strings/str_cat.h"
+
+namespace surfmap::rig {
+
+namespace pb = ::surfmap::v1;
+
+namespace {
+Eigen::Vector3d FromProto(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
+}  // namespace
+
+absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const pb::ProbeCommand& command) {
+  ProbeRequest request;
+  request.position = FromProto(command.position());
+  request.normal = FromProto(command.normal());
+  request.drag_direction = FromProto(command.drag_direction());
+  const pb::ProbeParameters& p = command.probe();
+  if (p.segment_length_mm() != 0.0) request.segment_length_mm = p.segment_length_mm();
+  if (p.speed_mm_s() != 0.0) request.speed_mm_s = p.speed_mm_s();
+  if (p.normal_force_n() != 0.0) request.normal_force_n = p.normal_force_n();
+  request.command_id = command.command_id();
+  absl::Status valid = ValidateProbeRequest(request);
+  if (!valid.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("command ", command.command_id(), ": ", valid.message()));
+  }
+  return request;
+}
+
+pb::TraceSamples TraceToSamples(const DragTrace& trace) {
+  pb::TraceSamples out;
+  const int n = static_cast<int>(trace.samples.size());
+  for (auto* column : {out.mutable_t(), out.mutable_x(), out.mutable_y(), out.mutable_z(), out.mutable_fx(),
+                       out.mutable_fy(), out.mutable_fz()}) {
+    column->Reserve(n);
+  }
+  out.mutable_phases()->Reserve(n);
+  for (const DragSample& s : trace.samples) {
+    out.add_t(s.t);
+    out.add_x(s.position.x());
+    out.add_y(s.position.y());
+    out.add_z(s.position.z());
+    out.add_fx(s.force.x());
+    out.add_fy(s.force.y());
+    out.add_fz(s.force.z());
+    switch (s.phase) {
+      case DragPhase::kForward: out.add_phases(pb::PHASE_FORWARD); break;
+      case DragPhase::kPause: out.add_phases(pb::PHASE_PAUSE); break;
+      case DragPhase::kReverse: out.add_phases(pb::PHASE_REVERSE); break;
+    }
+  }
+  return out;
+}
+
+}  // namespace surfmap::rig

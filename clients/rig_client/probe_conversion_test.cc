@@ -1,0 +1,61 @@
+#include "clients/rig_client/probe_conversion.h"
+
+#include <gtest/gtest.h>
+
+namespace surfmap::rig {
+namespace {
+
+namespace pb = ::surfmap::v1;
+
+pb::ProbeCommand ValidCommand() {
+  pb::ProbeCommand c;
+  c.set_command_id(42);
+  c.mutable_position()->set_x(1);
+  c.mutable_position()->set_y(2);
+  c.mutable_position()->set_z(3);
+  c.mutable_normal()->set_z(1);
+  c.mutable_drag_direction()->set_y(1);
+  return c;
+}
+
+TEST(ProbeRequestFromCommandTest, CopiesGeometryAndDefaultsZeroParameters) {
+  pb::ProbeCommand c = ValidCommand();
+  c.mutable_probe()->set_speed_mm_s(15);
+  absl::StatusOr<ProbeRequest> r = ProbeRequestFromCommand(c);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->command_id, 42);
+  EXPECT_EQ(r->position, Eigen::Vector3d(1, 2, 3));
+  EXPECT_EQ(r->drag_direction, Eigen::Vector3d(0, 1, 0));
+  EXPECT_DOUBLE_EQ(r->segment_length_mm, 20.0);
+  EXPECT_DOUBLE_EQ(r->speed_mm_s, 15.0);
+  EXPECT_DOUBLE_EQ(r->normal_force_n, 5.0);
+}
+
+TEST(ProbeRequestFromCommandTest, RejectsAZeroNormalNamingTheCommand) {
+  pb::ProbeCommand c = ValidCommand();
+  c.clear_normal();
+  absl::StatusOr<ProbeRequest> r = ProbeRequestFromCommand(c);
+  ASSERT_FALSE(r.ok());
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(r.status().message().find("command 42"), std::string_view::npos) << r.status();
+}
+
+TEST(TraceToSamplesTest, ColumnsInOrder) {
+  DragTrace trace;
+  trace.samples.push_back({0.0, {1, 2, 3}, {4, 5, 6}, DragPhase::kForward});
+  trace.samples.push_back({0.5, {1, 2, 3}, {0, 0, 6}, DragPhase::kPause});
+  trace.samples.push_back({1.0, {7, 8, 9}, {-4, -5, 6}, DragPhase::kReverse});
+  pb::TraceSamples s = TraceToSamples(trace);
+  ASSERT_EQ(s.t_size(), 3);
+  EXPECT_EQ(s.phases_size(), 3);
+  EXPECT_DOUBLE_EQ(s.t(2), 1.0);
+  EXPECT_DOUBLE_EQ(s.x(2), 7.0);
+  EXPECT_DOUBLE_EQ(s.fy(0), 5.0);
+  EXPECT_DOUBLE_EQ(s.fz(1), 6.0);
+  EXPECT_EQ(s.phases(0), pb::PHASE_FORWARD);
+  EXPECT_EQ(s.phases(1), pb::PHASE_PAUSE);
+  EXPECT_EQ(s.phases(2), pb::PHASE_REVERSE);
+}
+
+}  // namespace
+}  // namespace surfmap::rig

@@ -1,0 +1,212 @@
+// surfmap-rig: a lab rig as a client of surfmapd.
+//
+//   surfmap-rig --server ADDR --sim SCENE [--job ID] [--rig-id NAME] [--token T]
+//               [--max-commands N] [--quiet]
+//   surfmap-rig score --sim SCENE --map MAP.json [--json OUT.json|-]
+//
+// The rig leases probe commands, executes them on a RigDriver and returns the
+// traces (RigLoop). `--sim SCENE` drives the simulated rig on a scene; a real
+// robot plugs in as another RigDriver (clients/rig/rig_driver.h): construct
+// it where MakeDriver builds the SimulatedRig, and the loop, retries and
+// signal handling below work unchanged.
+#include <signal.h>
+#include <unistd.h>
+
+#include <atomic>
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <memory>
+#include <sstream>
+#include <string>
+
+#include <CLI/CLI.hpp>
+#include "absl/strings/str_cat.h"
+#include "clients/cli/map_json.h"
+#include "clients/cli/progress_line.h"
+#include "clients/cli/remote_call.h"
+#include "clients/rig/scene.h"
+#include "clients/rig/simulated_rig.h"
+#include "clients/rig_client/map_score.h"
+#include "clients/rig_client/probe_endpoint.h"
+#include "clients/rig_client/rig_loop.h"
+
+namespace {
+
+namespace pb = ::surfmap::v1;
+
+std::atomic<bool> g_stop{false};
+static_assert(std::atomic<bool>::is_always_lock_free, "the signal handler needs a lock-free flag");
+
+// First SIGINT/SIGTERM: finish the current command, then leave with a summary.
+// Second: leave now (the server re-issues the command when its lease expires).
+extern "C" void OnStopSignal(int) {
+  if (g_stop.exchange(true)) {
+    constexpr char kMessage[] = "surfmap-rig: second signal, abandoning the current command\n";
+    [[maybe_unused]] ssize_t n = ::write(STDERR_FILENO, kMessage, sizeof kMessage - 1);
+    ::_exit(130);
+  }
+}
+
+void InstallStopHandlers() {
+  struct sigaction action {};
+  action.sa_handler = OnStopSignal;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = 0;  // no SA_RESTART: a blocking sleep wakes up
+  sigaction(SIGINT, &action, nullptr);
+  sigaction(SIGTERM, &action, nullptr);
+}
+
+struct RunArgs {
+  surfmap::cli::RemoteOptions remote;
+  std::string sim;
+  uint64_t sim_seed = 0;
+  int64_t job_id = 0;
+  std::string rig_id;
+  int max_commands = 0;
+  bool quiet = false;
+};
+
+// Where a real robot's RigDriver would be constructed instead.
+absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> MakeDriver(const RunArgs& args) {
+  absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(args.sim);
+  if (!scene.ok()) return scene.status();
+  surfmap::SimulatedRigOptions options;
+  options.seed = args.sim_seed;
+  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = surfmap::SimulatedRig::Create(*std::move(scene), options);
+  if (!rig.ok()) return rig.status();
+  return std::unique_ptr<surfmap::RigDriver>(std::move(*rig));
+}
+
+int RunRig(const RunArgs& args) {
+  if (args.sim.empty()) {
+    std::cerr << "surfmap-rig: no rig driver: use --sim SCENE (a real robot plugs in as a RigDriver, see README)\n";
+    return 2;
+  }
+  absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> driver = MakeDriver(args);
+  if (!driver.ok()) {
+    std::cerr << "surfmap-rig: --sim " << args.sim << ": " << driver.status().message() << "\n";
+    return 2;
+  }
+  surfmap::rig::RigLoopOptions options;
+  options.rig_id = args.rig_id.empty() ? absl::StrCat("sim-", args.sim, "-", ::getpid()) : args.rig_id;
+  options.job_id = args.job_id;
+  options.max_commands = args.max_commands;
+  std::string why;
+  if (!options.IsValid(&why)) {
+    std::cerr << "surfmap-rig: " << why << "\n";
+    return 2;
+  }
+
+  surfmap::rig::GrpcProbeEndpoint endpoint(args.remote);
+  const bool tty = surfmap::cli::ProgressDisplay::IsTerminal(stdout);
+  surfmap::cli::ProgressDisplay display(stdout, tty);
+  surfmap::rig::RigLoopHooks hooks;
+  if (!args.quiet) {
+    hooks.on_progress = [&](const pb::JobProgress& progress) {
+      display.Show(options.rig_id + " " + surfmap::cli::FormatProgressLine(progress, tty ? 20 : 0));
+    };
+  }
+  hooks.on_event = [&](const std::string& line) {
+    display.Finish();
+    std::fflush(stdout);
+    std::fprintf(stderr, "%s\n", line.c_str());
+  };
+  InstallStopHandlers();
+  surfmap::rig::RigLoop loop(endpoint, **driver, options, &g_stop, hooks);
+  surfmap::rig::RigLoopSummary summary = loop.Run();
+  display.Finish();
+  std::printf("%s\n", summary.Format(options.rig_id).c_str());
+  std::fflush(stdout);
+  if (!summary.error.ok()) {
+    std::fprintf(stderr, "%s\n",
+                 surfmap::cli::FormatRpcError(summary.error_rpc, summary.error, "surfmap-rig").c_str());
+    return 1;
+  }
+  return 0;
+}
+
+struct ScoreArgs {
+  std::string sim;
+  std::string map;
+  std::string json;
+};
+
+int RunScore(const ScoreArgs& args) {
+  absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(args.sim);
+  if (!scene.ok()) {
+    std::cerr << "surfmap-rig score: --sim " << args.sim << ": " << scene.status().message() << "\n";
+    return 2;
+  }
+  std::ifstream in(args.map, std::ios::binary);
+  if (!in) {
+    std::cerr << "surfmap-rig score: " << args.map << ": cannot open file\n";
+    return 2;
+  }
+  nlohmann::json json = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+  if (json.is_discarded()) {
+    std::cerr << "surfmap-rig score: " << args.map << ": not valid JSON\n";
+    return 2;
+  }
+  absl::StatusOr<surfmap::cli::MapDocument> map = surfmap::cli::MapDocumentFromJson(json, args.map);
+  if (!map.ok()) {
+    std::cerr << "surfmap-rig score: " << map.status().message() << "\n";
+    return 2;
+  }
+  absl::StatusOr<surfmap::rig::MapScore> score = surfmap::rig::ScoreMap(*scene, *map);
+  if (!score.ok()) {
+    std::cerr << "surfmap-rig score: " << args.map << ": " << score.status().message() << "\n";
+    return 1;
+  }
+  const nlohmann::json result = surfmap::rig::MapScoreToJson(*score, args.sim);
+  if (args.json == "-") {
+    std::cout << result.dump(1) << "\n";
+    return 0;
+  }
+  std::cout << surfmap::rig::FormatMapScore(*score, args.sim);
+  if (!args.json.empty()) {
+    std::ofstream out(args.json, std::ios::binary | std::ios::trunc);
+    out << result.dump(1) << "\n";
+    out.close();
+    if (!out) {
+      std::cerr << "surfmap-rig score: " << args.json << ": cannot write file\n";
+      return 2;
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"surfmap-rig: a probing rig as a client of surfmapd (lease, execute, submit)"};
+  app.require_subcommand(0, 1);
+  RunArgs run;
+  run.remote.server = std::string(surfmap::cli::kDefaultServer);
+  app.add_option("--server", run.remote.server, "surfmapd address host:port")
+      ->envname("SURFMAP_SERVER")
+      ->capture_default_str();
+  app.add_option("--token", run.remote.token, "Bearer token (role probe or higher)")->envname("SURFMAP_TOKEN");
+  app.add_option("--timeout", run.remote.timeout_s, "Deadline of every call, seconds")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--sim", run.sim, "Drive the simulated rig on this scene (e.g. bottle, plate)");
+  app.add_option("--sim-seed", run.sim_seed, "Seed mixed into the simulated rig's noise");
+  app.add_option("--job", run.job_id, "Only this job's commands (default: any running job)");
+  app.add_option("--rig-id", run.rig_id, "Rig name in the server's leases and logs (default sim-SCENE-PID)");
+  app.add_option("--max-commands", run.max_commands, "Stop after this many commands (0 = until the job ends)")
+      ->check(CLI::NonNegativeNumber);
+  app.add_flag("--quiet", run.quiet, "No progress line (the summary line is still printed)");
+
+  ScoreArgs score;
+  CLI::App* score_cmd = app.add_subcommand("score", "Compare a map file with the scene's truth");
+  score_cmd->add_option("--sim", score.sim, "The scene the map was measured on")->required();
+  score_cmd->add_option("--map", score.map, "Map file from `surfmap map get --format json`")
+      ->required()
+      ->check(CLI::ExistingFile);
+  score_cmd->add_option("--json", score.json, "Also write the score as JSON to this file ('-': JSON on stdout only)");
+
+  CLI11_PARSE(app, argc, argv);
+  if (score_cmd->parsed()) return RunScore(score);
+  return RunRig(run);
+}
