@@ -181,6 +181,26 @@ struct AcceptTraceResult {
   bool already_accepted = false;
 };
 
+// A rig could not measure a leased command: the command is marked failed and
+// the plan's reaction (a retry command, or the site failed for good) is
+// written with it, atomically.
+struct FailCommandRequest {
+  int64_t command_id = 0;
+  int64_t job_id = 0;               // must be the command's job
+  std::string lease_owner;          // if not empty, must hold the command's lease
+  std::string reason;               // stored in the command's failure event
+  std::string new_plan_json;        // empty: plan unchanged
+  int64_t expected_plan_revision = 0;  // as for AcceptTraceRequest
+  std::vector<NewCommand> new_commands;
+  std::optional<JobState> new_job_state;
+  std::vector<NewEvent> events;
+};
+
+struct FailCommandResult {
+  int64_t plan_revision = 0;
+  std::vector<int64_t> new_command_ids;
+};
+
 struct LeaseRequest {
   int64_t job_id = 0;               // 0: any running job
   std::string owner;                // the rig; must not be empty
@@ -195,7 +215,7 @@ struct JobStateChange {
 };
 
 // A refit: new fits for existing traces.
-struct TraceFit {
+struct TraceRefit {
   int64_t trace_id = 0;
   NewFit fit;
 };

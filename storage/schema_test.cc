@@ -42,6 +42,8 @@ TEST(SchemaTest, MigratesEmptyFileToLatestVersion) {
 TEST(SchemaTest, ConnectionSettingsAreDurableWalWithForeignKeys) {
   TempDbDir dir;
   auto db = OpenRaw(dir.Path("a.db"));
+  ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations()).ok());
+  EXPECT_EQ(QueryInt(*db, "PRAGMA page_size"), 16384);
   absl::StatusOr<SqliteStatement> mode = db->Prepare("PRAGMA journal_mode");
   ASSERT_TRUE(mode.ok());
   ASSERT_TRUE(*mode->Step());

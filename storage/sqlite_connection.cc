@@ -150,6 +150,11 @@ absl::StatusOr<std::unique_ptr<SqliteConnection>> SqliteConnection::Open(
   sqlite3_extended_result_codes(db, 1);
   std::unique_ptr<SqliteConnection> connection(new SqliteConnection(db, path));
   sqlite3_busy_timeout(db, options.busy_timeout_ms);
+  // Must precede the switch to WAL; ignored by SQLite for an existing file.
+  if (absl::Status s = connection->Exec(absl::StrCat("PRAGMA page_size = ", options.page_size));
+      !s.ok()) {
+    return s;
+  }
   // journal_mode=WAL is persistent in the file; setting it on every
   // connection is harmless and makes a fresh file WAL before the first write.
   {

@@ -67,6 +67,11 @@ struct SqliteOpenOptions {
   bool create = true;          // create the file if missing
   bool read_only = false;      // PRAGMA query_only: this connection never writes
   int busy_timeout_ms = 5000;  // wait this long for another process's lock
+  // Page size of a NEW database file (no effect on an existing one). 16 KiB
+  // rather than SQLite's 4 KiB: a 1,000-sample trace (57 KB) then spans 4
+  // pages instead of 15, i.e. fewer WAL frames per commit (measured ~1.4x more
+  // traces/s per fsync'd batch on the project VM).
+  int page_size = 16384;
 };
 
 class SqliteConnection {

@@ -396,6 +396,66 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
   return result;
 }
 
+absl::StatusOr<FailCommandResult> FailCommandWrite(SqliteConnection& db, const FailCommandRequest& req,
+                                                   int64_t now) {
+  FailCommandResult result;
+  SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, req.command_id));
+  if (command.job_id != req.job_id) {
+    return absl::InvalidArgumentError(absl::StrCat("command ", req.command_id, " belongs to job ",
+                                                   command.job_id, ", not job ", req.job_id));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
+  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
+    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ",
+                                                      std::string(JobStateName(job.state)),
+                                                      ": its commands can no longer fail"));
+  }
+  if (command.state != CommandState::kLeased) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("command ", command.id, " is ", std::string(CommandStateName(command.state)),
+                     ", not leased: only a leased command can be reported failed"));
+  }
+  if (!req.lease_owner.empty() && req.lease_owner != command.lease_owner) {
+    return absl::FailedPreconditionError(absl::StrCat("command ", command.id, " is leased to '",
+                                                      command.lease_owner, "', not to '",
+                                                      req.lease_owner, "'"));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, job.id));
+  if (!req.new_plan_json.empty() && req.expected_plan_revision > 0 &&
+      req.expected_plan_revision != result.plan_revision) {
+    return absl::AbortedError(absl::StrCat("plan of job ", job.id, " is at revision ",
+                                           result.plan_revision, ", not ",
+                                           req.expected_plan_revision));
+  }
+  if (req.new_job_state.has_value() && !IsJobTransitionAllowed(job.state, *req.new_job_state)) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "job ", job.id, " cannot go from ", std::string(JobStateName(job.state)), " to ",
+        std::string(JobStateName(*req.new_job_state))));
+  }
+  {
+    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
+                             db.Prepare("UPDATE commands SET state = 'failed' WHERE id = ?1"));
+    stmt.BindInt(1, req.command_id);
+    SURFMAP_RETURN_IF_ERROR(stmt.Run());
+  }
+  if (!req.new_plan_json.empty()) {
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("UPDATE plans SET plan_json = ?2, revision = revision + 1, "
+                   "updated_unix_ms = ?3 WHERE job_id = ?1"));
+    stmt.BindInt(1, job.id).BindText(2, req.new_plan_json).BindInt(3, now);
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "new_plan_json"));
+    result.plan_revision += 1;
+  }
+  SURFMAP_ASSIGN_OR_RETURN(result.new_command_ids,
+                           InsertCommands(db, job.id, req.new_commands, now, "new_commands"));
+  if (req.new_job_state.has_value()) {
+    SURFMAP_RETURN_IF_ERROR(SetJobState(db, job, *req.new_job_state, now));
+  }
+  SURFMAP_RETURN_IF_ERROR(InsertEvents(db, job.id, req.events, now));
+  return result;
+}
+
 }  // namespace
 
 // ---- Open / close ----
@@ -420,6 +480,7 @@ absl::StatusOr<std::unique_ptr<SqliteStore>> SqliteStore::Open(const std::string
   }
   SqliteOpenOptions open_options;
   open_options.busy_timeout_ms = options.busy_timeout_ms;
+  open_options.page_size = options.page_size;
   SURFMAP_ASSIGN_OR_RETURN(std::unique_ptr<SqliteConnection> db,
                            SqliteConnection::Open(path, open_options));
   SURFMAP_RETURN_IF_ERROR(ApplyMigrations(*db, SchemaMigrations()));
@@ -665,6 +726,24 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
       std::move(done));
 }
 
+void SqliteStore::FailCommandAsync(FailCommandRequest request, FailCommandCallback done) {
+  if (absl::Status s = ValidateEvents(request.events); !s.ok()) {
+    done(std::move(s));
+    return;
+  }
+  auto shared = std::make_shared<FailCommandRequest>(std::move(request));
+  const int64_t now = Now();
+  writer_->SubmitForResult<FailCommandResult>(
+      [shared, now](SqliteConnection& db) -> absl::StatusOr<FailCommandResult> {
+        absl::StatusOr<FailCommandResult> result = FailCommandWrite(db, *shared, now);
+        if (!result.ok()) {
+          return Annotate(result.status(), absl::StrCat("FailCommand(command ", shared->command_id, ")"));
+        }
+        return result;
+      },
+      std::move(done));
+}
+
 absl::StatusOr<TraceRecord> SqliteStore::GetTrace(int64_t trace_id, bool include_samples) {
   static const std::string sql_with =
       absl::StrCat("SELECT ", kTraceColumns, ", samples FROM traces WHERE id = ?1");
@@ -715,7 +794,7 @@ absl::StatusOr<FitRecord> SqliteStore::GetFit(int64_t trace_id, int32_t version)
   return ReadFit(stmt);
 }
 
-absl::StatusOr<std::vector<FitRecord>> SqliteStore::AddFits(const std::vector<TraceFit>& fits) {
+absl::StatusOr<std::vector<FitRecord>> SqliteStore::AddFits(const std::vector<TraceRefit>& fits) {
   if (fits.empty()) return std::vector<FitRecord>();
   std::set<int64_t> seen;
   for (size_t i = 0; i < fits.size(); ++i) {

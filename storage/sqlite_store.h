@@ -28,6 +28,7 @@ struct SqliteStoreOptions {
   GroupCommitOptions writer;   // group commit on, batches of up to 256 writes
   int read_connections = 4;    // at most this many concurrent reads
   int busy_timeout_ms = 5000;  // waiting for another process's lock
+  int page_size = 16384;       // for a new file; see SqliteOpenOptions
   // Time source for created/updated/received stamps (ms since the epoch).
   // Default: the system clock.
   std::function<int64_t()> clock;
@@ -62,12 +63,13 @@ class SqliteStore : public Store {
   absl::StatusOr<std::vector<CommandRecord>> ListCommands(int64_t job_id) override;
 
   void AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallback done) override;
+  void FailCommandAsync(FailCommandRequest request, FailCommandCallback done) override;
   absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id, bool include_samples) override;
   absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
                                                       bool include_samples) override;
 
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
-  absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceFit>& fits) override;
+  absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;
 
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id,

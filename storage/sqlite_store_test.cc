@@ -444,7 +444,7 @@ TEST_F(SqliteStoreTest, RefitsGetOneVersionPerBatchAndListFitsSelectsVersions) {
   refit.estimator_version = "2.0.0";
   refit.a1.reset();
   absl::StatusOr<std::vector<FitRecord>> added =
-      store_->AddFits({TraceFit{trace_ids[0], refit}, TraceFit{trace_ids[2], refit}});
+      store_->AddFits({TraceRefit{trace_ids[0], refit}, TraceRefit{trace_ids[2], refit}});
   ASSERT_TRUE(added.ok()) << added.status();
   ASSERT_EQ(added->size(), 2u);
   EXPECT_EQ((*added)[0].version, 2);
@@ -468,12 +468,12 @@ TEST_F(SqliteStoreTest, RefitsGetOneVersionPerBatchAndListFitsSelectsVersions) {
   // A batch naming an unknown trace writes nothing.
   auto before = TableCounts();
   absl::StatusOr<std::vector<FitRecord>> bad =
-      store_->AddFits({TraceFit{trace_ids[1], refit}, TraceFit{424242, refit}});
+      store_->AddFits({TraceRefit{trace_ids[1], refit}, TraceRefit{424242, refit}});
   EXPECT_EQ(bad.status().code(), absl::StatusCode::kNotFound);
   EXPECT_NE(bad.status().message().find("fits[1]: trace 424242"), std::string::npos)
       << bad.status();
   EXPECT_EQ(TableCounts(), before);
-  EXPECT_EQ(store_->AddFits({TraceFit{trace_ids[1], refit}, TraceFit{trace_ids[1], refit}})
+  EXPECT_EQ(store_->AddFits({TraceRefit{trace_ids[1], refit}, TraceRefit{trace_ids[1], refit}})
                 .status()
                 .code(),
             absl::StatusCode::kInvalidArgument);
@@ -545,11 +545,11 @@ TEST_F(SqliteStoreTest, AsyncCallbacksRunAfterCommit) {
 }
 
 TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
-  // Small thresholds: wake at 100 pages (400 KB), catch up inline at 400
-  // (1.6 MB). 150 traces of 1,000 samples put ~8.6 MB through the WAL.
+  // Small thresholds: wake at 400 KB, catch up inline at 1.6 MB. 150 traces
+  // of 1,000 samples put ~8.6 MB through the WAL.
   SqliteStoreOptions options;
-  options.checkpoint.wake_pages = 100;
-  options.checkpoint.inline_pages = 400;
+  options.checkpoint.wake_bytes = 400 << 10;
+  options.checkpoint.inline_bytes = 1600 << 10;
   Reopen(options);
   CreatedJob job = Job(150);
   for (int i = 0; i < 150; ++i) {

@@ -73,6 +73,12 @@ class Store {
   virtual void AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallback done) = 0;
   // Blocks until durable.
   absl::StatusOr<AcceptTraceResult> AcceptTrace(AcceptTraceRequest request);
+  // A leased command that could not be measured, with the plan's reaction,
+  // in one durable write. FailedPrecondition if the command is not leased (by
+  // request.lease_owner when set) or its job is cancelled/completed; Aborted on
+  // a plan revision mismatch. The callback runs on the writer thread.
+  using FailCommandCallback = std::function<void(absl::StatusOr<FailCommandResult>)>;
+  virtual void FailCommandAsync(FailCommandRequest request, FailCommandCallback done) = 0;
   virtual absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id, bool include_samples) = 0;
   // In id order (= order of acceptance).
   virtual absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
@@ -84,7 +90,7 @@ class Store {
   // A refit, in one transaction: every fit of the batch gets the same version,
   // one more than the highest version stored for any trace of the batch.
   // Each trace at most once per batch. Returns the records in input order.
-  virtual absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceFit>& fits) = 0;
+  virtual absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) = 0;
   // The job's fits of one version, or with version 0 the latest fit of each
   // trace; in trace order.
   virtual absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) = 0;

@@ -6,6 +6,7 @@
 //   build-*/storage/store_benchmark [--benchmark_filter=...]
 //   SURFMAP_BENCH_DIR=/some/dir to put the database elsewhere (default: /tmp).
 //   SURFMAP_BENCH_BACKGROUND_CHECKPOINT=0 to checkpoint on the writer thread.
+//   SURFMAP_BENCH_PAGE_SIZE=4096 to compare page sizes (default 16384).
 #include <atomic>
 #include <cstdlib>
 #include <filesystem>
@@ -49,6 +50,7 @@ void SetUpCase(bool group_commit, int n_traces) {
   SqliteStoreOptions options;
   options.writer.group_commit = group_commit;
   options.background_checkpoint = BackgroundCheckpoint();
+  if (const char* ps = std::getenv("SURFMAP_BENCH_PAGE_SIZE")) options.page_size = std::atoi(ps);
   auto store = SqliteStore::Open((g_case->dir / "bench.db").string(), options);
   if (!store.ok()) {
     std::fprintf(stderr, "open: %s\n", store.status().ToString().c_str());

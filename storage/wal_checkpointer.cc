@@ -2,6 +2,8 @@
 
 #include <sqlite3.h>
 
+#include <algorithm>
+
 namespace surfmap {
 
 absl::StatusOr<std::unique_ptr<WalCheckpointer>> WalCheckpointer::Start(
@@ -10,15 +12,24 @@ absl::StatusOr<std::unique_ptr<WalCheckpointer>> WalCheckpointer::Start(
   open_options.create = false;
   absl::StatusOr<std::unique_ptr<SqliteConnection>> db = SqliteConnection::Open(path, open_options);
   if (!db.ok()) return db.status();
-  std::unique_ptr<WalCheckpointer> checkpointer(
-      new WalCheckpointer(std::move(*db), options));
+  absl::StatusOr<int64_t> page_size = (*db)->QueryInt("PRAGMA page_size");
+  if (!page_size.ok()) return page_size.status();
+  auto pages = [&](int64_t bytes) {
+    return static_cast<int>(std::max<int64_t>(1, bytes / std::max<int64_t>(1, *page_size)));
+  };
+  std::unique_ptr<WalCheckpointer> checkpointer(new WalCheckpointer(
+      std::move(*db), pages(options.wake_bytes), pages(options.inline_bytes)));
   // Replaces the writer's autocheckpoint (which is itself a WAL hook).
   sqlite3_wal_hook(writer_db.handle(), &WalCheckpointer::OnWalCommit, checkpointer.get());
   return checkpointer;
 }
 
-WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, WalCheckpointOptions options)
-    : db_(std::move(db)), options_(options), thread_([this] { Loop(); }) {}
+WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, int wake_pages,
+                                 int inline_pages)
+    : db_(std::move(db)),
+      wake_pages_(wake_pages),
+      inline_pages_(inline_pages),
+      thread_([this] { Loop(); }) {}
 
 WalCheckpointer::~WalCheckpointer() {
   {
@@ -36,7 +47,7 @@ int64_t WalCheckpointer::checkpoints() const {
 
 int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int wal_pages) {
   auto* checkpointer = static_cast<WalCheckpointer*>(self);
-  if (wal_pages >= checkpointer->options_.inline_pages) {
+  if (wal_pages >= checkpointer->inline_pages_) {
     // Catch up fully on the writer thread (see the header). Errors are
     // ignored: returning one would report a failed commit although the commit
     // succeeded, and the next commit retries.
@@ -45,7 +56,7 @@ int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int 
   }
   int backfilled = checkpointer->backfilled_.load(std::memory_order_relaxed);
   if (wal_pages < backfilled) backfilled = 0;  // the WAL restarted
-  if (wal_pages - backfilled >= checkpointer->options_.wake_pages) {
+  if (wal_pages - backfilled >= checkpointer->wake_pages_) {
     {
       std::lock_guard<std::mutex> lock(checkpointer->mu_);
       checkpointer->requested_ = true;

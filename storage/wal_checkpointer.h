@@ -3,21 +3,22 @@
 // fsync of the database file) stays off the group-commit writer's commit path.
 //
 // It replaces SQLite's automatic checkpoint on the writer connection: a WAL
-// hook on that connection wakes this thread once the WAL holds `wake_pages`
-// frames not yet copied back; this thread then copies them with a PASSIVE
+// hook on that connection wakes this thread once the WAL holds `wake_bytes`
+// of frames not yet copied back; this thread then copies them with a PASSIVE
 // checkpoint, which blocks neither the writer nor readers.
 //
 // A passive checkpoint copies only the frames present when it starts, so under
 // continuous writes it never quite catches up and the WAL would never restart
-// from its beginning. Hence, once the WAL holds `inline_pages` frames, the hook
+// from its beginning. Hence, once the WAL holds `inline_bytes` of frames, the hook
 // checkpoints on the writer thread itself, between two batches: nothing is
 // appended meanwhile, it catches up fully (cheaply: the background passes
 // already copied most frames) and the next write restarts the WAL. This bounds
-// the WAL at about inline_pages pages plus one batch.
+// the WAL at about inline_bytes plus one batch.
 #pragma once
 
 #include <atomic>
 #include <condition_variable>
+#include <cstdint>
 #include <memory>
 #include <mutex>
 #include <thread>
@@ -28,8 +29,8 @@
 namespace surfmap {
 
 struct WalCheckpointOptions {
-  int wake_pages = 1000;     // SQLite's default autocheckpoint size (~4 MB)
-  int inline_pages = 4000;   // ~16 MB: the writer catches up itself
+  int64_t wake_bytes = 4 << 20;     // SQLite's default autocheckpoint is ~4 MB
+  int64_t inline_bytes = 16 << 20;  // the writer catches up itself
 };
 
 class WalCheckpointer {
@@ -46,12 +47,13 @@ class WalCheckpointer {
   int64_t checkpoints() const;
 
  private:
-  WalCheckpointer(std::unique_ptr<SqliteConnection> db, WalCheckpointOptions options);
+  WalCheckpointer(std::unique_ptr<SqliteConnection> db, int wake_pages, int inline_pages);
   static int OnWalCommit(void* self, struct sqlite3* db, const char* name, int wal_pages);
   void Loop();
 
   std::unique_ptr<SqliteConnection> db_;
-  const WalCheckpointOptions options_;
+  const int wake_pages_;    // thresholds in WAL frames (pages) of this file
+  const int inline_pages_;
   mutable std::mutex mu_;
   std::condition_variable wake_;
   bool requested_ = false;  // guarded by mu_

@@ -182,8 +182,10 @@ absl::StatusOr<DragTrace> TraceFromProto(const pb::TraceSamples& s) {
 
 }  // namespace
 
-absl::StatusOr<Eigen::Vector3d> ParsePoint(std::string_view text) {
-  std::vector<std::string_view> parts = absl::StrSplit(text, ',');
+// (absl::string_view is not std::string_view in this abseil build: work on std::string copies.)
+absl::StatusOr<Eigen::Vector3d> ParsePoint(std::string_view text_view) {
+  const std::string text(text_view);
+  std::vector<std::string> parts = absl::StrSplit(text, ',');
   Eigen::Vector3d p;
   if (parts.size() != 3) {
     return absl::InvalidArgumentError(absl::StrCat("'", text, "': expected X,Y,Z (three numbers)"));
@@ -196,10 +198,11 @@ absl::StatusOr<Eigen::Vector3d> ParsePoint(std::string_view text) {
   return p;
 }
 
-absl::StatusOr<std::string> ResolveMapFormat(std::string_view format, std::string_view output_path) {
+absl::StatusOr<std::string> ResolveMapFormat(std::string_view format_view, std::string_view output_view) {
+  const std::string format(format_view), output_path(output_view);
   std::string f = absl::AsciiStrToLower(format);
   if (f.empty()) {
-    f = absl::AsciiStrToLower(std::filesystem::path(std::string(output_path)).extension().string());
+    f = absl::AsciiStrToLower(std::filesystem::path(output_path).extension().string());
     if (!f.empty() && f[0] == '.') f.erase(0, 1);
     if (f != "json" && f != "png" && f != "ply") {
       return absl::InvalidArgumentError(

@@ -64,8 +64,10 @@ RigLoop::RigLoop(ProbeEndpoint& endpoint, RigDriver& driver, RigLoopOptions opti
       // Slices of 50 ms so a signal ends the wait promptly.
       const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(seconds);
       while (std::chrono::steady_clock::now() < end && !(flag != nullptr && flag->load())) {
-        std::this_thread::sleep_for(std::min<std::chrono::steady_clock::duration>(
-            std::chrono::milliseconds(50), end - std::chrono::steady_clock::now()));
+        const auto left = std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            end - std::chrono::steady_clock::now());
+        std::this_thread::sleep_for(
+            std::min<std::chrono::steady_clock::duration>(std::chrono::milliseconds(50), left));
       }
     };
   }
@@ -155,8 +157,8 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
     case grpc::StatusCode::INVALID_ARGUMENT:
     case grpc::StatusCode::RESOURCE_EXHAUSTED:
       // The server cannot use this trace: let it retry the site.
-      return ReportFailure(command, absl::StrCat("trace rejected: ", cli::StatusCodeName(status.error_code()), ": ",
-                                                 status.error_message()));
+      return ReportFailure(command, "trace rejected: " + std::string(cli::StatusCodeName(status.error_code())) +
+                                                 ": " + status.error_message());
     default:
       return Fail("SubmitTrace", status);
   }

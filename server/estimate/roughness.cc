@@ -113,6 +113,16 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
                                                    4 * (p + 1), " (4 * (order + 1))"));
   }
 
+  // Many short segments can pass the sample count but leave few regression
+  // rows (each segment loses `order` to its lags): ask for as many rows as one
+  // series of 4 * (order + 1) samples has.
+  const Eigen::Index rows = n_total - static_cast<Eigen::Index>(segments.size()) * p;
+  if (rows < 3 * p + 4) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "segments give ", rows, " lagged rows (sum of length - order); AR(", p, ") needs at least ",
+        3 * p + 4, ", as many as one series of ", 4 * (p + 1), " samples"));
+  }
+
   std::vector<Eigen::VectorXd> centered;
   centered.reserve(segments.size());
   double mean_square = 0.0;
@@ -123,6 +133,10 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
   mean_square /= static_cast<double>(n_total);
   const Eigen::VectorXd lag0 = PooledAutocovariance(centered, 0);
   const double raw_variance = lag0(0);
+  if (!std::isfinite(raw_variance) || !std::isfinite(mean_square)) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "series values are too large: their variance overflows (", raw_variance, ")"));
+  }
   if (IsZeroVariance(raw_variance, mean_square)) {
     return absl::InvalidArgumentError(absl::StrCat(
         segments.size() == 1 ? "series has" : "segments have", " zero variance (",

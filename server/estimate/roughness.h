@@ -67,6 +67,10 @@ struct ArFit {
   // (noise-aware: s^2 (X^T X - rows noise_variance I)^-1, s^2 the residual
   // variance, noise included). Neither includes the extra spread the noise
   // correction adds, so treat them as lower bounds when noise_variance > 0.
+  // With several segments n counts every sample, i.e. the segments are taken
+  // as independent stretches of the process; the forward and reverse pass of
+  // one drag feel the same texture, so there the errors are optimistic by up
+  // to sqrt(2).
   std::vector<double> a_stderr;
   double sigma = 0.0;               // innovation standard deviation, N
   // Process variance: the pooled lag-0 sample autocovariance of the
@@ -111,7 +115,8 @@ absl::StatusOr<ArFit> FitAutoregressive(const Eigen::VectorXd& series, const ArF
 // denominator over segments; least squares stacks rows per segment).
 // Errors (INVALID_ARGUMENT, message names segment and sample): invalid options,
 // no segments, a segment of <= order samples, fewer than 4 * (order + 1)
-// samples in all, non-finite values, zero variance.
+// samples in all or fewer lagged rows (sum of length - order) than one such
+// series has (3 * order + 4), non-finite values, zero variance.
 absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segments,
                                         const ArFitOptions& options);
 // Same, for a braced list: FitAutoregressive({forward, reverse}, options)

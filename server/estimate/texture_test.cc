@@ -125,8 +125,9 @@ TEST(TextureDistanceTest, InvalidOptionsOrNanGiveNan) {
 }
 
 TEST(TextureDistanceTest, SeparatesPaperMaterialsButNotRefitsOfOne) {
-  // Two independent 240-sample drags of the same masonite are closer than
-  // masonite is to rubber (roughness only, so mu plays no part).
+  // Two independent 240-sample drags of the same masonite stay below a
+  // refinement threshold of 1 at the default scales (0.22 here; mean 0.22 and
+  // worst 0.69 over 100 seeded pairs), masonite against rubber is far above.
   ArFitOptions fit_options;
   TextureParams fits[2];
   for (int i = 0; i < 2; ++i) {
@@ -138,9 +139,9 @@ TEST(TextureDistanceTest, SeparatesPaperMaterialsButNotRefitsOfOne) {
   options.property = TextureProperty::kRoughness;
   const double same = TextureDistance(fits[0], fits[1], options);
   const double different = TextureDistance(fits[0], Rubber(), options);
-  EXPECT_LT(same, 0.5);
+  EXPECT_LT(same, 1.0);
   EXPECT_GT(different, 2.0 * same);
-  EXPECT_GT(different, 1.0);
+  EXPECT_GT(different, 3.0);  // k2: -0.73 vs 0.25 alone gives 3.3
 }
 
 }  // namespace

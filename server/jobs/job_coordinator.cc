@@ -349,6 +349,21 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
   }
   std::shared_ptr<JobRuntime> runtime = *found;
   const FitOptions options = runtime->params.fit;
+  // A done command goes straight to the store, which answers a retry with the
+  // stored ids (already_accepted). Anything else must be leased by this rig:
+  // checked here too, before the plan is touched.
+  const bool retry = command->state == CommandState::kDone;
+  if (!retry && command->state != CommandState::kLeased) {
+    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ",
+                                                    std::string(CommandStateName(command->state)),
+                                                    ", not leased: lease it before submitting a trace")));
+    return;
+  }
+  if (!retry && command->lease_owner != rig_id) {
+    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is leased to '", command->lease_owner,
+                                                    "', not to '", rig_id, "'")));
+    return;
+  }
 
   // The fit is pure computation: outside the job lock.
   absl::StatusOr<TraceFit> fit = FitTrace(trace, options);
@@ -374,7 +389,8 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
                                                       command_id, " not accepted")));
       return;
     }
-    absl::Status recorded = runtime->plan.RecordFit(probe->sequence, TextureOf(*fit));
+    absl::Status recorded = retry ? absl::NotFoundError("already answered")
+                                  : runtime->plan.RecordFit(probe->sequence, TextureOf(*fit));
     if (recorded.ok()) {
       request.new_commands = DrainCommands(runtime->plan);
       request.new_plan_json = runtime->plan.SaveJson();

@@ -55,7 +55,18 @@ TEST_P(LinearFieldTest, HarmonicInterpolationReproducesLinearFieldFromBoundarySa
 
 INSTANTIATE_TEST_SUITE_P(Weights, LinearFieldTest,
                          ::testing::Values(LaplacianWeights::kCotangent, LaplacianWeights::kCotangentClamped,
-                                           LaplacianWeights::kUniform));
+                                           LaplacianWeights::kUniform),
+                         [](const auto& info) {
+                           switch (info.param) {
+                             case LaplacianWeights::kCotangent:
+                               return std::string("cotangent");
+                             case LaplacianWeights::kCotangentClamped:
+                               return std::string("cotangent_clamped");
+                             case LaplacianWeights::kUniform:
+                               return std::string("uniform");
+                           }
+                           return std::string("unknown");
+                         });
 
 TEST(FrictionMapTest, LinearFieldOnIrregularFlatMeshWithCotangentWeights) {
   // Jitter the interior vertices: uniform weights lose linear precision, the

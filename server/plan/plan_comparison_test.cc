@@ -53,7 +53,7 @@ MapError RunPlan(SamplingPlanOptions o, const std::vector<SurfaceLevel>& levels,
   return Evaluate(*plan, levels.back());
 }
 
-TEST(PlanComparisonTest, UncertaintySamplingMatchesOrBeatsTheThresholdRuleAtEqualCounts) {
+TEST(PlanComparisonTest, UncertaintySamplingMatchesTheThresholdRuleAtEqualCounts) {
   const auto levels = TwoMaterialPlate(3);
   SamplingPlanOptions base;
   base.max_level = 3;
@@ -97,6 +97,9 @@ TEST(PlanComparisonTest, UncertaintySamplingMatchesOrBeatsTheThresholdRuleAtEqua
   EXPECT_EQ(u.samples, a.samples);
   EXPECT_LT(a.rmse, u0.rmse);
   EXPECT_LT(u.rmse, u0.rmse);
+  // Measured: adaptive 0.0329, uncertainty 0.0331 (0.0315 with 3 rigs).
+  EXPECT_LT(u.rmse, 1.1 * a.rmse);
+  EXPECT_LT(u_rigs.rmse, 1.1 * a.rmse);
 }
 
 }  // namespace

@@ -13,9 +13,9 @@ bool IsServerError(absl::StatusCode code) {
 void FinishUnary(grpc::ServerUnaryReactor* reactor, const char* method, const absl::Status& status) {
   if (!status.ok()) {
     if (IsServerError(status.code())) {
-      spdlog::warn("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), status.message());
+      spdlog::warn("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), std::string(status.message()));
     } else {
-      spdlog::debug("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), status.message());
+      spdlog::debug("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), std::string(status.message()));
     }
   }
   reactor->Finish(ToGrpcStatus(status));

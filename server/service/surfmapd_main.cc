@@ -54,7 +54,7 @@ int main(int argc, char** argv) {
 
   absl::Status status = surfmap::RunServer(config, port_file);
   if (!status.ok()) {
-    spdlog::error("surfmapd: {}", status.message());
+    spdlog::error("surfmapd: {}", std::string(status.message()));
     return 1;
   }
   return 0;

@@ -76,12 +76,12 @@ void RigFleet::RigLoop(int index) {
     }
 
     const int64_t seed_id = options_.seed_by_site ? SiteSeedId(command.site()) : command.command_id();
-    absl::StatusOr<DragTrace> trace = rig_.Execute(ProbeRequestFromCommand(command, seed_id));
-    if (!trace.ok()) {
+    absl::StatusOr<ProbeExecution> execution = rig_.ExecuteDetailed(ProbeRequestFromCommand(command, seed_id));
+    if (!execution.ok()) {
       pb::ReportFailureRequest failure;
       failure.set_command_id(command.command_id());
       failure.set_rig_id(rig_id);
-      failure.set_reason(std::string(trace.status().message()));
+      failure.set_reason(std::string(execution.status().message()));
       pb::ReportFailureResponse failure_response;
       status = stubs.probe->ReportFailure(Context(options_.call_deadline_s).get(), failure, &failure_response);
       if (!status.ok()) {
@@ -97,7 +97,7 @@ void RigFleet::RigLoop(int index) {
     pb::SubmitTraceRequest submit;
     submit.set_command_id(command.command_id());
     submit.set_rig_id(rig_id);
-    *submit.mutable_samples() = TraceToProto(*trace);
+    *submit.mutable_samples() = TraceToProto(execution->trace);
     pb::SubmitTraceResponse response;
     status = stubs.probe->SubmitTrace(Context(options_.call_deadline_s).get(), submit, &response);
     if (!status.ok()) {

@@ -39,8 +39,8 @@ std::string ReadWholeFile(const std::string& path) {
 
 // The port file holds the port, maybe as "host:port", maybe with a newline.
 bool ParsePortFile(const std::string& text, int* port) {
-  std::string_view view = absl::StripAsciiWhitespace(text);
-  if (size_t colon = view.rfind(':'); colon != std::string_view::npos) view.remove_prefix(colon + 1);
+  absl::string_view view = absl::StripAsciiWhitespace(text);
+  if (size_t colon = view.rfind(':'); colon != absl::string_view::npos) view.remove_prefix(colon + 1);
   return absl::SimpleAtoi(view, port) && *port > 0 && *port < 65536;
 }
 

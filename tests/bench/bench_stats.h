@@ -1,0 +1,20 @@
+// Latency summaries for the benchmark client.
+#pragma once
+
+#include <vector>
+
+namespace surfmap::bench {
+
+struct LatencySummary {
+  int count = 0;
+  double mean_ms = 0.0;
+  double p50_ms = 0.0;
+  double p99_ms = 0.0;
+  double max_ms = 0.0;
+};
+
+// Nearest-rank percentiles of `samples_ms` (copied and sorted); all zero
+// when empty.
+LatencySummary Summarize(std::vector<double> samples_ms);
+
+}  // namespace surfmap::bench

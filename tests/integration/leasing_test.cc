@@ -1,0 +1,212 @@
+// Leases and idempotent submission through the real server: a retried
+// submission stores nothing twice, concurrent rigs never share a lease, and
+// an expired lease goes to another rig under the same command id.
+#include <atomic>
+#include <map>
+#include <mutex>
+#include <set>
+#include <thread>
+
+#include "gtest/gtest.h"
+#include "tests/support/db_snapshot.h"
+#include "tests/support/job_helpers.h"
+#include "tests/support/server_process.h"
+#include "tests/support/status_matchers.h"
+
+namespace surfmap::itest {
+namespace {
+
+using std::chrono::milliseconds;
+
+struct Setup {
+  std::unique_ptr<ServerProcess> server;
+  std::unique_ptr<SimulatedRig> rig;
+  std::unique_ptr<Stubs> stubs;
+  int64_t object_id = 0;
+};
+
+absl::StatusOr<Setup> StartWithBottle() {
+  Setup setup;
+  auto server = ServerProcess::Start();
+  if (!server.ok()) return server.status();
+  setup.server = std::move(*server);
+  auto rig = MakeSceneRig("bottle");
+  if (!rig.ok()) return rig.status();
+  setup.rig = std::move(*rig);
+  setup.stubs = std::make_unique<Stubs>(setup.server->channel());
+  auto object = UploadSceneMesh(*setup.stubs, *setup.rig);
+  if (!object.ok()) return object.status();
+  setup.object_id = object->object_id();
+  return setup;
+}
+
+pb::SubmitTraceRequest Execute(const SimulatedRig& rig, const pb::ProbeCommand& command, const std::string& rig_id) {
+  pb::SubmitTraceRequest request;
+  request.set_command_id(command.command_id());
+  request.set_rig_id(rig_id);
+  auto execution = rig.ExecuteDetailed(ProbeRequestFromCommand(command, command.command_id()));
+  EXPECT_TRUE(execution.ok()) << execution.status();
+  if (execution.ok()) *request.mutable_samples() = TraceToProto(execution->trace);
+  return request;
+}
+
+TEST(Leasing, ResubmittingTheSameTraceIsAcknowledgedOnceAndStoredOnce) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  Stubs& stubs = *setup.stubs;
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.finest_level = 0;
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-a"));
+  pb::SubmitTraceRequest request = Execute(*setup.rig, command, "rig-a");
+
+  ITEST_ASSERT_OK_AND_ASSIGN(before, TakeDbSnapshot(setup.server->db_path()));
+  pb::SubmitTraceResponse first, second, third;
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), request, &first));
+  ITEST_ASSERT_OK_AND_ASSIGN(after_first, TakeDbSnapshot(setup.server->db_path()));
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), request, &second));
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), request, &third));
+  ITEST_ASSERT_OK_AND_ASSIGN(after_retries, TakeDbSnapshot(setup.server->db_path()));
+
+  EXPECT_FALSE(first.already_accepted());
+  EXPECT_TRUE(second.already_accepted());
+  EXPECT_TRUE(third.already_accepted());
+  EXPECT_EQ(second.sample().trace_id(), first.sample().trace_id());
+  EXPECT_EQ(third.sample().trace_id(), first.sample().trace_id());
+  EXPECT_EQ(second.sample().fit().friction().mu(), first.sample().fit().friction().mu());
+  EXPECT_EQ(after_first.row_counts["traces"], before.row_counts["traces"] + 1);
+  EXPECT_EQ(after_first.row_counts["fits"], before.row_counts["fits"] + 1);
+  EXPECT_EQ(after_retries.row_counts["traces"], after_first.row_counts["traces"]) << "a retry stored a trace";
+  EXPECT_EQ(after_retries.row_counts["fits"], after_first.row_counts["fits"]) << "a retry stored a fit";
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  EXPECT_EQ(samples.samples_size(), 1);
+  ITEST_ASSERT_OK_AND_ASSIGN(plan, GetPlan(stubs, job.job_id()));
+  EXPECT_EQ(plan.progress().measured(), 1);
+
+  // The same command id with DIFFERENT samples is not a retry: it must not
+  // replace the stored trace (either rejected or acknowledged as the original).
+  pb::SubmitTraceRequest altered = request;
+  altered.mutable_samples()->set_fz(3, altered.samples().fz(3) + 0.25);
+  pb::SubmitTraceResponse altered_response;
+  grpc::Status status = stubs.probe->SubmitTrace(Context().get(), altered, &altered_response);
+  if (status.ok()) {
+    EXPECT_TRUE(altered_response.already_accepted()) << "a second, different trace for command "
+                                                     << command.command_id() << " was accepted as new";
+  } else {
+    EXPECT_TRUE(status.error_code() == grpc::StatusCode::FAILED_PRECONDITION ||
+                status.error_code() == grpc::StatusCode::ALREADY_EXISTS)
+        << Describe(status);
+  }
+  pb::GetTraceRequest get;
+  get.set_trace_id(first.sample().trace_id());
+  pb::GetTraceResponse stored;
+  GRPC_ASSERT_OK(stubs.traces->GetTrace(Context().get(), get, &stored));
+  std::string difference;
+  EXPECT_TRUE(SameSamples(stored.samples(), request.samples(), &difference)) << difference;
+}
+
+TEST(Leasing, ConcurrentRigsNeverHoldTheSameCommand) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  Stubs& stubs = *setup.stubs;
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.coarsest_level = 1;
+  spec.finest_level = 1;  // 722 sites
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+
+  constexpr int kThreads = 16;
+  std::mutex mutex;
+  std::map<int64_t, std::vector<std::string>> holders;
+  std::vector<std::string> errors;
+  std::vector<std::thread> threads;
+  for (int i = 0; i < kThreads; ++i) {
+    threads.emplace_back([&, i] {
+      const std::string rig_id = "rig-" + std::to_string(i);
+      Stubs own(setup.server->NewChannel());
+      int empty_in_a_row = 0;
+      while (empty_in_a_row < 3) {
+        pb::LeaseCommandRequest request;
+        request.set_rig_id(rig_id);
+        request.set_job_id(job.job_id());
+        pb::LeaseCommandResponse response;
+        grpc::Status status = own.probe->LeaseCommand(Context().get(), request, &response);
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!status.ok()) {
+          errors.push_back(rig_id + ": " + Describe(status));
+          return;
+        }
+        if (response.job_finished()) {
+          errors.push_back(rig_id + ": job_finished while commands were only leased");
+          return;
+        }
+        if (!response.has_command() || response.command().command_id() == 0) {
+          ++empty_in_a_row;
+          continue;
+        }
+        empty_in_a_row = 0;
+        holders[response.command().command_id()].push_back(rig_id);
+      }
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (const std::string& e : errors) ADD_FAILURE() << e;
+  int leased = 0;
+  for (const auto& [command, rigs] : holders) {
+    leased += static_cast<int>(rigs.size());
+    EXPECT_EQ(rigs.size(), 1u) << "command " << command << " leased to " << rigs.size() << " rigs at once";
+  }
+  EXPECT_GT(leased, kThreads) << "too few commands to test concurrency";
+  ITEST_ASSERT_OK_AND_ASSIGN(plan, GetPlan(stubs, job.job_id()));
+  EXPECT_EQ(plan.progress().issued(), static_cast<int>(holders.size()))
+      << "sites issued by the plan vs distinct commands the rigs hold";
+  std::cout << kThreads << " rigs leased " << leased << " commands; plan: " << plan.progress().ShortDebugString()
+            << "\n";
+}
+
+TEST(Leasing, AnExpiredLeaseIsReissuedToAnotherRigWithTheSameCommandId) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  Stubs& stubs = *setup.stubs;
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.finest_level = 0;
+  spec.lease_s = 0.3;
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(abandoned, LeaseOne(stubs, job.job_id(), "rig-slow"));
+  const auto lease_length = std::chrono::seconds(abandoned.lease_deadline().seconds()) +
+                            std::chrono::nanoseconds(abandoned.lease_deadline().nanos());
+  const auto now = std::chrono::system_clock::now().time_since_epoch();
+  EXPECT_LT(lease_length - now, milliseconds(1500)) << "the job asked for a 0.3 s lease";
+  std::this_thread::sleep_for(milliseconds(700));
+
+  // The other rig leases until the abandoned command comes back (it may get
+  // other pending commands first).
+  pb::ProbeCommand reissued;
+  for (int i = 0; i < 400 && reissued.command_id() == 0; ++i) {
+    ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-fast"));
+    if (command.command_id() == abandoned.command_id()) reissued = command;
+  }
+  ASSERT_EQ(reissued.command_id(), abandoned.command_id()) << "the expired lease was never re-issued";
+  EXPECT_EQ(reissued.site().vertex(), abandoned.site().vertex());
+  EXPECT_EQ(reissued.site().level(), abandoned.site().level());
+
+  pb::SubmitTraceResponse fresh;
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), Execute(*setup.rig, reissued, "rig-fast"), &fresh));
+  EXPECT_FALSE(fresh.already_accepted());
+
+  // The slow rig finally submits the same command: stored once at most.
+  pb::SubmitTraceResponse late;
+  grpc::Status status =
+      stubs.probe->SubmitTrace(Context().get(), Execute(*setup.rig, abandoned, "rig-slow"), &late);
+  if (status.ok()) {
+    EXPECT_TRUE(late.already_accepted()) << "the expired lease's late trace was stored as new";
+  } else {
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << Describe(status);
+  }
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  int for_command = 0;
+  for (const pb::Sample& s : samples.samples()) for_command += s.command_id() == abandoned.command_id();
+  EXPECT_EQ(for_command, 1);
+}
+
+}  // namespace
+}  // namespace surfmap::itest
