@@ -7,8 +7,9 @@
 # completes, writes the map (out/demo/bottle_map.{png,ply,json}), scores it
 # against the scene's truth and stops the server.
 #
-# Usage: scripts/demo.sh [--no-deps] [--rigs N] [--dashboard]
+# Usage: scripts/demo.sh [--no-deps] [--no-build] [--rigs N] [--dashboard]
 #   --no-deps    skip scripts/install-deps.sh (it needs root or sudo)
+#   --no-build   use the binaries already in the build directory
 #   --rigs N     simulated rigs in parallel (default 2)
 #   --dashboard  not implemented yet (a later issue): accepted and ignored
 # Environment: SURFMAP_BUILD_DIR (default build), DEMO_FINEST, DEMO_THRESHOLD,
@@ -18,14 +19,16 @@ cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 
 INSTALL_DEPS=1
+BUILD=1
 RIGS=2
 for arg in "$@"; do
   case "$arg" in
     --no-deps) INSTALL_DEPS=0 ;;
+    --no-build) BUILD=0 ;;
     --dashboard) echo "demo: --dashboard is not implemented yet (a later issue); continuing without it" ;;
     --rigs=*) RIGS=${arg#--rigs=} ;;
     --rigs) RIGS=__next__ ;;
-    -h|--help) sed -n '2,18p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
     *)
       if [ "$RIGS" = "__next__" ]; then RIGS=$arg; else echo "demo: unknown argument '$arg'" >&2; exit 2; fi ;;
   esac
@@ -68,7 +71,12 @@ trap 'exit 130' INT TERM
 if [ "$INSTALL_DEPS" = 1 ]; then
   scripts/install-deps.sh
 fi
-scripts/build.sh --target surfmapd surfmap surfmap-rig
+if [ "$BUILD" = 1 ]; then
+  scripts/build.sh --target surfmapd surfmap surfmap-rig
+fi
+for bin in "$SURFMAPD" "$SURFMAP" "$RIG"; do
+  [ -x "$bin" ] || { echo "demo: $bin is missing: build it (scripts/build.sh --target surfmapd surfmap surfmap-rig)" >&2; exit 1; }
+done
 
 START=$(date +%s%N)
 mkdir -p "$OUT"

@@ -39,7 +39,11 @@ absl::Status ValidateDragGeometry(const DragGeometry& g) {
         return absl::InvalidArgumentError(
             absl::StrFormat("drag geometry points %d and %d coincide", i, i + 1));
       }
-      if (std::abs(g.normals[i].dot(d.normalized())) > 0.05) {
+      // A path traced on a mesh pairs chords with interpolated vertex normals:
+      // on tight curvature they disagree by several degrees, which the sampler
+      // absorbs (it makes the tangent perpendicular to the normal). Only a
+      // normal far off the path's perpendicular (> ~17 deg) is an error.
+      if (std::abs(g.normals[i].dot(d.normalized())) > 0.3) {
         return absl::InvalidArgumentError(absl::StrFormat(
             "drag geometry normal %d is not perpendicular to the path (n . t = %.3f)", i,
             g.normals[i].dot(d.normalized())));

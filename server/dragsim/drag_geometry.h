@@ -17,7 +17,8 @@ struct DragGeometry {
 
 // OK when there are >= 2 points, as many normals, all finite, normals of unit
 // length (+-1e-6), consecutive points distinct, and each normal perpendicular
-// to the path (|n . tangent| <= 0.05) so the drag is along the surface.
+// to the path within ~17 deg (|n . tangent| <= 0.3; the sampler makes the
+// tangent exactly perpendicular) so the drag is along the surface.
 absl::Status ValidateDragGeometry(const DragGeometry& geometry);
 
 // A straight drag of `length_mm` from `start` along `direction` on the plane

@@ -4,10 +4,13 @@
 // read from the SQLite file directly).
 #include <cmath>
 #include <functional>
+#include <iostream>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
+
+#include <Eigen/Geometry>
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_join.h"
@@ -75,6 +78,7 @@ class BadInputTest : public ::testing::Test {
     auto before = TakeDbSnapshot(server_->db_path());
     ASSERT_TRUE(before.ok()) << before.status();
     grpc::Status status = call();
+    std::cout << "  " << name << " -> " << Describe(status).substr(0, 160) << "\n";
     EXPECT_EQ(status.error_code(), expected.code)
         << name << ": expected " << CodeName(expected.code) << ", got " << Describe(status);
     EXPECT_TRUE(MessageNames(status.error_message(), expected.any_of))

@@ -46,8 +46,9 @@ struct RegionStats {
 // Checks the invariants of a finished job against what the rigs recorded:
 // every command leased and executed once, acknowledged once, no site left
 // pending or issued, traces stored = sites measured = fresh acks.
-void ExpectExactlyOnceAndNothingLost(Stubs& stubs, int64_t job_id, const std::vector<RigAck>& acks,
-                                     const std::vector<RigLease>& leases) {
+void ExpectExactlyOnceAndNothingLost(Stubs& stubs, int64_t job_id, const RigFleetRecord& record) {
+  const std::vector<RigAck>& acks = record.acks;
+  const std::vector<RigLease>& leases = record.leases;
   std::map<int64_t, int> fresh_acks, executions;
   std::set<int64_t> acked_traces;
   for (const RigLease& lease : leases) ++executions[lease.command_id];
@@ -74,6 +75,27 @@ void ExpectExactlyOnceAndNothingLost(Stubs& stubs, int64_t job_id, const std::ve
     EXPECT_NE(site.state(), pb::SITE_STATE_ISSUED) << "site vertex " << site.site().vertex() << " lost: issued";
   }
   const int measured = states[pb::SITE_STATE_MEASURED];
+  // A failed site was tried (1 + max_retries) times, each a failure the rigs
+  // reported; a measured site was never reported failed more than max_retries.
+  std::map<std::pair<int, int>, int> reports;
+  std::map<int64_t, pb::Site> site_of_command;
+  for (const RigLease& lease : leases) site_of_command[lease.command_id] = lease.site;
+  for (int64_t command : record.reported_failures) {
+    ++reports[{site_of_command[command].level(), site_of_command[command].vertex()}];
+  }
+  int failed_reports = 0;
+  for (const pb::PlanSite& site : plan.sites()) {
+    const int n = reports[{site.site().level(), site.site().vertex()}];
+    if (site.state() == pb::SITE_STATE_FAILED) {
+      failed_reports += n;
+      EXPECT_EQ(site.attempts(), 3) << "failed site vertex " << site.site().vertex() << " (max_retries 2)";
+      EXPECT_EQ(n, 3) << "failed site vertex " << site.site().vertex() << ": failures reported by the rigs";
+      EXPECT_FALSE(site.failure_reason().empty());
+    } else if (site.state() == pb::SITE_STATE_MEASURED) {
+      EXPECT_LE(n, 2) << "measured site vertex " << site.site().vertex();
+    }
+  }
+  EXPECT_EQ(plan.progress().failed(), states[pb::SITE_STATE_FAILED]);
   ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job_id));
   EXPECT_EQ(samples.samples_size(), measured) << "traces stored vs sites measured";
   EXPECT_EQ(static_cast<int>(fresh_acks.size()), measured) << "acknowledged traces vs sites measured";
@@ -101,10 +123,12 @@ TEST(BottleMapping, FourConcurrentRigsMapTheBottle) {
   RigFleetRecord record = fleet.Run();
   for (const std::string& error : record.rpc_errors) ADD_FAILURE() << error;
   EXPECT_EQ(record.rigs_saw_job_finished, 4);
-  EXPECT_TRUE(record.reported_failures.empty()) << record.reported_failures.size()
-                                                << " probes failed on the closed bottle";
+  // Probes the rig cannot make are reported and retried, then the site fails
+  // for good: a failure is an outcome, not a loss (checked below).
+  std::cout << record.reported_failures.size() << " probes reported as failed by the rigs\n";
+  for (size_t i = 0; i < record.failure_reasons.size() && i < 3; ++i) std::cout << "  " << record.failure_reasons[i] << "\n";
   ITEST_ASSERT_OK_AND_ASSIGN(done, WaitForJobState(stubs, job.job_id(), pb::JOB_STATE_COMPLETED, seconds(30)));
-  ExpectExactlyOnceAndNothingLost(stubs, job.job_id(), record.acks, record.leases);
+  ExpectExactlyOnceAndNothingLost(stubs, job.job_id(), record);
 
   // Refinement happened, near the patches: more sites than level 0 alone.
   EXPECT_GT(done.progress().measured(), 182);
@@ -112,7 +136,10 @@ TEST(BottleMapping, FourConcurrentRigsMapTheBottle) {
   for (const RigAck& ack : record.acks) rigs_used.insert(ack.rig);
   EXPECT_EQ(rigs_used.size(), 4u) << "all four rigs should have measured something";
 
-  // Accuracy: per material, the measured samples and the finest map level.
+  // Accuracy per material, away from the patch boundaries (a 20 mm drag that
+  // crosses a boundary measures a mix, and the map blurs across it):
+  // samples whose whole drag stays in one material, and map vertices more
+  // than 10 mm from any vertex of another material.
   ITEST_ASSERT_OK_AND_ASSIGN(map, GetMap(stubs, job.job_id(), -1, /*include_mesh=*/true));
   ASSERT_EQ(map.map().mu_size(), map.mesh().positions_size());
   ASSERT_EQ(map.map().vertex_count(), map.mesh().positions_size());
@@ -120,28 +147,54 @@ TEST(BottleMapping, FourConcurrentRigsMapTheBottle) {
   for (const pb::Vec3& p : map.mesh().positions()) positions.emplace_back(p.x(), p.y(), p.z());
   const Scene& scene = rig->scene();
   SceneTruth truth = ClassifyPoints(scene, positions);
-  std::vector<RegionStats> map_stats(scene.materials.size()), sample_stats(scene.materials.size());
+  const size_t materials = scene.materials.size();
+  std::vector<RegionStats> map_all(materials), map_interior(materials), sample_all(materials),
+      sample_interior(materials);
   for (size_t v = 0; v < positions.size(); ++v) {
     ASSERT_TRUE(std::isfinite(map.map().mu(v))) << "map mu at vertex " << v;
-    map_stats[truth.material_index[v]].count++;
-    map_stats[truth.material_index[v]].sum += map.map().mu(v);
+    const int m = truth.material_index[v];
+    map_all[m].count++;
+    map_all[m].sum += map.map().mu(v);
+    bool interior = true;
+    for (size_t w = 0; w < positions.size() && interior; ++w) {
+      interior = truth.material_index[w] == m || (positions[w] - positions[v]).norm() > 10.0;
+    }
+    if (interior) {
+      map_interior[m].count++;
+      map_interior[m].sum += map.map().mu(v);
+    }
   }
   for (const pb::Sample& sample : map.map().samples()) {
-    int m = scene.MaterialIndexAt({sample.position().x(), sample.position().y(), sample.position().z()});
-    sample_stats[m].count++;
-    sample_stats[m].sum += sample.fit().friction().mu();
+    const Eigen::Vector3d start(sample.position().x(), sample.position().y(), sample.position().z());
+    const Eigen::Vector3d direction(sample.drag_direction().x(), sample.drag_direction().y(),
+                                    sample.drag_direction().z());
+    const int m = scene.MaterialIndexAt(start);
+    bool interior = true;
+    for (double f : {0.25, 0.5, 0.75, 1.0}) {
+      interior = interior && scene.MaterialIndexAt(start + f * sample.segment_length_mm() * direction) == m;
+    }
+    const double mu = sample.fit().friction().mu();
+    sample_all[m].count++;
+    sample_all[m].sum += mu;
+    if (interior) {
+      sample_interior[m].count++;
+      sample_interior[m].sum += mu;
+    }
   }
-  std::cout << absl::StrFormat("bottle: %d sites measured (%d samples in the map), finest level %d, %d vertices\n",
-                               done.progress().measured(), map.map().samples_size(), map.map().level(),
+  std::cout << absl::StrFormat("bottle: %d sites measured, %d failed; finest level %d, %d vertices\n",
+                               done.progress().measured(), done.progress().failed(), map.map().level(),
                                map.map().vertex_count());
-  std::cout << "material   truth  samples  mean(sample mu)  vertices  mean(map mu)\n";
-  for (size_t m = 0; m < scene.materials.size(); ++m) {
-    std::cout << absl::StrFormat("%-9s  %.3f  %7d  %15.4f  %8d  %12.4f\n", scene.material_names[m],
-                                 scene.materials[m].mu, sample_stats[m].count, sample_stats[m].mean(),
-                                 map_stats[m].count, map_stats[m].mean());
-    ASSERT_GT(sample_stats[m].count, 0) << scene.material_names[m] << " never sampled";
-    EXPECT_NEAR(sample_stats[m].mean(), scene.materials[m].mu, 0.05) << scene.material_names[m] << " samples";
-    EXPECT_NEAR(map_stats[m].mean(), scene.materials[m].mu, 0.05) << scene.material_names[m] << " map vertices";
+  std::cout << "material   truth | samples: all  mean    inside  mean  | map vertices: all  mean    inside  mean\n";
+  for (size_t m = 0; m < materials; ++m) {
+    std::cout << absl::StrFormat("%-9s  %.3f |          %4d  %.4f  %4d    %.4f |               %4d  %.4f  %4d    %.4f\n",
+                                 scene.material_names[m], scene.materials[m].mu, sample_all[m].count,
+                                 sample_all[m].mean(), sample_interior[m].count, sample_interior[m].mean(),
+                                 map_all[m].count, map_all[m].mean(), map_interior[m].count,
+                                 map_interior[m].mean());
+    ASSERT_GT(sample_interior[m].count, 0) << scene.material_names[m] << " never sampled away from a boundary";
+    ASSERT_GT(map_interior[m].count, 0) << scene.material_names[m];
+    EXPECT_NEAR(sample_interior[m].mean(), scene.materials[m].mu, 0.05) << scene.material_names[m] << " samples";
+    EXPECT_NEAR(map_interior[m].mean(), scene.materials[m].mu, 0.05) << scene.material_names[m] << " map vertices";
   }
 }
 
@@ -155,7 +208,7 @@ struct ReferenceRun {
 TEST(CrashRecovery, KillNineHalfwayLosesNothingAndResumesToTheSameMap) {
   ITEST_ASSERT_OK_AND_ASSIGN(rig, MakeSceneRig("bottle"));
   JobSpecOptions spec = BottleJob();
-  spec.lease_s = 1.0;  // commands leased when the server died come back quickly
+  spec.lease_s = 5.0;  // commands leased when the server died come back after 5 s
 
   ReferenceRun reference;
   {

@@ -133,7 +133,10 @@ TEST(JobLifecycle, WatchStreamsProgressAndEndsWhenTheJobCompletes) {
   EXPECT_FALSE(plain.updates.back().has_map()) << "include_map = false";
   ASSERT_TRUE(with_map.updates.back().has_map());
   EXPECT_GT(with_map.updates.back().map().mu_size(), 0);
-  EXPECT_EQ(with_map.updates.back().map().samples_size(), 30);
+  EXPECT_EQ(with_map.updates.back().map().samples_size(), 30)
+      << "the last update's map must include the sample that completed the job";
+  ITEST_ASSERT_OK_AND_ASSIGN(final_map, GetMap(stubs, job.job_id(), -1, false));
+  EXPECT_EQ(final_map.map().samples_size(), 30) << "GetMap after completion";
   std::cout << "watch: " << plain.updates.size() << " updates (plain), " << with_map.updates.size()
             << " (with map) for 30 samples\n";
 }

@@ -90,6 +90,11 @@ void RigFleet::RigLoop(int index) {
       } else {
         std::lock_guard<std::mutex> lock(mutex_);
         record_.reported_failures.push_back(command.command_id());
+        record_.failure_reasons.push_back(absl::StrCat("command ", command.command_id(), " site (",
+                                                       command.site().level(), ", ", command.site().vertex(),
+                                                       ") at (", command.position().x(), ", ",
+                                                       command.position().y(), ", ", command.position().z(),
+                                                       "): ", failure.reason()));
       }
       continue;
     }

@@ -55,6 +55,7 @@ struct RigFleetRecord {
   std::vector<RigLease> leases;             // every command handed out
   std::vector<RigAck> acks;                 // every OK SubmitTrace
   std::vector<std::int64_t> reported_failures;  // command ids given to ReportFailure
+  std::vector<std::string> failure_reasons;     // the rig's reason for each, same order
   std::vector<std::string> rpc_errors;      // "rig-2 SubmitTrace(command 17): UNAVAILABLE: ..."
   int rigs_saw_job_finished = 0;
 };

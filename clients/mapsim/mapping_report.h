@@ -1,0 +1,36 @@
+// What surfmap-mapsim prints and writes about mapping runs: the comparison
+// table, JSON, and the map as PNG (grey scale, whiter = more friction, like
+// the paper's Fig. 14, with sample points and executed drag paths) and PLY.
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+#include "absl/status/statusor.h"
+#include "clients/mapsim/mapping_run.h"
+#include "clients/render/map_mesh.h"
+#include "clients/render/map_render.h"
+
+namespace surfmap::mapsim {
+
+// One row per run: mode, levels, samples, failures, mu RMSE, classification,
+// boundary errors, time; then the mean map mu per material and run.
+std::string FormatComparisonTable(const std::vector<MappingRunResult>& runs);
+
+nlohmann::json RunToJson(const MappingRunResult& run);
+
+// The finest level coloured by the run's map mu (uncertainty = map mu std).
+MapMesh RunMapMesh(const MappingBench& bench, const MappingRunResult& run);
+// A dot per measured site and the rig's executed forward drag path.
+MapOverlay RunOverlay(const MappingRunResult& run);
+
+// Render options for a scene: flat scenes are seen from above (one view);
+// others from the side along -x and +x (two views); the grey scale spans the
+// scene's material mus, so maps of different runs compare by eye.
+MapRenderOptions SceneRenderOptions(const MappingBench& bench);
+
+absl::StatusOr<std::string> RunPng(const MappingBench& bench, const MappingRunResult& run);
+absl::StatusOr<std::string> RunPly(const MappingBench& bench, const MappingRunResult& run);
+
+}  // namespace surfmap::mapsim
