@@ -37,14 +37,17 @@ TextureParams TextureOf(const TraceFit& fit) {
 }
 
 // Executes and fits one probe. The record says whether it was measured.
-ProbeRecord MeasureSite(const SimulatedRig& rig, const FitOptions& fit_options, int vertex, int attempt,
+ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& options, int vertex, int attempt,
                         const Eigen::Vector3d& position, const Eigen::Vector3d& normal,
                         const Eigen::Vector3d& drag_direction, const ProbeParameters& probe) {
   ProbeRecord record;
   record.vertex = vertex;
   record.position = position;
   ProbeRequest request;
-  request.position = position;
+  // The rig projects the (off-surface, on curved parts) start onto the surface.
+  request.position = options.centre_drag_on_site
+                         ? Eigen::Vector3d(position - 0.5 * probe.segment_length_mm * drag_direction.normalized())
+                         : position;
   request.normal = normal;
   request.drag_direction = drag_direction;
   request.segment_length_mm = probe.segment_length_mm;
@@ -57,7 +60,7 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const FitOptions& fit_options, 
     return record;
   }
   record.path = execution->path.points;
-  absl::StatusOr<TraceFit> fit = FitTrace(execution->trace, fit_options);
+  absl::StatusOr<TraceFit> fit = FitTrace(execution->trace, options.fit);
   if (!fit.ok()) {
     record.error = absl::StrCat("fit: ", fit.status().message());
     return record;
@@ -103,7 +106,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
       // is outstanding here: an incomplete plan with nothing to issue is a bug.
       return absl::InternalError("the plan is not complete but issues no command with nothing outstanding");
     }
-    ProbeRecord record = MeasureSite(bench.rig(), options.fit, command->site.vertex, command->attempt,
+    ProbeRecord record = MeasureSite(bench.rig(), options, command->site.vertex, command->attempt,
                                      command->position, command->normal, command->drag_direction,
                                      command->probe);
     absl::Status status = record.measured ? plan->RecordFit(command->sequence, record.fit)
@@ -147,7 +150,7 @@ void RunSpread(const MappingBench& bench, const MappingRunOptions& options, Mapp
   for (int vertex : SpreadVertices(finest, options.sample_budget, options.seed)) {
     for (int attempt = 1; attempt <= 3; ++attempt) {
       const Eigen::Vector3d& normal = finest.limit_normals[vertex];
-      ProbeRecord record = MeasureSite(bench.rig(), options.fit, vertex, attempt, finest.limit_positions[vertex],
+      ProbeRecord record = MeasureSite(bench.rig(), options, vertex, attempt, finest.limit_positions[vertex],
                                        normal, TangentDragDirection(normal), probe);
       const bool measured = record.measured;
       if (measured) samples.push_back({vertex, record.fit});
