@@ -289,6 +289,87 @@ absl::StatusOr<int64_t> CurrentPlanRevision(SqliteConnection& db, int64_t job_id
   return stmt.ColumnInt(0);
 }
 
+// The plan change that comes with an answer to a command (a trace or a
+// failure): checked before anything is written, applied after.
+struct PlanChange {
+  const std::string& new_plan_json;
+  int64_t expected_plan_revision;
+  const std::vector<NewCommand>& new_commands;
+  const std::optional<JobState>& new_job_state;
+  const std::vector<NewEvent>& events;
+};
+
+// The command must be this job's, leased (to `lease_owner` when set), and the
+// job still taking answers. Returns the job.
+absl::StatusOr<JobRecord> CheckLeasedCommand(SqliteConnection& db, int64_t command_id, int64_t job_id,
+                                             const std::string& lease_owner, const char* answer) {
+  SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, command_id));
+  if (command.job_id != job_id) {
+    return absl::InvalidArgumentError(absl::StrCat("command ", command_id, " belongs to job ",
+                                                   command.job_id, ", not job ", job_id));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, job_id));
+  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
+    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ",
+                                                      std::string(JobStateName(job.state)),
+                                                      ": it takes no more ", answer));
+  }
+  if (command.state != CommandState::kLeased) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("command ", command.id, " is ", std::string(CommandStateName(command.state)),
+                     ", not leased: only a leased command takes ", answer));
+  }
+  if (!lease_owner.empty() && lease_owner != command.lease_owner) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("command ", command.id, " is leased to '", command.lease_owner,
+                     "', not to '", lease_owner, "'"));
+  }
+  return job;
+}
+
+// Returns the plan's current revision.
+absl::StatusOr<int64_t> CheckPlanChange(SqliteConnection& db, const JobRecord& job, const PlanChange& change) {
+  SURFMAP_ASSIGN_OR_RETURN(int64_t revision, CurrentPlanRevision(db, job.id));
+  if (!change.new_plan_json.empty() && change.expected_plan_revision > 0 &&
+      change.expected_plan_revision != revision) {
+    return absl::AbortedError(absl::StrCat(
+        "plan of job ", job.id, " is at revision ", revision, ", not ",
+        change.expected_plan_revision, ": another write changed it; re-read the plan and retry"));
+  }
+  if (change.new_job_state.has_value() && !IsJobTransitionAllowed(job.state, *change.new_job_state)) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "job ", job.id, " cannot go from ", std::string(JobStateName(job.state)), " to ",
+        std::string(JobStateName(*change.new_job_state))));
+  }
+  return revision;
+}
+
+// Writes the plan, new commands, job state and events; updates *revision.
+absl::Status ApplyPlanChange(SqliteConnection& db, const JobRecord& job, const PlanChange& change, int64_t now,
+                             int64_t* revision, std::vector<int64_t>* new_command_ids) {
+  if (!change.new_plan_json.empty()) {
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("UPDATE plans SET plan_json = ?2, revision = revision + 1, "
+                   "updated_unix_ms = ?3 WHERE job_id = ?1"));
+    stmt.BindInt(1, job.id).BindText(2, change.new_plan_json).BindInt(3, now);
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "new_plan_json"));
+    *revision += 1;
+  }
+  SURFMAP_ASSIGN_OR_RETURN(*new_command_ids,
+                           InsertCommands(db, job.id, change.new_commands, now, "new_commands"));
+  if (change.new_job_state.has_value()) {
+    SURFMAP_RETURN_IF_ERROR(SetJobState(db, job, *change.new_job_state, now));
+  }
+  return InsertEvents(db, job.id, change.events, now);
+}
+
+absl::Status SetCommandState(SqliteConnection& db, int64_t command_id, const char* state) {
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db.Prepare("UPDATE commands SET state = ?2 WHERE id = ?1"));
+  stmt.BindInt(1, command_id).BindText(2, state);
+  return stmt.Run();
+}
+
 // AcceptTrace with the samples already encoded (so the writer thread only copies).
 struct EncodedTrace {
   AcceptTraceRequest request;  // samples moved out
@@ -323,40 +404,11 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
     }
   }
 
-  SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, req.command_id));
-  if (command.job_id != req.job_id) {
-    return absl::InvalidArgumentError(absl::StrCat("command ", req.command_id,
-                                                   " belongs to job ", command.job_id,
-                                                   ", not job ", req.job_id));
-  }
-  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
-  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
-    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ",
-                                                      std::string(JobStateName(job.state)),
-                                                      ": it takes no more traces"));
-  }
-  if (command.state != CommandState::kLeased) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("command ", command.id, " is ", std::string(CommandStateName(command.state)),
-                     ", not leased: only a leased command's trace is accepted"));
-  }
-  if (!req.lease_owner.empty() && req.lease_owner != command.lease_owner) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("command ", command.id, " is leased to '", command.lease_owner,
-                     "', not to '", req.lease_owner, "'"));
-  }
-  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, job.id));
-  if (!req.new_plan_json.empty() && req.expected_plan_revision > 0 &&
-      req.expected_plan_revision != result.plan_revision) {
-    return absl::AbortedError(absl::StrCat(
-        "plan of job ", job.id, " is at revision ", result.plan_revision, ", not ",
-        req.expected_plan_revision, ": another trace changed it; re-read the plan and retry"));
-  }
-  if (req.new_job_state.has_value() && !IsJobTransitionAllowed(job.state, *req.new_job_state)) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "job ", job.id, " cannot go from ", std::string(JobStateName(job.state)), " to ",
-        std::string(JobStateName(*req.new_job_state))));
-  }
+  const PlanChange change{req.new_plan_json, req.expected_plan_revision, req.new_commands, req.new_job_state,
+                          req.events};
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job,
+                           CheckLeasedCommand(db, req.command_id, req.job_id, req.lease_owner, "traces"));
+  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
 
   // All checks passed: the writes.
   {
@@ -369,90 +421,24 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
     SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing trace"));
     result.trace_id = db.LastInsertRowId();
   }
-  {
-    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                             db.Prepare("UPDATE commands SET state = 'done' WHERE id = ?1"));
-    stmt.BindInt(1, req.command_id);
-    SURFMAP_RETURN_IF_ERROR(stmt.Run());
-  }
+  SURFMAP_RETURN_IF_ERROR(SetCommandState(db, req.command_id, "done"));
   if (req.fit.has_value()) {
     SURFMAP_ASSIGN_OR_RETURN(result.fit_id, InsertFit(db, result.trace_id, 1, *req.fit, now));
   }
-  if (!req.new_plan_json.empty()) {
-    SURFMAP_ASSIGN_OR_RETURN(
-        SqliteStatement stmt,
-        db.Prepare("UPDATE plans SET plan_json = ?2, revision = revision + 1, "
-                   "updated_unix_ms = ?3 WHERE job_id = ?1"));
-    stmt.BindInt(1, job.id).BindText(2, req.new_plan_json).BindInt(3, now);
-    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "new_plan_json"));
-    result.plan_revision += 1;
-  }
-  SURFMAP_ASSIGN_OR_RETURN(result.new_command_ids,
-                           InsertCommands(db, job.id, req.new_commands, now, "new_commands"));
-  if (req.new_job_state.has_value()) {
-    SURFMAP_RETURN_IF_ERROR(SetJobState(db, job, *req.new_job_state, now));
-  }
-  SURFMAP_RETURN_IF_ERROR(InsertEvents(db, job.id, req.events, now));
+  SURFMAP_RETURN_IF_ERROR(ApplyPlanChange(db, job, change, now, &result.plan_revision, &result.new_command_ids));
   return result;
 }
 
 absl::StatusOr<FailCommandResult> FailCommandWrite(SqliteConnection& db, const FailCommandRequest& req,
                                                    int64_t now) {
   FailCommandResult result;
-  SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, req.command_id));
-  if (command.job_id != req.job_id) {
-    return absl::InvalidArgumentError(absl::StrCat("command ", req.command_id, " belongs to job ",
-                                                   command.job_id, ", not job ", req.job_id));
-  }
-  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
-  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
-    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ",
-                                                      std::string(JobStateName(job.state)),
-                                                      ": its commands can no longer fail"));
-  }
-  if (command.state != CommandState::kLeased) {
-    return absl::FailedPreconditionError(
-        absl::StrCat("command ", command.id, " is ", std::string(CommandStateName(command.state)),
-                     ", not leased: only a leased command can be reported failed"));
-  }
-  if (!req.lease_owner.empty() && req.lease_owner != command.lease_owner) {
-    return absl::FailedPreconditionError(absl::StrCat("command ", command.id, " is leased to '",
-                                                      command.lease_owner, "', not to '",
-                                                      req.lease_owner, "'"));
-  }
-  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, job.id));
-  if (!req.new_plan_json.empty() && req.expected_plan_revision > 0 &&
-      req.expected_plan_revision != result.plan_revision) {
-    return absl::AbortedError(absl::StrCat("plan of job ", job.id, " is at revision ",
-                                           result.plan_revision, ", not ",
-                                           req.expected_plan_revision));
-  }
-  if (req.new_job_state.has_value() && !IsJobTransitionAllowed(job.state, *req.new_job_state)) {
-    return absl::FailedPreconditionError(absl::StrCat(
-        "job ", job.id, " cannot go from ", std::string(JobStateName(job.state)), " to ",
-        std::string(JobStateName(*req.new_job_state))));
-  }
-  {
-    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                             db.Prepare("UPDATE commands SET state = 'failed' WHERE id = ?1"));
-    stmt.BindInt(1, req.command_id);
-    SURFMAP_RETURN_IF_ERROR(stmt.Run());
-  }
-  if (!req.new_plan_json.empty()) {
-    SURFMAP_ASSIGN_OR_RETURN(
-        SqliteStatement stmt,
-        db.Prepare("UPDATE plans SET plan_json = ?2, revision = revision + 1, "
-                   "updated_unix_ms = ?3 WHERE job_id = ?1"));
-    stmt.BindInt(1, job.id).BindText(2, req.new_plan_json).BindInt(3, now);
-    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "new_plan_json"));
-    result.plan_revision += 1;
-  }
-  SURFMAP_ASSIGN_OR_RETURN(result.new_command_ids,
-                           InsertCommands(db, job.id, req.new_commands, now, "new_commands"));
-  if (req.new_job_state.has_value()) {
-    SURFMAP_RETURN_IF_ERROR(SetJobState(db, job, *req.new_job_state, now));
-  }
-  SURFMAP_RETURN_IF_ERROR(InsertEvents(db, job.id, req.events, now));
+  const PlanChange change{req.new_plan_json, req.expected_plan_revision, req.new_commands, req.new_job_state,
+                          req.events};
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job,
+                           CheckLeasedCommand(db, req.command_id, req.job_id, req.lease_owner, "failure reports"));
+  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
+  SURFMAP_RETURN_IF_ERROR(SetCommandState(db, req.command_id, "failed"));
+  SURFMAP_RETURN_IF_ERROR(ApplyPlanChange(db, job, change, now, &result.plan_revision, &result.new_command_ids));
   return result;
 }
 

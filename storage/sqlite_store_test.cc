@@ -1,5 +1,6 @@
 #include "storage/sqlite_store.h"
 
+#include <future>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
@@ -286,6 +287,45 @@ TEST_F(SqliteStoreTest, AcceptTraceRefusesCommandsInTheWrongState) {
   AcceptTraceRequest empty = MakeTestAccept(command, 10);
   empty.samples.clear();
   EXPECT_EQ(store_->AcceptTrace(empty).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, FailCommandMarksItFailedWithThePlanChangeOrWritesNothing) {
+  CreatedJob job = Job(2);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  auto fail_command = [&](FailCommandRequest request) {
+    std::promise<absl::StatusOr<FailCommandResult>> promise;
+    store_->FailCommandAsync(std::move(request),
+                             [&promise](absl::StatusOr<FailCommandResult> r) { promise.set_value(std::move(r)); });
+    return promise.get_future().get();
+  };
+  FailCommandRequest request;
+  request.command_id = command.id;
+  request.job_id = job.job.id;
+  request.lease_owner = "rig-b";  // not the holder: refused, nothing written
+  request.reason = "probe slipped";
+  request.new_plan_json = R"({"retry": true})";
+  request.expected_plan_revision = 1;
+  request.new_commands = {MakeTestCommand(0, 7)};
+  request.events = {NewEvent{"probe_failed", "{}"}};
+  auto before = TableCounts();
+  absl::StatusOr<FailCommandResult> r = fail_command(request);
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kFailedPrecondition) << r.status();
+  EXPECT_NE(r.status().message().find("leased to 'rig-a'"), std::string::npos) << r.status();
+  EXPECT_EQ(TableCounts(), before);
+
+  request.lease_owner = "rig-a";
+  r = fail_command(request);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->plan_revision, 2);
+  ASSERT_EQ(r->new_command_ids.size(), 1u);
+  EXPECT_EQ(store_->GetCommand(command.id)->state, CommandState::kFailed);
+  EXPECT_EQ(store_->GetPlan(job.job.id)->plan_json, R"({"retry": true})");
+  EXPECT_EQ(store_->GetCommand(r->new_command_ids[0])->state, CommandState::kPending);
+
+  // A failed command cannot fail again.
+  r = fail_command(request);
+  EXPECT_EQ(r.status().code(), absl::StatusCode::kFailedPrecondition) << r.status();
+  EXPECT_NE(r.status().message().find("failed, not leased"), std::string::npos) << r.status();
 }
 
 TEST_F(SqliteStoreTest, StalePlanRevisionIsAborted) {
