@@ -20,7 +20,7 @@
 namespace surfmap::mapsim {
 namespace {
 
-// Tuned per built-in scene (see the report in clients/mapsim for how).
+// Tuned per built-in scene by sweeping finest 2..3 and threshold 1..4 (seed 1).
 struct SceneDefaults {
   int coarsest = 0;
   int finest = 2;
@@ -28,8 +28,8 @@ struct SceneDefaults {
 };
 
 SceneDefaults DefaultsFor(const std::string& scene) {
-  if (scene == "bottle") return {0, 2, 2.0};
-  if (scene == "plate") return {0, 3, 2.0};
+  if (scene == "bottle") return {0, 2, 4.0};  // 254 samples, 99.8 % classified (L0 alone is 182)
+  if (scene == "plate") return {0, 2, 1.0};   // 254 samples, 93 % classified
   return {};
 }
 

@@ -145,10 +145,7 @@ absl::Status JobCoordinator::ReloadIfNeeded(JobRuntime& runtime) {
   return absl::OkStatus();
 }
 
-void JobCoordinator::MarkWriteFailed(const std::shared_ptr<JobRuntime>& runtime) {
-  std::lock_guard<std::mutex> lock(runtime->mu);
-  runtime->needs_reload = true;
-}
+void JobCoordinator::MarkWriteFailed(const std::shared_ptr<JobRuntime>& runtime) { runtime->needs_reload = true; }
 
 void JobCoordinator::Notify(const std::shared_ptr<JobRuntime>& runtime) {
   std::vector<std::function<void()>> listeners;
@@ -280,6 +277,30 @@ absl::StatusOr<std::vector<SiteRecord>> JobCoordinator::PlanSites(int64_t job_id
   return (*runtime)->plan.Sites();
 }
 
+absl::StatusOr<JobCoordinator::CommandContext> JobCoordinator::LoadCommandContext(int64_t command_id) {
+  absl::StatusOr<CommandRecord> record = store_->GetCommand(command_id);
+  if (!record.ok()) return record.status();
+  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(record->command_json);
+  if (!probe.ok()) return probe.status();
+  absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = Runtime(record->job_id);
+  if (!runtime.ok()) return runtime.status();
+  return CommandContext{std::move(*record), *probe, *runtime};
+}
+
+void JobCoordinator::TakePlanChangeLocked(JobRuntime& runtime, std::string* plan_json, int64_t* expected_revision,
+                                          std::vector<NewCommand>* new_commands,
+                                          std::optional<JobState>* new_job_state) {
+  *new_commands = DrainCommands(runtime.plan);
+  *plan_json = runtime.plan.SaveJson();
+  // Writes of one job are queued in order under its lock and committed in
+  // queue order, so this write's base is the revision the previous one made.
+  *expected_revision = runtime.plan_revision++;
+  if (runtime.plan.IsComplete() && runtime.state != JobState::kCompleted && runtime.state != JobState::kCancelled) {
+    *new_job_state = JobState::kCompleted;
+    runtime.state = JobState::kCompleted;
+  }
+}
+
 // ---------------------------------------------------------------- probing
 
 void JobCoordinator::LeaseCommand(const std::string& rig_id, int64_t job_id, LeaseCallback done) {
@@ -332,22 +353,14 @@ void JobCoordinator::LeaseCommand(const std::string& rig_id, int64_t job_id, Lea
 }
 
 void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, DragTrace trace, SubmitCallback done) {
-  absl::StatusOr<CommandRecord> command = store_->GetCommand(command_id);
-  if (!command.ok()) {
-    done(command.status());
+  absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
+  if (!context.ok()) {
+    done(context.status());
     return;
   }
-  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command->command_json);
-  if (!probe.ok()) {
-    done(probe.status());
-    return;
-  }
-  absl::StatusOr<std::shared_ptr<JobRuntime>> found = Runtime(command->job_id);
-  if (!found.ok()) {
-    done(found.status());
-    return;
-  }
-  std::shared_ptr<JobRuntime> runtime = *found;
+  const CommandRecord* command = &context->record;
+  const ProbeCommand* probe = &context->probe;
+  std::shared_ptr<JobRuntime> runtime = context->runtime;
   const FitOptions options = runtime->params.fit;
   // A done command goes straight to the store, which answers a retry with the
   // stored ids (already_accepted). Anything else must be leased by this rig:
@@ -392,15 +405,9 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     absl::Status recorded = retry ? absl::NotFoundError("already answered")
                                   : runtime->plan.RecordFit(probe->sequence, TextureOf(*fit));
     if (recorded.ok()) {
-      request.new_commands = DrainCommands(runtime->plan);
-      request.new_plan_json = runtime->plan.SaveJson();
-      request.expected_plan_revision = runtime->plan_revision;
-      runtime->plan_revision++;
+      TakePlanChangeLocked(*runtime, &request.new_plan_json, &request.expected_plan_revision,
+                           &request.new_commands, &request.new_job_state);
       runtime->measured_revision++;
-      if (runtime->plan.IsComplete() && runtime->state != JobState::kCompleted) {
-        request.new_job_state = JobState::kCompleted;
-        runtime->state = JobState::kCompleted;
-      }
       request.events.push_back(Event("trace_accepted", {{"command_id", command_id},
                                                        {"vertex", probe->site.vertex},
                                                        {"level", probe->site.level},
@@ -416,7 +423,7 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     const bool plan_changed = recorded.ok();
     store_->AcceptTraceAsync(
         std::move(request),
-        [this, runtime, plan_changed, command = *command, probe = *probe, done = std::move(done)](
+        [this, runtime, plan_changed, command = context->record, probe = context->probe, done = std::move(done)](
             absl::StatusOr<AcceptTraceResult> result) {
           if (!result.ok()) {
             if (plan_changed) MarkWriteFailed(runtime);
@@ -446,27 +453,25 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
     done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
     return;
   }
-  absl::StatusOr<CommandRecord> command = store_->GetCommand(command_id);
-  if (!command.ok()) {
-    done(command.status());
+  absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
+  if (!context.ok()) {
+    done(context.status());
     return;
   }
+  const CommandRecord* command = &context->record;
+  const ProbeCommand* probe = &context->probe;
   if (command->state != CommandState::kLeased) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ", std::string(CommandStateName(command->state)),
+    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ",
+                                                    std::string(CommandStateName(command->state)),
                                                     ", not leased: nothing to report")));
     return;
   }
-  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command->command_json);
-  if (!probe.ok()) {
-    done(probe.status());
+  if (command->lease_owner != rig_id) {
+    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is leased to '", command->lease_owner,
+                                                    "', not to '", rig_id, "'")));
     return;
   }
-  absl::StatusOr<std::shared_ptr<JobRuntime>> found = Runtime(command->job_id);
-  if (!found.ok()) {
-    done(found.status());
-    return;
-  }
-  std::shared_ptr<JobRuntime> runtime = *found;
+  std::shared_ptr<JobRuntime> runtime = context->runtime;
   std::lock_guard<std::mutex> lock(runtime->mu);
   if (absl::Status s = ReloadIfNeeded(*runtime); !s.ok()) {
     done(s);
@@ -482,15 +487,8 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
   request.job_id = command->job_id;
   request.lease_owner = rig_id;
   request.reason = reason;
-  request.new_commands = DrainCommands(runtime->plan);
-  request.new_plan_json = runtime->plan.SaveJson();
-  request.expected_plan_revision = runtime->plan_revision;
-  runtime->plan_revision++;
-  if (runtime->plan.IsComplete() && runtime->state != JobState::kCompleted &&
-      runtime->state != JobState::kCancelled) {
-    request.new_job_state = JobState::kCompleted;
-    runtime->state = JobState::kCompleted;
-  }
+  TakePlanChangeLocked(*runtime, &request.new_plan_json, &request.expected_plan_revision, &request.new_commands,
+                       &request.new_job_state);
   const SiteRecord* site = runtime->plan.FindSite(probe->site.vertex);
   const bool will_retry = site != nullptr && site->state == SiteState::kPending;
   request.events.push_back(Event("probe_failed", {{"command_id", command_id}, {"reason", reason}, {"rig", rig_id},

@@ -113,6 +113,17 @@ class JobCoordinator {
   absl::Status ReloadIfNeeded(JobRuntime& runtime);
   JobSnapshot SnapshotLocked(JobRuntime& runtime, const JobRecord& record);
   static void Notify(const std::shared_ptr<JobRuntime>& runtime);
+  // A command, its decoded probe and its job's runtime.
+  struct CommandContext {
+    CommandRecord record;
+    ProbeCommand probe;
+    std::shared_ptr<JobRuntime> runtime;
+  };
+  absl::StatusOr<CommandContext> LoadCommandContext(int64_t command_id);
+  // Under runtime.mu, after the plan changed: the new commands it issues, its
+  // state, the revision the write must find, and completion of the job.
+  static void TakePlanChangeLocked(JobRuntime& runtime, std::string* plan_json, int64_t* expected_revision,
+                                   std::vector<NewCommand>* new_commands, std::optional<JobState>* new_job_state);
   void MarkWriteFailed(const std::shared_ptr<JobRuntime>& runtime);
 
   Store* store_;

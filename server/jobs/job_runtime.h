@@ -4,6 +4,7 @@
 // start-up (and after a failed write).
 #pragma once
 
+#include <atomic>
 #include <cstdint>
 #include <functional>
 #include <map>
@@ -42,7 +43,9 @@ struct JobRuntime {
   int64_t measured_revision = 0;   // bumped on every accepted fit (map input changed)
   int64_t update_revision = 0;     // bumped on every change a watcher should see
   int64_t created_unix_ms = 0, updated_unix_ms = 0;
-  bool needs_reload = false;       // a write failed: memory may be ahead of the database
+  // A write failed: memory may be ahead of the database. Atomic because a
+  // store callback may report the failure on the thread that holds `mu`.
+  std::atomic<bool> needs_reload{false};
   std::map<int64_t, std::function<void()>> listeners;  // watchers; called without `mu`
   int64_t next_listener_id = 1;
 
