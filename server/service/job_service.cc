@@ -102,6 +102,15 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     scheduled_ = false;
     if (writing_ || finished_ || !dirty_) return;
     dirty_ = false;
+    // The end of the stream follows the durable job state, not the in-memory
+    // plan (which runs ahead while the last trace's write is being committed):
+    // the final update then carries every sample of the completed job. Read
+    // first, so the samples read below include everything it counts.
+    absl::StatusOr<JobRecord> durable = s_.coordinator->store()->GetJob(job_id_);
+    if (!durable.ok()) {
+      FinishLocked(ToGrpcStatus(durable.status()));
+      return;
+    }
     absl::StatusOr<JobSnapshot> job = s_.coordinator->GetJob(job_id_);
     if (!job.ok()) {
       FinishLocked(ToGrpcStatus(job.status()));
@@ -115,7 +124,8 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
         (void)FillMapLevel(s_.coordinator->store(), job_id_, *map, map->surface->max_level(), update_.mutable_map());
       }
     }
-    final_sent_ = job->record.state == JobState::kCompleted || job->record.state == JobState::kCancelled;
+    final_sent_ = durable->state == JobState::kCompleted || durable->state == JobState::kCancelled;
+    update_.mutable_job()->set_state(JobStateToProto(durable->state));
     writing_ = true;
     StartWrite(&update_);
   }
