@@ -45,9 +45,7 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
   record.position = position;
   ProbeRequest request;
   // The rig projects the (off-surface, on curved parts) start onto the surface.
-  request.position = options.centre_drag_on_site
-                         ? Eigen::Vector3d(position - 0.5 * probe.segment_length_mm * drag_direction.normalized())
-                         : position;
+  request.position = position;  // the rig centres the drag on the site
   request.normal = normal;
   request.drag_direction = drag_direction;
   request.segment_length_mm = probe.segment_length_mm;

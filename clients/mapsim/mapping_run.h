@@ -43,11 +43,6 @@ struct MappingRunOptions {
   TextureProperty property = TextureProperty::kFriction;  // what the texture distance compares
   int sample_budget = 0;         // 0 = unlimited (kUncertainty and kUniformSpread need one)
   std::uint64_t seed = 1;        // plan issue order, rig noise, kUniformSpread's first vertex
-  // Start each drag half a segment before the site, so the segment the fit
-  // averages over is centred on the site the map attributes it to. Starting
-  // at the site (as the plan's command says) shifts every measured boundary
-  // by ~half a segment (10 mm) against the drag direction.
-  bool centre_drag_on_site = true;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -15,7 +15,10 @@
 namespace surfmap {
 
 struct ProbeRequest {
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();        // surface point, mm
+  // The site, mm. The drag segment is centred on it (the measurement is
+  // attributed to the site), unless the surface ends less than half a segment
+  // behind it, when the drag starts there.
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();         // outward unit normal (as planned)
   Eigen::Vector3d drag_direction = Eigen::Vector3d::UnitX(); // tangent, forward pass direction
   double segment_length_mm = 20.0;

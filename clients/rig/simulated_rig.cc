@@ -93,15 +93,36 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
   ProbeExecution out;
   out.approach_distance_mm = contact.distance;
   const double wanted = request.segment_length_mm;
+  // The measurement belongs to the site, so the segment is centred on it:
+  // walk half a segment back along the surface and drag from there through the
+  // site. Near an open boundary (no room behind) the drag starts at the site.
+  Eigen::Vector3d start = contact.position;
+  Eigen::Vector3d forward = request.drag_direction;
+  if (absl::StatusOr<SurfacePath> back =
+          surface_->TraceDragPath(contact.position, -request.drag_direction, 0.5 * wanted, options_.path_step_mm);
+      back.ok() && back->points.size() >= 2) {
+    start = back->points.back();
+    forward = contact.position - start;
+    out.centred = true;
+  }
   auto trace = [&](const Eigen::Vector3d& direction, double length) {
-    return surface_->TraceDragPath(contact.position, direction, length, options_.path_step_mm);
+    return surface_->TraceDragPath(start, direction, length, options_.path_step_mm);
   };
+  Eigen::Vector3d drag_direction = out.centred ? forward : request.drag_direction;
 
-  absl::StatusOr<SurfacePath> path = trace(request.drag_direction, wanted);
+  absl::StatusOr<SurfacePath> path = trace(drag_direction, wanted);
+  if (!path.ok() && IsBlockedPath(path.status()) && out.centred) {
+    // No room ahead of the centred segment: start at the site instead, and
+    // let the rules below reverse or shorten it.
+    start = contact.position;
+    drag_direction = request.drag_direction;
+    out.centred = false;
+    path = trace(drag_direction, wanted);
+  }
   if (!path.ok() && IsBlockedPath(path.status())) {
     // An open boundary ahead: drag the other way, as a lab operator would.
     const absl::Status forward_status = path.status();
-    path = trace(-request.drag_direction, wanted);
+    path = trace(-drag_direction, wanted);
     if (path.ok()) {
       out.reversed = true;
       out.note = absl::StrCat("reversed the drag direction: ", forward_status.message());
@@ -111,7 +132,7 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
       double best_length = 0.0;
       bool best_reversed = false;
       for (bool reversed : {false, true}) {
-        const Eigen::Vector3d dir = reversed ? Eigen::Vector3d(-request.drag_direction) : request.drag_direction;
+        const Eigen::Vector3d dir = reversed ? Eigen::Vector3d(-drag_direction) : drag_direction;
         if (!trace(dir, options_.min_segment_mm).ok()) continue;
         double lo = options_.min_segment_mm, hi = wanted;
         for (int i = 0; i < 12 && hi - lo > 0.05; ++i) {
@@ -130,7 +151,7 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
             context, options_.min_segment_mm, contact.position.x(), contact.position.y(), contact.position.z(),
             forward_status.message()));
       }
-      path = trace(best_reversed ? Eigen::Vector3d(-request.drag_direction) : request.drag_direction, best_length);
+      path = trace(best_reversed ? Eigen::Vector3d(-drag_direction) : drag_direction, best_length);
       if (!path.ok()) return WithContext(path.status(), context);
       out.reversed = best_reversed;
       out.shortened = true;

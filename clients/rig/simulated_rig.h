@@ -40,6 +40,7 @@ struct ProbeExecution {
   DragTrace trace;
   SurfacePath path;              // the forward path on the surface
   double length_mm = 0.0;        // executed drag length
+  bool centred = false;          // the segment is centred on the requested position (false: starts there, open boundary behind)
   bool reversed = false;         // dragged opposite to the requested direction (open boundary ahead)
   bool shortened = false;        // dragged less than the requested length (open boundary both ways)
   std::string note;              // says what was adjusted and why; empty when executed as asked

@@ -105,7 +105,13 @@ TEST_F(BottleRigTest, TraceFollowsTheRequest) {
   auto execution = rig_->ExecuteDetailed(request);
   ASSERT_TRUE(execution.ok()) << execution.status();
   EXPECT_NEAR(execution->length_mm, 15.0, 1e-6);
-  EXPECT_NEAR((execution->path.points.front() - request.position).norm(), 0.0, 1.0);
+  // The segment is centred on the requested site.
+  EXPECT_TRUE(execution->centred);
+  double closest = 1e9;
+  for (const Eigen::Vector3d& p : execution->path.points) closest = std::min(closest, (p - request.position).norm());
+  EXPECT_LT(closest, 1.0);
+  EXPECT_NEAR((execution->path.points.front() - request.position).norm(), 7.5, 1.0);
+  EXPECT_NEAR((execution->path.points.back() - request.position).norm(), 7.5, 1.0);
   // Mean normal force over the forward pass ~ the commanded 3 N.
   double fn = 0.0;
   int n = 0;
@@ -191,7 +197,7 @@ TEST(SimulatedRigPlateTest, OpenBoundaryReversesOrShortensTheDrag) {
 
   request.position = {20, 0, 0};
   request.drag_direction = {0, 1, 0};
-  request.segment_length_mm = 100.0;  // 75 mm to the edge either way
+  request.segment_length_mm = 160.0;  // longer than the plate is wide: 75 mm to the edge either way
   auto too_long = (*rig)->ExecuteDetailed(request);
   ASSERT_TRUE(too_long.ok()) << too_long.status();
   EXPECT_TRUE(too_long->shortened);
