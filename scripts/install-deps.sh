@@ -9,9 +9,16 @@ PACKAGES=(
   libeigen3-dev libosd-dev libsqlite3-dev sqlite3
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtinyobjloader-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # Python client (clients/python): Debian's runtime and test packages, no PyPI.
+  python3 python3-grpcio python3-protobuf python3-numpy python3-matplotlib python3-pytest
+  # Dashboard (clients/dashboard): Node.js runs its server; Chromium drives its browser test.
+  nodejs chromium
 )
 
 missing=()
+# The machine image may ship Node.js with npm inside the nodejs package;
+# Debian's own nodejs needs the separate npm package.
+command -v npm >/dev/null 2>&1 || missing+=(npm)
 for p in "${PACKAGES[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
 done
