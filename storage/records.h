@@ -52,14 +52,18 @@ struct JobRecord {
   int64_t updated_unix_ms = 0;  // last state change
 };
 
-// The sampling plan's serialized state; replaced in the same transaction as the
-// trace (or job creation) that changed it. revision starts at 1 and increases
-// by one with every replacement.
+// The sampling plan's serialized state: a checkpoint (plan_json) plus the
+// journal entries written after it, oldest first, each in the same
+// transaction as the trace (or failure) that changed the plan. The store does
+// not interpret either; the service replays the journal onto the checkpoint.
+// revision starts at 1 and increases by one with every change (a new
+// checkpoint or a journal entry): revision = checkpoint revision + journal size.
 struct PlanRecord {
   int64_t job_id = 0;
   std::string plan_json;
+  std::vector<std::string> journal;
   int64_t revision = 0;
-  int64_t updated_unix_ms = 0;
+  int64_t updated_unix_ms = 0;  // of the checkpoint
 };
 
 // One probe command: measure the site (level, vertex) of the job's object.
@@ -160,9 +164,12 @@ struct AcceptTraceRequest {
   std::string lease_owner;          // if not empty, must hold the command's lease
   std::vector<StoredSample> samples;  // at least one
   std::optional<NewFit> fit;        // stored as version 1
-  // The plan state after this trace. Empty: plan unchanged.
+  // The plan change, one of: a new checkpoint (the whole plan state after
+  // this trace; the journal is cleared), or a journal entry appended to the
+  // stored plan. Both empty: plan unchanged.
   std::string new_plan_json;
-  // If > 0 and new_plan_json is set, the stored plan must still be at this
+  std::string plan_journal_entry;  // used only when new_plan_json is empty
+  // If > 0 and the plan changes, the stored plan must still be at this
   // revision (the plan the service updated); otherwise ABORTED, so that two
   // traces of one job accepted concurrently cannot lose a plan update.
   int64_t expected_plan_revision = 0;
@@ -189,7 +196,8 @@ struct FailCommandRequest {
   int64_t job_id = 0;               // must be the command's job
   std::string lease_owner;          // if not empty, must hold the command's lease
   std::string reason;               // stored in the command's failure event
-  std::string new_plan_json;        // empty: plan unchanged
+  std::string new_plan_json;        // as for AcceptTraceRequest
+  std::string plan_journal_entry;   // as for AcceptTraceRequest
   int64_t expected_plan_revision = 0;  // as for AcceptTraceRequest
   std::vector<NewCommand> new_commands;
   std::optional<JobState> new_job_state;

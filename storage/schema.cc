@@ -91,8 +91,24 @@ CREATE TABLE events (
 CREATE INDEX events_by_job ON events (job_id, id);
 )sql";
 
+// Version 2: the plan as checkpoint + journal, so an accepted trace appends a
+// small entry instead of rewriting the whole plan (see PlanRecord); and the
+// leasable commands per job, so a rig leasing for one job does not scan the
+// pending commands of every older job.
+constexpr char kPlanJournal[] = R"sql(
+CREATE INDEX commands_leasable_by_job ON commands (job_id, id) WHERE state IN ('pending', 'leased');
+
+CREATE TABLE plan_journal (
+  job_id            INTEGER NOT NULL REFERENCES jobs (id),
+  revision          INTEGER NOT NULL CHECK (revision >= 2),
+  entry_json        TEXT    NOT NULL CHECK (json_valid(entry_json)),
+  PRIMARY KEY (job_id, revision)
+) WITHOUT ROWID;
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
+    {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
 };
 
 }  // namespace

@@ -280,9 +280,12 @@ absl::Status SetJobState(SqliteConnection& db, const JobRecord& job, JobState to
   return stmt.Run();
 }
 
+// The checkpoint's revision, or the last journal entry's when there is one.
 absl::StatusOr<int64_t> CurrentPlanRevision(SqliteConnection& db, int64_t job_id) {
-  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                           db.Prepare("SELECT revision FROM plans WHERE job_id = ?1"));
+  SURFMAP_ASSIGN_OR_RETURN(
+      SqliteStatement stmt,
+      db.Prepare("SELECT MAX(p.revision, COALESCE((SELECT MAX(revision) FROM plan_journal "
+                 "WHERE job_id = ?1), 0)) FROM plans p WHERE p.job_id = ?1"));
   stmt.BindInt(1, job_id);
   SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
   if (!found) return absl::InternalError(absl::StrCat("job ", job_id, " has no plan row"));
@@ -293,10 +296,13 @@ absl::StatusOr<int64_t> CurrentPlanRevision(SqliteConnection& db, int64_t job_id
 // failure): checked before anything is written, applied after.
 struct PlanChange {
   const std::string& new_plan_json;
+  const std::string& plan_journal_entry;
   int64_t expected_plan_revision;
   const std::vector<NewCommand>& new_commands;
   const std::optional<JobState>& new_job_state;
   const std::vector<NewEvent>& events;
+
+  bool changes_plan() const { return !new_plan_json.empty() || !plan_journal_entry.empty(); }
 };
 
 // The command must be this job's, leased (to `lease_owner` when set), and the
@@ -330,7 +336,7 @@ absl::StatusOr<JobRecord> CheckLeasedCommand(SqliteConnection& db, int64_t comma
 // Returns the plan's current revision.
 absl::StatusOr<int64_t> CheckPlanChange(SqliteConnection& db, const JobRecord& job, const PlanChange& change) {
   SURFMAP_ASSIGN_OR_RETURN(int64_t revision, CurrentPlanRevision(db, job.id));
-  if (!change.new_plan_json.empty() && change.expected_plan_revision > 0 &&
+  if (change.changes_plan() && change.expected_plan_revision > 0 &&
       change.expected_plan_revision != revision) {
     return absl::AbortedError(absl::StrCat(
         "plan of job ", job.id, " is at revision ", revision, ", not ",
@@ -350,10 +356,20 @@ absl::Status ApplyPlanChange(SqliteConnection& db, const JobRecord& job, const P
   if (!change.new_plan_json.empty()) {
     SURFMAP_ASSIGN_OR_RETURN(
         SqliteStatement stmt,
-        db.Prepare("UPDATE plans SET plan_json = ?2, revision = revision + 1, "
+        db.Prepare("UPDATE plans SET plan_json = ?2, revision = ?4, "
                    "updated_unix_ms = ?3 WHERE job_id = ?1"));
-    stmt.BindInt(1, job.id).BindText(2, change.new_plan_json).BindInt(3, now);
+    stmt.BindInt(1, job.id).BindText(2, change.new_plan_json).BindInt(3, now).BindInt(4, *revision + 1);
     SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "new_plan_json"));
+    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement clear, db.Prepare("DELETE FROM plan_journal WHERE job_id = ?1"));
+    clear.BindInt(1, job.id);
+    SURFMAP_RETURN_IF_ERROR(Annotate(clear.Run(), "clearing the plan journal"));
+    *revision += 1;
+  } else if (!change.plan_journal_entry.empty()) {
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("INSERT INTO plan_journal (job_id, revision, entry_json) VALUES (?1, ?2, ?3)"));
+    stmt.BindInt(1, job.id).BindInt(2, *revision + 1).BindText(3, change.plan_journal_entry);
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "plan_journal_entry"));
     *revision += 1;
   }
   SURFMAP_ASSIGN_OR_RETURN(*new_command_ids,
@@ -404,8 +420,8 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
     }
   }
 
-  const PlanChange change{req.new_plan_json, req.expected_plan_revision, req.new_commands, req.new_job_state,
-                          req.events};
+  const PlanChange change{req.new_plan_json, req.plan_journal_entry, req.expected_plan_revision,
+                          req.new_commands, req.new_job_state, req.events};
   SURFMAP_ASSIGN_OR_RETURN(JobRecord job,
                            CheckLeasedCommand(db, req.command_id, req.job_id, req.lease_owner, "traces"));
   SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
@@ -432,8 +448,8 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
 absl::StatusOr<FailCommandResult> FailCommandWrite(SqliteConnection& db, const FailCommandRequest& req,
                                                    int64_t now) {
   FailCommandResult result;
-  const PlanChange change{req.new_plan_json, req.expected_plan_revision, req.new_commands, req.new_job_state,
-                          req.events};
+  const PlanChange change{req.new_plan_json, req.plan_journal_entry, req.expected_plan_revision,
+                          req.new_commands, req.new_job_state, req.events};
   SURFMAP_ASSIGN_OR_RETURN(JobRecord job,
                            CheckLeasedCommand(db, req.command_id, req.job_id, req.lease_owner, "failure reports"));
   SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
@@ -612,6 +628,23 @@ absl::StatusOr<PlanRecord> SqliteStore::GetPlan(int64_t job_id) {
   plan.plan_json = stmt.ColumnText(1);
   plan.revision = stmt.ColumnInt(2);
   plan.updated_unix_ms = stmt.ColumnInt(3);
+  // Same snapshot as the checkpoint: `stmt` is still open (stepped, not
+  // reset), so SQLite keeps this connection's read transaction across both
+  // statements and no write can slip in between them.
+  SURFMAP_ASSIGN_OR_RETURN(
+      SqliteStatement journal,
+      db->Prepare("SELECT revision, entry_json FROM plan_journal WHERE job_id = ?1 ORDER BY revision"));
+  journal.BindInt(1, job_id);
+  while (true) {
+    SURFMAP_ASSIGN_OR_RETURN(bool more, journal.Step());
+    if (!more) break;
+    if (journal.ColumnInt(0) != plan.revision + 1) {
+      return absl::DataLossError(absl::StrCat("plan of job ", job_id, ": journal entry at revision ",
+                                              journal.ColumnInt(0), " does not follow revision ", plan.revision));
+    }
+    plan.journal.push_back(journal.ColumnText(1));
+    plan.revision += 1;
+  }
   return plan;
 }
 
@@ -633,15 +666,22 @@ void SqliteStore::LeaseNextCommandAsync(const LeaseRequest& request, LeaseCallba
           SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, request.job_id));
           (void)job;  // only its existence matters: an unknown job is NotFound
         }
-        // The state IN (...) term matches the partial index commands_leasable.
+        // The state IN (...) term matches the partial indexes commands_leasable
+        // (any job) and commands_leasable_by_job (one job: without it a lease
+        // would scan the pending commands of every older running job).
         SURFMAP_ASSIGN_OR_RETURN(
             SqliteStatement pick,
-            db.Prepare("SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
-                       "WHERE c.state IN ('pending', 'leased') "
-                       "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
-                       "AND j.state = 'running' AND (?2 = 0 OR c.job_id = ?2) "
-                       "ORDER BY c.id LIMIT 1"));
-        pick.BindInt(1, request.now_unix_ms).BindInt(2, request.job_id);
+            db.Prepare(request.job_id == 0
+                           ? "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
+                             "WHERE c.state IN ('pending', 'leased') "
+                             "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
+                             "AND j.state = 'running' ORDER BY c.id LIMIT 1"
+                           : "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
+                             "WHERE c.job_id = ?2 AND c.state IN ('pending', 'leased') "
+                             "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
+                             "AND j.state = 'running' ORDER BY c.id LIMIT 1"));
+        pick.BindInt(1, request.now_unix_ms);
+        if (request.job_id != 0) pick.BindInt(2, request.job_id);
         SURFMAP_ASSIGN_OR_RETURN(bool found, pick.Step());
         if (!found) return std::optional<CommandRecord>();
         const int64_t command_id = pick.ColumnInt(0);

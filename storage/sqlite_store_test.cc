@@ -49,7 +49,7 @@ class SqliteStoreTest : public ::testing::Test {
     auto db = SqliteConnection::Open(path_, {});
     EXPECT_TRUE(db.ok());
     std::map<std::string, int64_t> counts;
-    for (const char* t : {"objects", "jobs", "plans", "commands", "traces", "fits", "events"}) {
+    for (const char* t : {"objects", "jobs", "plans", "plan_journal", "commands", "traces", "fits", "events"}) {
       counts[t] = *(*db)->QueryInt(std::string("SELECT COUNT(*) FROM ") + t);
     }
     counts["plan_revision_sum"] = *(*db)->QueryInt("SELECT TOTAL(revision) FROM plans");
@@ -196,6 +196,67 @@ TEST_F(SqliteStoreTest, AcceptTraceStoresEverythingAndSamplesBitExactly) {
   absl::StatusOr<std::vector<EventRecord>> events = store_->ListEvents(job.job.id, 0, 10);
   ASSERT_EQ(events->size(), 2u);
   EXPECT_EQ((*events)[1].kind, "trace_accepted");
+}
+
+// The plan as checkpoint + journal: entries append, a checkpoint replaces
+// both, and a stale expected revision writes nothing.
+TEST_F(SqliteStoreTest, PlanJournalAppendsAndACheckpointClearsIt) {
+  CreatedJob job = Job(6);
+  auto accept_with_entry = [&](const std::string& entry, int64_t expected) {
+    AcceptTraceRequest request = MakeTestAccept(Lease(job.job.id, "rig-a"), 20);
+    request.new_plan_json.clear();
+    request.plan_journal_entry = entry;
+    request.expected_plan_revision = expected;
+    return store_->AcceptTrace(request);
+  };
+  absl::StatusOr<AcceptTraceResult> first = accept_with_entry(R"({"op":"fit","n":1})", 1);
+  ASSERT_TRUE(first.ok()) << first.status();
+  EXPECT_EQ(first->plan_revision, 2);
+  absl::StatusOr<AcceptTraceResult> second = accept_with_entry(R"({"op":"fit","n":2})", 2);
+  ASSERT_TRUE(second.ok()) << second.status();
+  EXPECT_EQ(second->plan_revision, 3);
+  absl::StatusOr<PlanRecord> plan = store_->GetPlan(job.job.id);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  EXPECT_EQ(plan->plan_json, R"({"measured":[]})");
+  EXPECT_EQ(plan->journal, (std::vector<std::string>{R"({"op":"fit","n":1})", R"({"op":"fit","n":2})"}));
+  EXPECT_EQ(plan->revision, 3);
+
+  // A write based on an older revision loses the race: nothing is stored.
+  auto before = TableCounts();
+  absl::StatusOr<AcceptTraceResult> stale = accept_with_entry(R"({"op":"fit","n":3})", 2);
+  EXPECT_EQ(stale.status().code(), absl::StatusCode::kAborted) << stale.status();
+  before["leased"] += 1;  // the lease the helper took before the failed write
+  EXPECT_EQ(TableCounts(), before);
+
+  // A checkpoint replaces the plan and clears the journal.
+  AcceptTraceRequest checkpoint = MakeTestAccept(Lease(job.job.id, "rig-b"), 20);
+  checkpoint.expected_plan_revision = 3;
+  absl::StatusOr<AcceptTraceResult> checkpointed = store_->AcceptTrace(checkpoint);
+  ASSERT_TRUE(checkpointed.ok()) << checkpointed.status();
+  EXPECT_EQ(checkpointed->plan_revision, 4);
+  plan = store_->GetPlan(job.job.id);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  EXPECT_EQ(plan->plan_json, checkpoint.new_plan_json);
+  EXPECT_TRUE(plan->journal.empty());
+  EXPECT_EQ(plan->revision, 4);
+
+  // Entries after the checkpoint continue its revisions.
+  CommandRecord failing = Lease(job.job.id, "rig-c");
+  FailCommandRequest fail;
+  fail.command_id = failing.id;
+  fail.job_id = failing.job_id;
+  fail.lease_owner = "rig-c";
+  fail.reason = "slipped";
+  fail.plan_journal_entry = R"({"op":"failure"})";
+  fail.expected_plan_revision = 4;
+  std::promise<absl::StatusOr<FailCommandResult>> failed;
+  store_->FailCommandAsync(fail, [&](absl::StatusOr<FailCommandResult> r) { failed.set_value(std::move(r)); });
+  absl::StatusOr<FailCommandResult> fail_result = failed.get_future().get();
+  ASSERT_TRUE(fail_result.ok()) << fail_result.status();
+  EXPECT_EQ(fail_result->plan_revision, 5);
+  plan = store_->GetPlan(job.job.id);
+  EXPECT_EQ(plan->journal, std::vector<std::string>{R"({"op":"failure"})"});
+  EXPECT_EQ(plan->revision, 5);
 }
 
 TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {

@@ -8,6 +8,7 @@
 #include "server/codec/fit_json.h"
 #include "server/estimate/roughness.h"
 #include "server/jobs/command_json.h"
+#include "server/jobs/stored_plan.h"
 #include "server/jobs/stored_trace.h"
 
 namespace surfmap {
@@ -101,12 +102,13 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobCoordinator::LoadRuntime(const Jo
   if (!surface.ok()) return surface.status();
   absl::StatusOr<PlanRecord> plan_record = store_->GetPlan(record.id);
   if (!plan_record.ok()) return plan_record.status();
-  absl::StatusOr<SamplingPlan> plan = SamplingPlan::Restore(plan_record->plan_json, PlanLevels(**surface));
+  absl::StatusOr<SamplingPlan> plan = RestoreStoredPlan(*plan_record, PlanLevels(**surface));
   if (!plan.ok()) return plan.status();
   if (record.state == JobState::kCancelled) plan->Cancel();
   auto runtime = std::make_shared<JobRuntime>(record.id, *params, *surface, std::move(*plan));
   runtime->state = record.state;
   runtime->plan_revision = plan_record->revision;
+  runtime->journal_entries = static_cast<int>(plan_record->journal.size());
   runtime->measured_revision = runtime->plan.Progress().measured;
   runtime->created_unix_ms = record.created_unix_ms;
   runtime->updated_unix_ms = record.updated_unix_ms;
@@ -134,12 +136,13 @@ absl::Status JobCoordinator::ReloadIfNeeded(JobRuntime& runtime) {
   if (!record.ok()) return record.status();
   absl::StatusOr<PlanRecord> plan_record = store_->GetPlan(runtime.job_id);
   if (!plan_record.ok()) return plan_record.status();
-  absl::StatusOr<SamplingPlan> plan = SamplingPlan::Restore(plan_record->plan_json, PlanLevels(*runtime.surface));
+  absl::StatusOr<SamplingPlan> plan = RestoreStoredPlan(*plan_record, PlanLevels(*runtime.surface));
   if (!plan.ok()) return plan.status();
   runtime.plan = std::move(*plan);
   if (record->state == JobState::kCancelled) runtime.plan.Cancel();
   runtime.state = record->state;
   runtime.plan_revision = plan_record->revision;
+  runtime.journal_entries = static_cast<int>(plan_record->journal.size());
   runtime.measured_revision++;
   runtime.needs_reload = false;
   return absl::OkStatus();
@@ -287,18 +290,25 @@ absl::StatusOr<JobCoordinator::CommandContext> JobCoordinator::LoadCommandContex
   return CommandContext{std::move(*record), *probe, *runtime};
 }
 
-void JobCoordinator::TakePlanChangeLocked(JobRuntime& runtime, std::string* plan_json, int64_t* expected_revision,
-                                          std::vector<NewCommand>* new_commands,
-                                          std::optional<JobState>* new_job_state) {
-  *new_commands = DrainCommands(runtime.plan);
-  *plan_json = runtime.plan.SaveJson();
+JobCoordinator::PlanWrite JobCoordinator::TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change) {
+  PlanWrite write;
+  write.new_commands = DrainCommands(runtime.plan);
   // Writes of one job are queued in order under its lock and committed in
   // queue order, so this write's base is the revision the previous one made.
-  *expected_revision = runtime.plan_revision++;
-  if (runtime.plan.IsComplete() && runtime.state != JobState::kCompleted && runtime.state != JobState::kCancelled) {
-    *new_job_state = JobState::kCompleted;
+  write.expected_revision = runtime.plan_revision++;
+  const bool complete = runtime.plan.IsComplete();
+  if (complete || runtime.journal_entries + 1 >= CheckpointInterval(runtime.plan)) {
+    write.checkpoint_json = runtime.plan.SaveJson();
+    runtime.journal_entries = 0;
+  } else {
+    write.journal_entry = PlanJournalEntryToJson(change);
+    runtime.journal_entries++;
+  }
+  if (complete && runtime.state != JobState::kCompleted && runtime.state != JobState::kCancelled) {
+    write.new_job_state = JobState::kCompleted;
     runtime.state = JobState::kCompleted;
   }
+  return write;
 }
 
 // ---------------------------------------------------------------- probing
@@ -402,11 +412,18 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
                                                       command_id, " not accepted")));
       return;
     }
-    absl::Status recorded = retry ? absl::NotFoundError("already answered")
-                                  : runtime->plan.RecordFit(probe->sequence, TextureOf(*fit));
+    PlanJournalEntry answer;
+    answer.sequence = probe->sequence;
+    answer.fit = TextureOf(*fit);
+    absl::Status recorded =
+        retry ? absl::NotFoundError("already answered") : ApplyPlanJournalEntry(answer, runtime->plan);
     if (recorded.ok()) {
-      TakePlanChangeLocked(*runtime, &request.new_plan_json, &request.expected_plan_revision,
-                           &request.new_commands, &request.new_job_state);
+      PlanWrite write = TakePlanChangeLocked(*runtime, answer);
+      request.new_plan_json = std::move(write.checkpoint_json);
+      request.plan_journal_entry = std::move(write.journal_entry);
+      request.expected_plan_revision = write.expected_revision;
+      request.new_commands = std::move(write.new_commands);
+      request.new_job_state = write.new_job_state;
       runtime->measured_revision++;
       request.events.push_back(Event("trace_accepted", {{"command_id", command_id},
                                                        {"vertex", probe->site.vertex},
@@ -477,7 +494,11 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
     done(s);
     return;
   }
-  absl::Status recorded = runtime->plan.RecordFailure(probe->sequence, reason);
+  PlanJournalEntry answer;
+  answer.kind = PlanJournalEntry::Kind::kFailure;
+  answer.sequence = probe->sequence;
+  answer.reason = reason;
+  absl::Status recorded = ApplyPlanJournalEntry(answer, runtime->plan);
   if (!recorded.ok()) {
     done(recorded);
     return;
@@ -487,8 +508,12 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
   request.job_id = command->job_id;
   request.lease_owner = rig_id;
   request.reason = reason;
-  TakePlanChangeLocked(*runtime, &request.new_plan_json, &request.expected_plan_revision, &request.new_commands,
-                       &request.new_job_state);
+  PlanWrite write = TakePlanChangeLocked(*runtime, answer);
+  request.new_plan_json = std::move(write.checkpoint_json);
+  request.plan_journal_entry = std::move(write.journal_entry);
+  request.expected_plan_revision = write.expected_revision;
+  request.new_commands = std::move(write.new_commands);
+  request.new_job_state = write.new_job_state;
   const SiteRecord* site = runtime->plan.FindSite(probe->site.vertex);
   const bool will_retry = site != nullptr && site->state == SiteState::kPending;
   request.events.push_back(Event("probe_failed", {{"command_id", command_id}, {"reason", reason}, {"rig", rig_id},

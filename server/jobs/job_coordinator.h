@@ -33,6 +33,7 @@
 #include "server/jobs/job_runtime.h"
 #include "server/jobs/surface_cache.h"
 #include "server/mesh/control_mesh.h"
+#include "server/plan/plan_journal.h"
 #include "storage/store.h"
 
 namespace surfmap {
@@ -120,10 +121,19 @@ class JobCoordinator {
     std::shared_ptr<JobRuntime> runtime;
   };
   absl::StatusOr<CommandContext> LoadCommandContext(int64_t command_id);
+  // What one answer (`change`, already applied to runtime.plan) writes to the
+  // store: a journal entry, or a checkpoint of the whole plan every
+  // CheckpointInterval entries and when the plan completes.
+  struct PlanWrite {
+    std::string checkpoint_json;
+    std::string journal_entry;
+    int64_t expected_revision = 0;
+    std::vector<NewCommand> new_commands;
+    std::optional<JobState> new_job_state;
+  };
   // Under runtime.mu, after the plan changed: the new commands it issues, its
-  // state, the revision the write must find, and completion of the job.
-  static void TakePlanChangeLocked(JobRuntime& runtime, std::string* plan_json, int64_t* expected_revision,
-                                   std::vector<NewCommand>* new_commands, std::optional<JobState>* new_job_state);
+  // stored form, the revision the write must find, and completion of the job.
+  static PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change);
   void MarkWriteFailed(const std::shared_ptr<JobRuntime>& runtime);
 
   Store* store_;

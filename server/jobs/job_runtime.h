@@ -40,6 +40,7 @@ struct JobRuntime {
   SamplingPlan plan;
   JobState state = JobState::kRunning;
   int64_t plan_revision = 1;       // the stored plan's revision this plan extends
+  int journal_entries = 0;         // stored after the plan's last checkpoint
   int64_t measured_revision = 0;   // bumped on every accepted fit (map input changed)
   int64_t update_revision = 0;     // bumped on every change a watcher should see
   int64_t created_unix_ms = 0, updated_unix_ms = 0;

@@ -93,6 +93,7 @@ absl::Status SamplingPlan::Initialise() {
           absl::StrCat("SamplingPlan: level ", k, " has fewer vertices than level ", k - 1));
     }
   }
+  state_counts_.assign(options_.max_level - options_.coarsest_level + 1, {});
   edge_index_.assign(options_.max_level - options_.coarsest_level, {});
   for (int k = options_.coarsest_level; k < options_.max_level; ++k) {
     const SurfaceLevel& level = *levels_[k];
@@ -160,13 +161,20 @@ void SamplingPlan::AddSite(SiteRecord record) {
     }
   }
   const int v = record.site.vertex;
+  CountSite(record, +1);
   sites_.emplace(v, std::move(record));
+}
+
+void SamplingPlan::CountSite(const SiteRecord& r, int delta) {
+  state_counts_[r.site.level - options_.coarsest_level][static_cast<int>(r.state)] += delta;
 }
 
 void SamplingPlan::SkipAllPending(std::string_view reason) {
   for (const auto& key : pending_) {
     SiteRecord& r = sites_.at(std::get<3>(key));
+    CountSite(r, -1);
     r.state = SiteState::kSkipped;
+    CountSite(r, +1);
     r.reason = std::string(reason);
   }
   pending_.clear();
@@ -181,7 +189,9 @@ std::optional<ProbeCommand> SamplingPlan::NextCommand() {
   const PendingKey key = *pending_.begin();
   pending_.erase(pending_.begin());
   SiteRecord& r = sites_.at(std::get<3>(key));
+  CountSite(r, -1);
   r.state = SiteState::kIssued;
+  CountSite(r, +1);
   r.sequence = next_sequence_++;
   outstanding_[r.sequence] = r.site.vertex;
 
@@ -218,7 +228,9 @@ absl::Status SamplingPlan::RecordFit(std::uint64_t sequence, const TextureParams
   if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
+  CountSite(r, -1);
   r.state = SiteState::kMeasured;
+  CountSite(r, +1);
   r.fit = fit;
   r.reason.clear();
   ++measured_count_;
@@ -242,6 +254,7 @@ absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_vie
   if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
+  CountSite(r, -1);
   ++r.failures;
   if (r.failures > options_.max_retries) {
     r.state = SiteState::kFailed;
@@ -259,6 +272,7 @@ absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_vie
       pending_.insert(KeyOf(r));
     }
   }
+  CountSite(r, +1);
   return RefreshSelection();
 }
 
@@ -308,6 +322,7 @@ absl::Status SamplingPlan::RefreshSelection() {
     const int v = std::get<3>(*it);
     const SiteRecord& r = sites_.at(v);
     if (r.origin == SiteOrigin::kSelected && r.failures == 0) {
+      CountSite(r, -1);
       sites_.erase(v);
       it = pending_.erase(it);
     } else {
@@ -362,26 +377,17 @@ absl::Status SamplingPlan::RefreshSelection() {
 
 PlanProgress SamplingPlan::Progress() const {
   PlanProgress p;
-  for (int k = options_.coarsest_level; k <= options_.max_level; ++k) p.levels.push_back({.level = k});
-  for (const auto& [v, r] : sites_) {
-    LevelProgress& l = p.levels[r.site.level - options_.coarsest_level];
-    switch (r.state) {
-      case SiteState::kPending:
-        ++l.pending, ++p.pending;
-        break;
-      case SiteState::kIssued:
-        ++l.issued, ++p.issued;
-        break;
-      case SiteState::kMeasured:
-        ++l.measured, ++p.measured;
-        break;
-      case SiteState::kFailed:
-        ++l.failed, ++p.failed;
-        break;
-      case SiteState::kSkipped:
-        ++l.skipped, ++p.skipped;
-        break;
-    }
+  for (int k = options_.coarsest_level; k <= options_.max_level; ++k) {
+    const std::array<int, 5>& n = state_counts_[k - options_.coarsest_level];
+    LevelProgress l{.level = k};
+    l.pending = n[static_cast<int>(SiteState::kPending)];
+    l.issued = n[static_cast<int>(SiteState::kIssued)];
+    l.measured = n[static_cast<int>(SiteState::kMeasured)];
+    l.failed = n[static_cast<int>(SiteState::kFailed)];
+    l.skipped = n[static_cast<int>(SiteState::kSkipped)];
+    p.pending += l.pending, p.issued += l.issued, p.measured += l.measured;
+    p.failed += l.failed, p.skipped += l.skipped;
+    p.levels.push_back(l);
   }
   if (options_.sample_budget > 0) p.budget_left = std::max(0, options_.sample_budget - p.measured - p.issued);
   p.done = IsComplete();

@@ -46,6 +46,7 @@
 // Not thread-safe: the caller serialises calls.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <optional>
@@ -141,6 +142,7 @@ class SamplingPlan {
   const SamplingPlanOptions& options() const { return options_; }
   // Every site, in vertex order.
   std::vector<SiteRecord> Sites() const;
+  int SiteCount() const { return static_cast<int>(sites_.size()); }
   const SiteRecord* FindSite(int vertex) const;
   // The measured sites as map samples (finest-level vertex indices).
   std::vector<MapSample> MeasuredSamples() const;
@@ -160,6 +162,9 @@ class SamplingPlan {
   absl::StatusOr<int> OutstandingVertex(std::uint64_t sequence) const;
   void CompareEdgesOf(int vertex);
   absl::Status RefreshSelection();  // kUncertainty
+  // Keeps state_counts_ in step: -1 before a site changes state or leaves,
+  // +1 after it changes or arrives.
+  void CountSite(const SiteRecord& r, int delta);
 
   std::vector<const SurfaceLevel*> levels_;
   SamplingPlanOptions options_;
@@ -172,6 +177,9 @@ class SamplingPlan {
   std::uint64_t next_sequence_ = 1;
   bool cancelled_ = false;
   int measured_count_ = 0;
+  // Sites per (level - coarsest_level, state): Progress() in O(levels), not
+  // O(sites), since the service reports it with every accepted trace.
+  std::vector<std::array<int, 5>> state_counts_;
 
   // kUncertainty: the map of the measured sites, rebuilt when they change.
   std::optional<FrictionMap> map_;

@@ -355,6 +355,7 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
       default:
         break;
     }
+    plan.CountSite(r, +1);
     plan.sites_.emplace(r.site.vertex, std::move(r));
   }
   if (auto s = plan.RefreshSelection(); !s.ok()) return s;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -286,6 +287,89 @@ TEST(SamplingPlanTest, RejectsInvalidOptionsAndSurfaces) {
   broken[0].edge_child_vertex.pop_back();
   EXPECT_FALSE(SamplingPlan::Create(Pointers(broken), Adaptive(2)).ok());
 }
+
+}  // namespace
+}  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+// Progress() keeps counts as sites change state; they must equal a recount
+// of the sites at every step, in every mode, through failures, budget skips,
+// uncertainty re-selection, cancellation and a save/restore.
+PlanProgress RecountProgress(const SamplingPlan& plan) {
+  PlanProgress p;
+  const SamplingPlanOptions& o = plan.options();
+  for (int k = o.coarsest_level; k <= o.max_level; ++k) p.levels.push_back({.level = k});
+  for (const SiteRecord& r : plan.Sites()) {
+    LevelProgress& l = p.levels[r.site.level - o.coarsest_level];
+    int* counts[] = {&l.pending, &l.issued, &l.measured, &l.failed, &l.skipped};
+    int* totals[] = {&p.pending, &p.issued, &p.measured, &p.failed, &p.skipped};
+    ++*counts[static_cast<int>(r.state)];
+    ++*totals[static_cast<int>(r.state)];
+  }
+  return p;
+}
+
+void ExpectCountsMatch(const SamplingPlan& plan, const std::string& when) {
+  const PlanProgress kept = plan.Progress();
+  const PlanProgress recount = RecountProgress(plan);
+  ASSERT_EQ(kept.levels.size(), recount.levels.size()) << when;
+  for (size_t k = 0; k < kept.levels.size(); ++k) {
+    const LevelProgress& a = kept.levels[k];
+    const LevelProgress& b = recount.levels[k];
+    ASSERT_TRUE(a.pending == b.pending && a.issued == b.issued && a.measured == b.measured &&
+                a.failed == b.failed && a.skipped == b.skipped)
+        << when << ": level " << a.level << " kept p/i/m/f/s " << a.pending << "/" << a.issued << "/" << a.measured
+        << "/" << a.failed << "/" << a.skipped << " vs recount " << b.pending << "/" << b.issued << "/"
+        << b.measured << "/" << b.failed << "/" << b.skipped;
+  }
+  ASSERT_EQ(kept.measured, recount.measured) << when;
+  ASSERT_EQ(kept.skipped, recount.skipped) << when;
+}
+
+class ProgressCountTest : public ::testing::TestWithParam<PlanMode> {};
+
+TEST_P(ProgressCountTest, KeptCountsEqualARecountAtEveryStep) {
+  const auto levels = testing::TwoMaterialPlate(3);
+  SamplingPlanOptions options;
+  options.mode = GetParam();
+  options.max_level = 3;
+  options.threshold = 1.0;
+  options.seed = 5;
+  options.sample_budget = 70;  // reached: pending sites get skipped
+  options.max_retries = 1;
+  absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(testing::Pointers(levels), options);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  std::deque<ProbeCommand> outstanding;
+  int step = 0;
+  while (true) {
+    while (std::optional<ProbeCommand> c = plan->NextCommand()) outstanding.push_back(*c);
+    ExpectCountsMatch(*plan, "after issuing, step " + std::to_string(step));
+    if (outstanding.empty()) break;
+    const ProbeCommand c = outstanding.front();
+    outstanding.pop_front();
+    absl::Status s = step % 5 == 2 ? plan->RecordFailure(c.sequence, "slipped")
+                                   : plan->RecordFit(c.sequence, testing::SynthesiseFit(
+                                                                     levels.back().limit_positions[c.site.vertex],
+                                                                     c.site.vertex));
+    ASSERT_TRUE(s.ok()) << s;
+    ExpectCountsMatch(*plan, "after answer " + std::to_string(step));
+    if (step == 40) {
+      absl::StatusOr<SamplingPlan> restored = SamplingPlan::Restore(plan->SaveJson(), testing::Pointers(levels));
+      ASSERT_TRUE(restored.ok()) << restored.status();
+      ExpectCountsMatch(*restored, "restored");
+    }
+    ++step;
+  }
+  EXPECT_GT(plan->Progress().skipped + plan->Progress().failed, 0);
+  plan->Cancel();
+  ExpectCountsMatch(*plan, "cancelled");
+}
+
+INSTANTIATE_TEST_SUITE_P(Modes, ProgressCountTest,
+                         ::testing::Values(PlanMode::kAdaptive, PlanMode::kUncertainty, PlanMode::kUniform),
+                         [](const auto& info) { return std::string(PlanModeName(info.param)); });
 
 }  // namespace
 }  // namespace surfmap

@@ -1,0 +1,78 @@
+#include "server/plan/plan_journal.h"
+
+#include <nlohmann/json.hpp>
+
+#include "absl/strings/str_cat.h"
+
+namespace surfmap {
+namespace {
+
+using nlohmann::json;
+
+absl::Status Malformed(const std::string& what) {
+  return absl::InvalidArgumentError(absl::StrCat("plan journal entry: ", what));
+}
+
+}  // namespace
+
+std::string PlanJournalEntryToJson(const PlanJournalEntry &entry) {
+  json j = {{"sequence", entry.sequence}};
+  if (entry.kind == PlanJournalEntry::Kind::kFit) {
+    j["op"] = "fit";
+    j["fit"] = {{"mu", entry.fit.mu},
+                {"mu_std", entry.fit.mu_std},
+                {"reflection", entry.fit.reflection},
+                {"sigma", entry.fit.sigma}};
+  } else {
+    j["op"] = "failure";
+    j["reason"] = entry.reason;
+  }
+  return j.dump();
+}
+
+absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text) {
+  const json j = json::parse(text, nullptr, /*allow_exceptions=*/false);
+  if (j.is_discarded() || !j.is_object()) return Malformed("not a JSON object");
+  PlanJournalEntry entry;
+  auto op = j.find("op");
+  if (op == j.end() || !op->is_string()) return Malformed("\"op\" is missing or not a string");
+  auto sequence = j.find("sequence");
+  if (sequence == j.end() || !sequence->is_number_unsigned()) {
+    return Malformed("\"sequence\" is missing or not an unsigned integer");
+  }
+  entry.sequence = sequence->get<std::uint64_t>();
+  if (*op == "fit") {
+    auto fit = j.find("fit");
+    if (fit == j.end() || !fit->is_object()) return Malformed("\"fit\" is missing or not an object");
+    for (const char *key : {"mu", "mu_std", "sigma"}) {
+      auto v = fit->find(key);
+      if (v == fit->end() || !v->is_number())
+        return Malformed(absl::StrCat("fit.", key, " is missing or not a number"));
+    }
+    auto reflection = fit->find("reflection");
+    if (reflection == fit->end() || !reflection->is_array()) return Malformed("fit.reflection is not an array");
+    for (const json &k : *reflection) {
+      if (!k.is_number()) return Malformed("fit.reflection holds a non-number");
+      entry.fit.reflection.push_back(k.get<double>());
+    }
+    entry.fit.mu = (*fit)["mu"].get<double>();
+    entry.fit.mu_std = (*fit)["mu_std"].get<double>();
+    entry.fit.sigma = (*fit)["sigma"].get<double>();
+    entry.kind = PlanJournalEntry::Kind::kFit;
+  } else if (*op == "failure") {
+    auto reason = j.find("reason");
+    if (reason == j.end() || !reason->is_string()) return Malformed("\"reason\" is missing or not a string");
+    entry.reason = reason->get<std::string>();
+    entry.kind = PlanJournalEntry::Kind::kFailure;
+  } else {
+    return Malformed(absl::StrCat("\"op\" is \"", op->get<std::string>(), "\", not \"fit\" or \"failure\""));
+  }
+  return entry;
+}
+
+absl::Status ApplyPlanJournalEntry(const PlanJournalEntry &entry, SamplingPlan &plan) {
+  return entry.kind == PlanJournalEntry::Kind::kFit ? plan.RecordFit(entry.sequence, entry.fit)
+                                                    : plan.RecordFailure(entry.sequence, entry.reason);
+}
+
+}  // namespace surfmap

@@ -1,0 +1,38 @@
+// Plan journal: one answer to a command (a fit or a failure) as a small
+// record, so the service can store a plan as a checkpoint (SaveJson) plus the
+// answers that followed it, instead of rewriting the whole plan per trace.
+//
+// Replaying the entries after the checkpoint, in order, with the service's
+// command drain after each (the plan issues every site it can after every
+// answer), reproduces the plan exactly: the plan is a deterministic state
+// machine and the entries carry the fits with round-trip precision.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "absl/status/statusor.h"
+#include "server/estimate/texture.h"
+#include "server/plan/sampling_plan.h"
+
+namespace surfmap {
+
+struct PlanJournalEntry {
+  enum class Kind { kFit, kFailure };
+  Kind kind = Kind::kFit;
+  std::uint64_t sequence = 0;  // the answered command's plan sequence
+  TextureParams fit;           // kFit
+  std::string reason;          // kFailure
+};
+
+// {"op":"fit","sequence":n,"fit":{"mu","mu_std","reflection","sigma"}} or
+// {"op":"failure","sequence":n,"reason":"..."}.
+std::string PlanJournalEntryToJson(const PlanJournalEntry &entry);
+// INVALID_ARGUMENT naming the field for malformed text.
+absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text);
+
+// RecordFit / RecordFailure on `plan`; their errors.
+absl::Status ApplyPlanJournalEntry(const PlanJournalEntry &entry, SamplingPlan &plan);
+
+}  // namespace surfmap
