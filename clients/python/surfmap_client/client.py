@@ -1,0 +1,316 @@
+"""SurfmapClient: every call of the surfmap.v1 API, typed, with a deadline.
+
+    client = connect("127.0.0.1:50051", timeout=10.0, token=None)
+    obj = client.upload_object("clients/scenes/bottle.obj")
+    job = client.create_job(obj.object_id, finest_level=1, threshold=2.0)
+    for update in client.watch_job(job.job_id):   # ends when the job ends
+        print(update.job.progress.measured)
+    surface = client.get_map(job.job_id)            # numpy arrays
+
+Every call has a deadline: the client's ``timeout`` unless the call is given
+its own. Every failure raises ``SurfmapError`` (gRPC code + server message).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+from typing import Iterator, List, Optional, Sequence, Union
+
+import grpc
+import numpy as np
+
+from . import conversion as conv
+from . import records as r
+from ._stubs import pb, pb_grpc
+from .errors import SurfmapError, error_from_rpc, invalid_argument
+
+DEFAULT_TIMEOUT_S = 30.0
+# A watch lasts as long as the job: its deadline is long, but there is one.
+DEFAULT_WATCH_TIMEOUT_S = 24 * 3600.0
+# Maps of fine levels with their mesh are large; the server's own limit is 64 MiB.
+DEFAULT_MAX_MESSAGE_BYTES = 256 * 1024 * 1024
+
+PathOrBytes = Union[str, os.PathLike, bytes]
+
+
+def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[str] = None,
+            root_certificates: Optional[Union[bytes, str, os.PathLike]] = None, tls: bool = False,
+            wait_ready: bool = True) -> "SurfmapClient":
+    """Opens a channel to surfmapd at ``address`` ("host:port").
+
+    ``timeout``: default deadline of every call, seconds. ``token``: sent as
+    ``authorization: Bearer <token>`` on every call (servers configured with
+    tokens require it). ``root_certificates`` (PEM bytes or a file path)
+    switches to TLS with those roots; ``tls=True`` alone uses the system roots.
+    With ``wait_ready`` the channel is connected within ``timeout`` or
+    SurfmapError(UNAVAILABLE) is raised.
+    """
+    if timeout is None or not timeout > 0:
+        raise invalid_argument("connect", f"timeout must be a positive number of seconds, got {timeout!r}")
+    options = [("grpc.max_receive_message_length", DEFAULT_MAX_MESSAGE_BYTES),
+               ("grpc.max_send_message_length", DEFAULT_MAX_MESSAGE_BYTES)]
+    if root_certificates is not None or tls:
+        roots = root_certificates
+        if isinstance(roots, (str, os.PathLike)):
+            try:
+                roots = Path(roots).read_bytes()
+            except OSError as error:
+                raise invalid_argument("connect", f"cannot read root certificates '{root_certificates}': {error}")
+        channel = grpc.secure_channel(address, grpc.ssl_channel_credentials(root_certificates=roots), options)
+    else:
+        channel = grpc.insecure_channel(address, options)
+    client = SurfmapClient(channel, timeout=timeout, token=token, address=address)
+    if wait_ready:
+        try:
+            grpc.channel_ready_future(channel).result(timeout=timeout)
+        except grpc.FutureTimeoutError:
+            channel.close()
+            raise SurfmapError(grpc.StatusCode.UNAVAILABLE,
+                               f"could not connect to {address} within {timeout:g} s", "connect") from None
+    return client
+
+
+def _mesh_format(data: bytes, name_hint: str, explicit: Optional[str]) -> int:
+    if explicit is not None:
+        fmt = explicit.lower()
+    elif name_hint.lower().endswith(".ply") or data[:3] == b"ply":
+        fmt = "ply"
+    else:
+        fmt = "obj"
+    if fmt == "obj":
+        return pb.MESH_FORMAT_OBJ
+    if fmt == "ply":
+        return pb.MESH_FORMAT_PLY
+    raise invalid_argument("UploadObject", f"mesh format must be 'obj' or 'ply', got {explicit!r}")
+
+
+class SurfmapClient:
+    """A connection to surfmapd. Thread-safe (gRPC channels are); a context manager."""
+
+    def __init__(self, channel: grpc.Channel, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[str] = None,
+                 address: Optional[str] = None) -> None:
+        self._channel = channel
+        self.timeout = timeout          # default deadline of every call, s
+        self.address = address          # as given to connect(), for messages and helpers
+        self.token = token
+        self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
+        self._objects = pb_grpc.ObjectServiceStub(channel)
+        self._jobs = pb_grpc.JobServiceStub(channel)
+        self._maps = pb_grpc.MapServiceStub(channel)
+        self._traces = pb_grpc.TraceServiceStub(channel)
+
+    # ------------------------------------------------------------ plumbing
+
+    def close(self) -> None:
+        self._channel.close()
+
+    def __enter__(self) -> "SurfmapClient":
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self.close()
+
+    def _call(self, method: str, rpc, request, timeout: Optional[float]):
+        deadline = self.timeout if timeout is None else timeout
+        try:
+            return rpc(request, timeout=deadline, metadata=self._metadata)
+        except grpc.RpcError as error:
+            raise error_from_rpc(error, method) from None
+
+    # ------------------------------------------------------------ objects
+
+    def upload_object(self, mesh: PathOrBytes, name: Optional[str] = None, format: Optional[str] = None,
+                      timeout: Optional[float] = None) -> r.ObjectInfo:
+        """Uploads a control mesh (OBJ or PLY, mm): a file path or the file's bytes.
+
+        The format comes from ``format`` ("obj"/"ply"), else the file suffix or
+        a leading "ply" magic, else OBJ. ``name`` defaults to the file's stem
+        ("object" for bytes).
+        """
+        if isinstance(mesh, (bytes, bytearray)):
+            data, hint = bytes(mesh), ""
+            default_name = "object"
+        else:
+            path = Path(mesh)
+            try:
+                data = path.read_bytes()
+            except OSError as error:
+                raise invalid_argument("UploadObject", f"cannot read mesh file '{path}': {error}") from None
+            hint, default_name = path.name, path.stem
+        request = pb.UploadObjectRequest(name=name if name is not None else default_name,
+                                         format=_mesh_format(data, hint, format), mesh=data)
+        return conv.object_info(self._call("UploadObject", self._objects.UploadObject, request, timeout).object)
+
+    def get_object(self, object_id: int, timeout: Optional[float] = None) -> r.ObjectInfo:
+        request = pb.GetObjectRequest(object_id=object_id)
+        return conv.object_info(self._call("GetObject", self._objects.GetObject, request, timeout).object)
+
+    def list_objects(self, timeout: Optional[float] = None) -> List[r.ObjectInfo]:
+        response = self._call("ListObjects", self._objects.ListObjects, pb.ListObjectsRequest(), timeout)
+        return [conv.object_info(o) for o in response.objects]
+
+    def get_mesh(self, object_id: int, level: int = 0, timeout: Optional[float] = None) -> r.Mesh:
+        """Limit positions, normals and triangles of subdivision level 0..6."""
+        request = pb.GetMeshRequest(object_id=object_id, level=level)
+        return conv.mesh(self._call("GetMesh", self._objects.GetMesh, request, timeout))
+
+    # ------------------------------------------------------------ jobs
+
+    def create_job(self, object_id: int, property: Union[r.Property, str] = r.Property.FRICTION,
+                   mode: Union[r.SamplingMode, str] = r.SamplingMode.ADAPTIVE, *,
+                   coarsest_level: Optional[int] = None, finest_level: Optional[int] = None,
+                   threshold: Optional[float] = None, budget: Optional[int] = None,
+                   segment_length_mm: Optional[float] = None, speed_mm_s: Optional[float] = None,
+                   normal_force_n: Optional[float] = None, seed: Optional[int] = None,
+                   max_retries: Optional[int] = None, lease_s: Optional[float] = None,
+                   timeout: Optional[float] = None) -> r.JobInfo:
+        """Creates a mapping job. Settings left None take the server's defaults
+        (levels 0..3, threshold 1, unlimited budget, the paper's 20 mm drag at
+        10 mm/s and 5 N, seed 1, 2 retries, 60 s lease); the returned JobInfo
+        shows the values applied."""
+        try:
+            prop = conv.PROPERTY_TO_PROTO[r.Property(property)]
+            sampling = conv.MODE_TO_PROTO[r.SamplingMode(mode)]
+        except ValueError as error:
+            raise invalid_argument("CreateJob", str(error)) from None
+        spec = pb.JobSpec(object_id=object_id, property=prop, mode=sampling)
+        # Zero means "server default" in the proto, so unset settings stay zero.
+        for field_name, value in (("coarsest_level", coarsest_level), ("finest_level", finest_level),
+                                  ("threshold", threshold), ("budget", budget), ("seed", seed),
+                                  ("max_retries", max_retries)):
+            if value is not None:
+                setattr(spec, field_name, value)
+        for field_name, value in (("segment_length_mm", segment_length_mm), ("speed_mm_s", speed_mm_s),
+                                  ("normal_force_n", normal_force_n)):
+            if value is not None:
+                setattr(spec.probe, field_name, value)
+        if lease_s is not None:
+            spec.lease.FromNanoseconds(int(round(lease_s * 1e9)))
+        response = self._call("CreateJob", self._jobs.CreateJob, pb.CreateJobRequest(spec=spec), timeout)
+        return conv.job_info(response.job)
+
+    def get_job(self, job_id: int, timeout: Optional[float] = None) -> r.JobInfo:
+        return conv.job_info(self._call("GetJob", self._jobs.GetJob, pb.GetJobRequest(job_id=job_id), timeout).job)
+
+    def list_jobs(self, object_id: int = 0, timeout: Optional[float] = None) -> List[r.JobInfo]:
+        """All jobs, or only those of ``object_id``."""
+        response = self._call("ListJobs", self._jobs.ListJobs, pb.ListJobsRequest(object_id=object_id), timeout)
+        return [conv.job_info(j) for j in response.jobs]
+
+    def pause_job(self, job_id: int, timeout: Optional[float] = None) -> r.JobInfo:
+        """RUNNING -> PAUSED (FAILED_PRECONDITION from a finished job)."""
+        return self._set_state("PauseJob", self._jobs.PauseJob, job_id, timeout)
+
+    def resume_job(self, job_id: int, timeout: Optional[float] = None) -> r.JobInfo:
+        """PAUSED -> RUNNING (FAILED_PRECONDITION from a finished job)."""
+        return self._set_state("ResumeJob", self._jobs.ResumeJob, job_id, timeout)
+
+    def cancel_job(self, job_id: int, timeout: Optional[float] = None) -> r.JobInfo:
+        """-> CANCELLED; its traces and fits stay readable."""
+        return self._set_state("CancelJob", self._jobs.CancelJob, job_id, timeout)
+
+    def _set_state(self, method: str, rpc, job_id: int, timeout: Optional[float]) -> r.JobInfo:
+        return conv.job_info(self._call(method, rpc, pb.SetJobStateRequest(job_id=job_id), timeout).job)
+
+    def get_plan(self, job_id: int, timeout: Optional[float] = None) -> r.Plan:
+        """Every site of the job's plan and its state."""
+        return conv.plan(self._call("GetPlan", self._jobs.GetPlan, pb.GetPlanRequest(job_id=job_id), timeout))
+
+    def watch_job(self, job_id: int, include_map: bool = False,
+                  timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Iterator[r.JobUpdate]:
+        """Iterates over the job's progress updates until the job ends.
+
+        The first update is the current state; the last one is the update in
+        which the job is COMPLETED or CANCELLED, after which the iterator
+        stops. Intermediate updates are coalesced by the server (a slow reader
+        sees fewer, never stale ones). ``include_map`` adds the finest-level
+        map to every update. ``timeout`` bounds the whole watch. Closing the
+        iterator early (``break``, ``close()``) cancels the call. A failure
+        raises SurfmapError from the iteration.
+        """
+        request = pb.WatchJobRequest(job_id=job_id, include_map=include_map)
+        try:
+            call = self._jobs.WatchJob(request, timeout=timeout, metadata=self._metadata)
+        except grpc.RpcError as error:
+            raise error_from_rpc(error, "WatchJob") from None
+        return self._watch_updates(call)
+
+    @staticmethod
+    def _watch_updates(call) -> Iterator[r.JobUpdate]:
+        try:
+            for message in call:
+                yield conv.job_update(message)
+        except grpc.RpcError as error:
+            raise error_from_rpc(error, "WatchJob") from None
+        finally:
+            call.cancel()  # a no-op once the stream has ended
+
+    # ------------------------------------------------------------ samples and the map
+
+    def get_sample(self, trace_id: int, fit_version: int = 0, timeout: Optional[float] = None) -> r.Sample:
+        """The sample of a trace with its fit (``fit_version`` 0 = latest)."""
+        request = pb.GetSampleRequest(trace_id=trace_id, fit_version=fit_version)
+        return conv.sample(self._call("GetSample", self._maps.GetSample, request, timeout).sample)
+
+    def list_samples(self, job_id: int, fit_version: int = 0, timeout: Optional[float] = None) -> List[r.Sample]:
+        """Every sample of a job (``fit_version`` 0 = the latest fit of each trace)."""
+        request = pb.ListSamplesRequest(job_id=job_id, fit_version=fit_version)
+        return [conv.sample(s) for s in self._call("ListSamples", self._maps.ListSamples, request, timeout).samples]
+
+    def get_fits(self, trace_id: int, timeout: Optional[float] = None) -> List[r.Fit]:
+        """Every fit version of one trace, oldest first (refits keep the old ones)."""
+        fits: List[r.Fit] = []
+        latest = self.get_sample(trace_id, 0, timeout).fit
+        if latest is None:
+            return fits
+        for version in range(1, latest.version):
+            sample = self.get_sample(trace_id, version, timeout)
+            if sample.fit is not None:
+                fits.append(sample.fit)
+        fits.append(latest)
+        return fits
+
+    def get_map(self, job_id: int, level: int = -1, include_mesh: bool = True,
+                timeout: Optional[float] = None) -> r.SurfaceMap:
+        """The map at ``level`` (-1 = the job's finest) as numpy arrays, with
+        the level's mesh unless ``include_mesh`` is False."""
+        request = pb.GetMapRequest(job_id=job_id, level=level, include_mesh=include_mesh)
+        response = self._call("GetMap", self._maps.GetMap, request, timeout)
+        return conv.surface_map(response.map, response.mesh if response.HasField("mesh") else None)
+
+    def query_map(self, job_id: int, points: Union[np.ndarray, Sequence[Sequence[float]]],
+                  timeout: Optional[float] = None) -> r.MapQuery:
+        """The map at any 3D points (N, 3), each projected to the surface."""
+        array = np.asarray(points, dtype=float)
+        if array.ndim == 1 and array.size == 3:
+            array = array.reshape(1, 3)
+        if array.ndim != 2 or array.shape[1] != 3:
+            raise invalid_argument("QueryMap", f"points must have shape (N, 3), got {array.shape}")
+        if not np.all(np.isfinite(array)):
+            bad = int(np.argwhere(~np.isfinite(array))[0][0])
+            raise invalid_argument("QueryMap", f"points[{bad}] is not finite")
+        request = pb.QueryMapRequest(job_id=job_id, points=[pb.Vec3(x=p[0], y=p[1], z=p[2]) for p in array.tolist()])
+        return conv.map_query(self._call("QueryMap", self._maps.QueryMap, request, timeout))
+
+    # ------------------------------------------------------------ traces
+
+    def get_trace(self, trace_id: int, timeout: Optional[float] = None) -> r.Trace:
+        """Every sample of a stored drag trace, bit-exact."""
+        return conv.trace(self._call("GetTrace", self._traces.GetTrace, pb.GetTraceRequest(trace_id=trace_id), timeout))
+
+    def refit(self, job_id: int, step_mm: Optional[float] = None, ar_order: Optional[int] = None,
+              method: Union[r.ArMethod, str] = r.ArMethod.BURG, noise_aware: bool = True,
+              timeout: Optional[float] = None) -> r.RefitResult:
+        """Refits every trace of a job with these estimator settings; a new
+        fit version is stored per trace (the old ones stay). None = server
+        default (0.1 mm grid step, order 2)."""
+        try:
+            ar_method = conv.AR_METHOD_TO_PROTO[r.ArMethod(method)]
+        except ValueError as error:
+            raise invalid_argument("RefitJob", str(error)) from None
+        settings = pb.EstimatorSettings(step_mm=step_mm or 0.0, ar_order=ar_order or 0, ar_method=ar_method,
+                                        noise_aware=noise_aware)
+        response = self._call("RefitJob", self._traces.RefitJob, pb.RefitJobRequest(job_id=job_id, settings=settings),
+                              timeout)
+        return r.RefitResult(response.fit_version, response.refitted, response.failed)

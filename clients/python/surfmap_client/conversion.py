@@ -1,0 +1,129 @@
+"""Proto messages -> the records of records.py (one direction: the client only reads them)."""
+
+from __future__ import annotations
+
+from datetime import datetime, timezone
+from typing import Optional
+
+import numpy as np
+
+from . import records as r
+from ._stubs import pb
+
+_PROPERTY = {
+    pb.PROPERTY_FRICTION: r.Property.FRICTION,
+    pb.PROPERTY_ROUGHNESS: r.Property.ROUGHNESS,
+    pb.PROPERTY_BOTH: r.Property.BOTH,
+}
+_MODE = {
+    pb.SAMPLING_MODE_ADAPTIVE: r.SamplingMode.ADAPTIVE,
+    pb.SAMPLING_MODE_UNIFORM: r.SamplingMode.UNIFORM,
+    pb.SAMPLING_MODE_UNCERTAINTY: r.SamplingMode.UNCERTAINTY,
+}
+PROPERTY_TO_PROTO = {v: k for k, v in _PROPERTY.items()}
+MODE_TO_PROTO = {v: k for k, v in _MODE.items()}
+AR_METHOD_TO_PROTO = {r.ArMethod.BURG: pb.AR_METHOD_BURG, r.ArMethod.LEAST_SQUARES: pb.AR_METHOD_LEAST_SQUARES}
+
+
+def _time(message, name: str) -> Optional[datetime]:
+    if not message.HasField(name):
+        return None
+    return getattr(message, name).ToDatetime(tzinfo=timezone.utc)
+
+
+def _vec(v) -> np.ndarray:
+    return np.array([v.x, v.y, v.z], dtype=float)
+
+
+def vec_array(vectors) -> np.ndarray:
+    """repeated Vec3 -> (N, 3) float array."""
+    out = np.empty((len(vectors), 3), dtype=float)
+    for i, v in enumerate(vectors):
+        out[i, 0], out[i, 1], out[i, 2] = v.x, v.y, v.z
+    return out
+
+
+def object_info(m) -> r.ObjectInfo:
+    fmt = {pb.MESH_FORMAT_OBJ: "obj", pb.MESH_FORMAT_PLY: "ply"}.get(m.format, "unspecified")
+    return r.ObjectInfo(m.object_id, m.name, fmt, m.control_vertex_count, m.control_face_count, _time(m, "created"))
+
+
+def mesh(m) -> r.Mesh:
+    tri = np.array(m.triangle_indices, dtype=np.int64).reshape(-1, 3)
+    return r.Mesh(m.object_id, m.level, vec_array(m.positions), vec_array(m.normals), tri)
+
+
+def job_spec(m) -> r.JobSpec:
+    probe = r.ProbeParameters(m.probe.segment_length_mm, m.probe.speed_mm_s, m.probe.normal_force_n)
+    lease_s = m.lease.seconds + m.lease.nanos * 1e-9
+    return r.JobSpec(m.object_id, _PROPERTY.get(m.property, r.Property.FRICTION),
+                     _MODE.get(m.mode, r.SamplingMode.ADAPTIVE), m.coarsest_level, m.finest_level, m.threshold, m.budget, probe, m.seed, m.max_retries, lease_s)
+
+
+def job_progress(m) -> r.JobProgress:
+    levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed) for l in m.levels)
+    return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels)
+
+
+def job_info(m) -> r.JobInfo:
+    return r.JobInfo(m.job_id, job_spec(m.spec), r.JobState(m.state), job_progress(m.progress),
+                     _time(m, "created"), _time(m, "updated"))
+
+
+def plan(m) -> r.Plan:
+    sites = tuple(
+        r.PlanSite(s.site.level, s.site.vertex, r.SiteState(s.state), s.attempts, s.failure_reason, _vec(s.position))
+        for s in m.sites)
+    return r.Plan(m.job_id, job_progress(m.progress), sites)
+
+
+def fit(m) -> r.Fit:
+    f = m.friction
+    friction = r.FrictionEstimate(f.mu, f.mu_std, f.mu_median, _vec(f.normal), f.pair_count,
+                                  f.window_start_mm, f.window_end_mm)
+    g = m.roughness
+    roughness = r.RoughnessEstimate(tuple(g.ar_coefficients), tuple(g.ar_stderr), g.sigma, g.stationary,
+                                    tuple(g.reflection), g.acf_decay_mm, g.dominant_wavelength_mm,
+                                    g.below_noise_floor)
+    return r.Fit(m.fit_id, m.version, m.estimator, m.estimator_version, m.options_json, friction, roughness,
+                 m.noise_std)
+
+
+def sample(m) -> r.Sample:
+    return r.Sample(m.trace_id, m.command_id, m.job_id, m.site.level, m.site.vertex, _vec(m.position),
+                    _vec(m.drag_direction), m.segment_length_mm, fit(m.fit) if m.HasField("fit") else None,
+                    _time(m, "received"))
+
+
+def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
+    m = level_message
+    arrays = {name: np.array(getattr(m, name), dtype=float) for name in ("mu", "mu_uncertainty", "sigma", "a1", "a2")}
+    positions = normals = triangles = None
+    if mesh_message is not None and len(mesh_message.positions) > 0:
+        mm = mesh(mesh_message)
+        positions, normals, triangles = mm.positions, mm.normals, mm.triangles
+    return r.SurfaceMap(job_id=m.job_id, level=m.level, vertex_count=m.vertex_count,
+                        samples=tuple(sample(s) for s in m.samples), positions=positions, normals=normals,
+                        triangles=triangles, **arrays)
+
+
+def map_query(m) -> r.MapQuery:
+    v = m.values
+    column = lambda name: np.array([getattr(x, name) for x in v], dtype=float)  # noqa: E731
+    return r.MapQuery(vec_array([x.surface_point for x in v]), vec_array([x.normal for x in v]),
+                      column("distance_mm"), column("mu"), column("mu_uncertainty"), column("sigma"),
+                      column("a1"), column("a2"))
+
+
+def trace(m) -> r.Trace:
+    s = m.samples
+    xyz = np.column_stack([np.array(s.x, dtype=float), np.array(s.y, dtype=float), np.array(s.z, dtype=float)])
+    f = np.column_stack([np.array(s.fx, dtype=float), np.array(s.fy, dtype=float), np.array(s.fz, dtype=float)])
+    return r.Trace(m.trace_id, m.command_id, m.job_id, np.array(s.t, dtype=float), xyz.reshape(-1, 3),
+                   f.reshape(-1, 3), np.array(s.phases, dtype=np.int8))
+
+
+def job_update(m) -> r.JobUpdate:
+    latest = sample(m.latest_sample) if m.HasField("latest_sample") and m.latest_sample.trace_id != 0 else None
+    level_map = surface_map(m.map) if m.HasField("map") else None
+    return r.JobUpdate(job_info(m.job), latest, level_map)

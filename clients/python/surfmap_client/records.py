@@ -1,0 +1,338 @@
+"""Typed records returned by the client: plain dataclasses and numpy arrays.
+
+Units follow the API: lengths in mm, forces in N, speeds in mm/s, times in s
+(timestamps as timezone-aware ``datetime``). Per-vertex and per-sample values
+are numpy arrays; an unknown map value is NaN. The records are frozen: they
+are snapshots of what the server answered.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass, field
+from datetime import datetime
+from typing import Optional, Tuple
+
+import numpy as np
+
+
+class Property(str, enum.Enum):
+    """What a job maps."""
+
+    FRICTION = "friction"
+    ROUGHNESS = "roughness"
+    BOTH = "both"
+
+
+class SamplingMode(str, enum.Enum):
+    """How a job chooses its sites."""
+
+    ADAPTIVE = "adaptive"        # the paper's threshold rule
+    UNIFORM = "uniform"          # every vertex of the finest level
+    UNCERTAINTY = "uncertainty"  # next site where the map is most uncertain
+
+
+class ArMethod(str, enum.Enum):
+    """AR estimator of a refit."""
+
+    BURG = "burg"
+    LEAST_SQUARES = "ls"
+
+
+class JobState(enum.IntEnum):
+    """Values equal the proto's JobState numbers."""
+
+    UNSPECIFIED = 0
+    RUNNING = 1
+    PAUSED = 2
+    COMPLETED = 3
+    CANCELLED = 4
+
+    @property
+    def finished(self) -> bool:
+        return self in (JobState.COMPLETED, JobState.CANCELLED)
+
+
+class SiteState(enum.IntEnum):
+    """Values equal the proto's SiteState numbers."""
+
+    UNSPECIFIED = 0
+    PENDING = 1
+    ISSUED = 2
+    MEASURED = 3
+    FAILED = 4
+    SKIPPED = 5
+
+
+class Phase(enum.IntEnum):
+    """Phase of a trace sample; values equal the proto's Phase numbers."""
+
+    UNSPECIFIED = 0
+    FORWARD = 1
+    PAUSE = 2
+    REVERSE = 3
+
+
+@dataclass(frozen=True)
+class ObjectInfo:
+    object_id: int
+    name: str
+    format: str                   # "obj" or "ply"
+    control_vertex_count: int
+    control_face_count: int
+    created: Optional[datetime]
+
+
+@dataclass(frozen=True)
+class Mesh:
+    """One subdivision level of an object: limit positions and normals."""
+
+    object_id: int
+    level: int
+    positions: np.ndarray         # (N, 3) mm
+    normals: np.ndarray           # (N, 3) unit, outward
+    triangles: np.ndarray         # (M, 3) int vertex indices
+
+
+@dataclass(frozen=True)
+class ProbeParameters:
+    segment_length_mm: float
+    speed_mm_s: float
+    normal_force_n: float
+
+
+@dataclass(frozen=True)
+class JobSpec:
+    """A job's settings as the server applied them (its defaults filled in)."""
+
+    object_id: int
+    property: Property
+    mode: SamplingMode
+    coarsest_level: int
+    finest_level: int
+    threshold: float
+    budget: int                   # 0 = unlimited
+    probe: ProbeParameters
+    seed: int
+    max_retries: int
+    lease_s: float
+
+
+@dataclass(frozen=True)
+class LevelProgress:
+    level: int
+    measured: int
+    pending: int
+    issued: int
+    failed: int
+
+
+@dataclass(frozen=True)
+class JobProgress:
+    measured: int
+    pending: int
+    issued: int
+    failed: int
+    skipped: int
+    budget_left: int              # -1 = unlimited
+    complete: bool
+    levels: Tuple[LevelProgress, ...]
+
+
+@dataclass(frozen=True)
+class JobInfo:
+    job_id: int
+    spec: JobSpec
+    state: JobState
+    progress: JobProgress
+    created: Optional[datetime]
+    updated: Optional[datetime]
+
+
+@dataclass(frozen=True)
+class PlanSite:
+    level: int
+    vertex: int
+    state: SiteState
+    attempts: int
+    failure_reason: str
+    position: np.ndarray          # (3,) mm
+
+
+@dataclass(frozen=True)
+class Plan:
+    job_id: int
+    progress: JobProgress
+    sites: Tuple[PlanSite, ...]
+
+
+@dataclass(frozen=True)
+class FrictionEstimate:
+    mu: float
+    mu_std: float
+    mu_median: float
+    normal: np.ndarray            # (3,) mean normal over the window
+    pair_count: int
+    window_start_mm: float        # the data window, along the forward path from its first sample
+    window_end_mm: float
+
+
+@dataclass(frozen=True)
+class RoughnessEstimate:
+    ar_coefficients: Tuple[float, ...]   # a1..ap
+    ar_stderr: Tuple[float, ...]
+    sigma: float                         # innovation std, N
+    stationary: bool
+    reflection: Tuple[float, ...]
+    acf_decay_mm: float
+    dominant_wavelength_mm: float        # 0 when there is no oscillation
+    below_noise_floor: bool
+
+    @property
+    def a1(self) -> float:
+        return self.ar_coefficients[0] if len(self.ar_coefficients) > 0 else float("nan")
+
+    @property
+    def a2(self) -> float:
+        return self.ar_coefficients[1] if len(self.ar_coefficients) > 1 else float("nan")
+
+
+@dataclass(frozen=True)
+class Fit:
+    fit_id: int
+    version: int                  # 1 = on arrival, 2.. = refits
+    estimator: str
+    estimator_version: str
+    options_json: str
+    friction: FrictionEstimate
+    roughness: RoughnessEstimate
+    noise_std: float              # sensor noise seen in the pause, N
+
+
+@dataclass(frozen=True)
+class Sample:
+    """One measured site: its drag and the fit of its trace."""
+
+    trace_id: int
+    command_id: int
+    job_id: int
+    level: int
+    vertex: int
+    position: np.ndarray          # (3,) the site on the surface, mm
+    drag_direction: np.ndarray    # (3,) unit, forward pass
+    segment_length_mm: float
+    fit: Optional[Fit]
+    received: Optional[datetime]
+
+
+@dataclass(frozen=True)
+class SurfaceMap:
+    """The map at one subdivision level, as arrays.
+
+    Per vertex (N = vertex_count): ``mu``, ``mu_uncertainty`` (standard
+    deviation), ``sigma`` (roughness innovation std, N), ``a1``, ``a2``; NaN
+    where unknown. ``positions``/``normals``/``triangles`` are present when
+    the map was fetched with its mesh, else None. Per measured sample (S):
+    ``sample_positions`` (S, 3), ``sample_drag_directions`` (S, 3),
+    ``sample_sites`` (S, 2) as (level, vertex), ``sample_mu`` (S,), and the
+    full records in ``samples``.
+    """
+
+    job_id: int
+    level: int
+    vertex_count: int
+    mu: np.ndarray
+    mu_uncertainty: np.ndarray
+    sigma: np.ndarray
+    a1: np.ndarray
+    a2: np.ndarray
+    samples: Tuple[Sample, ...]
+    positions: Optional[np.ndarray] = None
+    normals: Optional[np.ndarray] = None
+    triangles: Optional[np.ndarray] = None
+    sample_positions: np.ndarray = field(init=False, repr=False)
+    sample_drag_directions: np.ndarray = field(init=False, repr=False)
+    sample_sites: np.ndarray = field(init=False, repr=False)
+    sample_mu: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        s = self.samples
+        set_ = object.__setattr__  # frozen: derived arrays are set once, here
+        set_(self, "sample_positions", np.array([x.position for x in s], dtype=float).reshape(len(s), 3))
+        set_(self, "sample_drag_directions",
+             np.array([x.drag_direction for x in s], dtype=float).reshape(len(s), 3))
+        set_(self, "sample_sites", np.array([(x.level, x.vertex) for x in s], dtype=np.int64).reshape(len(s), 2))
+        set_(self, "sample_mu",
+             np.array([x.fit.friction.mu if x.fit is not None else np.nan for x in s], dtype=float))
+
+
+@dataclass(frozen=True)
+class MapQuery:
+    """QueryMap's answer: one row per query point, in order."""
+
+    surface_points: np.ndarray    # (N, 3) the query points projected to the surface
+    normals: np.ndarray           # (N, 3)
+    distance_mm: np.ndarray       # (N,) from each query point to the surface
+    mu: np.ndarray
+    mu_uncertainty: np.ndarray
+    sigma: np.ndarray
+    a1: np.ndarray
+    a2: np.ndarray
+
+
+@dataclass(frozen=True)
+class Trace:
+    """A raw drag trace, bit-exact as stored.
+
+    ``t`` (N,) s; ``xyz`` (N, 3) tip position, mm; ``f`` (N, 3) force BY the
+    surface ON the probe, N; ``phase`` (N,) int8 with ``Phase`` values.
+    """
+
+    trace_id: int
+    command_id: int
+    job_id: int
+    t: np.ndarray
+    xyz: np.ndarray
+    f: np.ndarray
+    phase: np.ndarray
+
+    @property
+    def forward(self) -> np.ndarray:
+        """Boolean mask of the forward pass."""
+        return self.phase == Phase.FORWARD
+
+    @property
+    def pause(self) -> np.ndarray:
+        return self.phase == Phase.PAUSE
+
+    @property
+    def reverse(self) -> np.ndarray:
+        return self.phase == Phase.REVERSE
+
+    def to_csv(self, path: str) -> None:
+        """Writes the project's drag-trace CSV (``surfmap fit`` reads it)."""
+        names = {Phase.FORWARD: "fwd", Phase.PAUSE: "pause", Phase.REVERSE: "rev"}
+        with open(path, "w", encoding="ascii") as out:
+            out.write(f"# trace {self.trace_id} of job {self.job_id}, command {self.command_id}\n")
+            out.write("t,x,y,z,fx,fy,fz,phase\n")
+            for i in range(len(self.t)):
+                # repr() round-trips a double exactly.
+                values = [self.t[i], *self.xyz[i], *self.f[i]]
+                out.write(",".join(repr(float(v)) for v in values))
+                out.write("," + names.get(Phase(int(self.phase[i])), "unspecified") + "\n")
+
+
+@dataclass(frozen=True)
+class JobUpdate:
+    """One message of the WatchJob stream."""
+
+    job: JobInfo
+    latest_sample: Optional[Sample]   # the sample that caused this update, if any
+    map: Optional[SurfaceMap]         # finest level, when watched with include_map
+
+
+@dataclass(frozen=True)
+class RefitResult:
+    fit_version: int              # the new version every refitted trace now has
+    refitted: int
+    failed: int
