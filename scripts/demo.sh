@@ -11,7 +11,10 @@
 #   --no-deps    skip scripts/install-deps.sh (it needs root or sudo)
 #   --no-build   use the binaries already in the build directory
 #   --rigs N     simulated rigs in parallel (default 2)
-#   --dashboard  not implemented yet (a later issue): accepted and ignored
+#   --dashboard  also start the web dashboard (clients/dashboard, Node.js) on
+#                DEMO_DASHBOARD_LISTEN (default 127.0.0.1:8080) before the rigs
+#                run, print its URL, and keep surfmapd and the dashboard up after
+#                the mapping until Ctrl-C
 # Environment: SURFMAP_BUILD_DIR (default build), DEMO_FINEST, DEMO_THRESHOLD,
 # DEMO_BUDGET to try other plans.
 set -euo pipefail
@@ -21,14 +24,15 @@ ROOT=$(pwd)
 INSTALL_DEPS=1
 BUILD=1
 RIGS=2
+DASHBOARD=0
 for arg in "$@"; do
   case "$arg" in
     --no-deps) INSTALL_DEPS=0 ;;
     --no-build) BUILD=0 ;;
-    --dashboard) echo "demo: --dashboard is not implemented yet (a later issue); continuing without it" ;;
+    --dashboard) DASHBOARD=1 ;;
     --rigs=*) RIGS=${arg#--rigs=} ;;
     --rigs) RIGS=__next__ ;;
-    -h|--help) sed -n '2,19p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *)
       if [ "$RIGS" = "__next__" ]; then RIGS=$arg; else echo "demo: unknown argument '$arg'" >&2; exit 2; fi ;;
   esac
@@ -51,9 +55,13 @@ RIG=$BUILD_DIR/clients/rig_client/surfmap-rig
 MESH=clients/scenes/bottle.obj
 
 SERVER_PID=""
+DASHBOARD_PID=""
 RIG_PIDS=()
 cleanup() {
   local status=$?
+  if [ -n "$DASHBOARD_PID" ] && kill -0 "$DASHBOARD_PID" 2>/dev/null; then
+    kill -TERM "$DASHBOARD_PID" 2>/dev/null || true
+  fi
   for pid in "${RIG_PIDS[@]:-}"; do
     [ -n "$pid" ] && kill -TERM "$pid" 2>/dev/null || true
   done
@@ -107,6 +115,34 @@ JOB=$("$SURFMAP" job create --object "$OBJECT" --property friction --mode adapti
   --coarsest 0 --finest "$FINEST" --threshold "$THRESHOLD" --budget "$BUDGET" --seed 2001)
 echo "demo: object $OBJECT (bottle), job $JOB: adaptive friction map, levels 0..$FINEST, threshold $THRESHOLD"
 
+if [ "$DASHBOARD" = 1 ]; then
+  command -v node >/dev/null 2>&1 || { echo "demo: --dashboard needs Node.js (scripts/install-deps.sh installs it)" >&2; exit 1; }
+  if [ ! -f clients/dashboard/node_modules/.package-lock.json ]; then
+    (cd clients/dashboard && npm ci --no-audit --no-fund --loglevel=error)
+  fi
+  node clients/dashboard/server.js --server "$SURFMAP_SERVER" --listen "${DEMO_DASHBOARD_LISTEN:-127.0.0.1:8080}" \
+    >"$OUT/dashboard.log" 2>&1 &
+  DASHBOARD_PID=$!
+  DASHBOARD_URL=""
+  for _ in $(seq 1 200); do
+    DASHBOARD_URL=$(sed -n 's/.*listening on \(http[^ ]*\).*/\1/p' "$OUT/dashboard.log")
+    [ -n "$DASHBOARD_URL" ] && break
+    kill -0 "$DASHBOARD_PID" 2>/dev/null || break
+    sleep 0.1
+  done
+  if [ -z "$DASHBOARD_URL" ]; then
+    echo "demo: the dashboard did not start; its log:" >&2
+    cat "$OUT/dashboard.log" >&2
+    exit 1
+  fi
+  echo "demo: dashboard (pid $DASHBOARD_PID) at $DASHBOARD_URL/#job=$JOB"
+  if [ -t 0 ]; then
+    # The mapping takes seconds: give a person time to open the page first.
+    read -r -t "${DEMO_DASHBOARD_WAIT:-20}" -p "demo: open it, then press Enter to start the rigs (or wait ${DEMO_DASHBOARD_WAIT:-20} s) " _ || true
+    echo
+  fi
+fi
+
 # The first rig shows progress; the others run quietly. Each logs to a file too.
 for i in $(seq 1 "$RIGS"); do
   name=rig-$i
@@ -140,7 +176,21 @@ grep -q "COMPLETED" <(head -n 1 "$OUT/job.txt") || { echo "demo: job $JOB did no
 echo
 "$RIG" score --sim bottle --map "$OUT/bottle_map.json" --json "$OUT/bottle_score.json" | tee "$OUT/score.txt"
 
-kill -TERM "$SERVER_PID"
+if [ "$DASHBOARD" = 1 ]; then
+  echo
+  echo "demo: mapping finished; the dashboard stays up at $DASHBOARD_URL/#job=$JOB (surfmapd at $SURFMAP_SERVER)"
+  echo "demo: press Ctrl-C to stop both and print the summary"
+  # Ctrl-C ends this wait (and reaches surfmapd and the dashboard, which both
+  # shut down cleanly on SIGINT); the summary below still runs.
+  trap 'true' INT
+  wait "$DASHBOARD_PID" 2>/dev/null || true
+  trap 'exit 130' INT
+  kill -TERM "$DASHBOARD_PID" 2>/dev/null || true
+  wait "$DASHBOARD_PID" 2>/dev/null || true
+  DASHBOARD_PID=""
+fi
+
+kill -TERM "$SERVER_PID" 2>/dev/null || true  # after Ctrl-C with --dashboard it may have stopped already
 SERVER_STATUS=0
 wait "$SERVER_PID" || SERVER_STATUS=$?
 SERVER_PID=""
