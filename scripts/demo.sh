@@ -44,7 +44,7 @@ case "$RIGS" in ''|*[!0-9]*|0) echo "demo: --rigs needs a positive number" >&2; 
 # (mu_scale 0.05: glass 0.13 vs sandpaper 0.5 is ~7 units, measurement noise
 # well under 1) down to level FINEST.
 FINEST=${DEMO_FINEST:-1}
-THRESHOLD=${DEMO_THRESHOLD:-2.0}
+THRESHOLD=${DEMO_THRESHOLD:-4.0}
 BUDGET=${DEMO_BUDGET:-0}
 
 BUILD_DIR=${SURFMAP_BUILD_DIR:-build}

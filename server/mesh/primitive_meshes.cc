@@ -179,6 +179,10 @@ absl::StatusOr<ControlMesh> MakeBottle(const BottleShape& shape) {
         "start (%g) < height (%g) mm",
         neck_radius, radius, heel, shape.body_top_mm, neck_start, height));
   }
+  if (!(shape.max_ring_spacing_mm > 0)) {
+    return absl::InvalidArgumentError(
+        absl::StrFormat("bottle ring spacing %g mm must be positive", shape.max_ring_spacing_mm));
+  }
   if (shape.segments < 3 || shape.segments > 4096) {
     return absl::InvalidArgumentError(absl::StrFormat("bottle segments %d must be 3..4096", shape.segments));
   }
@@ -187,20 +191,23 @@ absl::StatusOr<ControlMesh> MakeBottle(const BottleShape& shape) {
   std::vector<Eigen::Vector2d> profile;
   auto add = [&](double r, double z) { profile.emplace_back(r * widen, z); };
   profile.emplace_back(0.0, 0.0);
-  add(0.5 * radius, 0.0);
+  if (!shape.minimal_rings) add(0.5 * radius, 0.0);
   add(0.9 * radius, 0.0);
-  // Body: rings at most ~30 mm apart from the heel to the shoulder.
-  const int body_intervals = std::max(1, static_cast<int>(std::ceil((shape.body_top_mm - heel) / 30.0)));
+  // Body: rings at most max_ring_spacing_mm apart from the heel to the shoulder.
+  const int body_intervals =
+      std::max(1, static_cast<int>(std::ceil((shape.body_top_mm - heel) / shape.max_ring_spacing_mm)));
   for (int i = 0; i <= body_intervals; ++i) add(radius, heel + (shape.body_top_mm - heel) * i / body_intervals);
   // Shoulder: a cosine blend from the body radius down to the neck.
-  for (double t : {0.25, 0.5, 0.75}) {
+  const std::vector<double> shoulder =
+      shape.minimal_rings ? std::vector<double>{1.0 / 3.0, 2.0 / 3.0} : std::vector<double>{0.25, 0.5, 0.75};
+  for (double t : shoulder) {
     add(neck_radius + (radius - neck_radius) * 0.5 * (1.0 + std::cos(std::numbers::pi * t)),
         shape.body_top_mm + (neck_start - shape.body_top_mm) * t);
   }
   add(neck_radius, neck_start);
-  add(neck_radius, 0.5 * (neck_start + height));
+  if (!shape.minimal_rings) add(neck_radius, 0.5 * (neck_start + height));
   add(neck_radius, height);
-  add(0.5 * neck_radius, height);
+  if (!shape.minimal_rings) add(0.5 * neck_radius, height);
   profile.emplace_back(0.0, height);
   return MakeSurfaceOfRevolution(profile, shape.segments);
 }

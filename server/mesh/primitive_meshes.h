@@ -50,6 +50,10 @@ struct BottleShape {
   double neck_radius_mm = 14.0;
   double neck_length_mm = 30.0;  // the neck ends at height_mm
   int segments = 12;
+  double max_ring_spacing_mm = 30.0;  // between the body's rings, heel to shoulder
+  // One ring at the base, two on the shoulder, the neck's two ends only: the
+  // fewest control vertices that keep the shape (a coarse level 0 to sample).
+  bool minimal_rings = false;
 };
 absl::StatusOr<ControlMesh> MakeBottle(const BottleShape& shape = {});
 

@@ -24,7 +24,7 @@ namespace {
 using std::chrono::milliseconds;
 using std::chrono::seconds;
 
-// Adaptive friction mapping of the bottle from level 0 (182 sites) refining
+// Adaptive friction mapping of the bottle from level 0 (82 sites) refining
 // to level 2 where neighbours differ by more than 2 mu_scale (0.1 in mu).
 JobSpecOptions BottleJob() {
   JobSpecOptions options;
@@ -118,8 +118,8 @@ TEST(BottleMapping, FourConcurrentRigsMapTheBottle) {
   ITEST_ASSERT_OK_AND_ASSIGN(rig, MakeSceneRig("bottle"));
   Stubs stubs(server->channel());
   ITEST_ASSERT_OK_AND_ASSIGN(object, UploadSceneMesh(stubs, *rig));
-  EXPECT_EQ(object.control_vertex_count(), 182);
-  EXPECT_EQ(object.control_face_count(), 360);
+  EXPECT_EQ(object.control_vertex_count(), 82);
+  EXPECT_EQ(object.control_face_count(), 160);
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(object.object_id(), BottleJob())));
   EXPECT_EQ(job.state(), pb::JOB_STATE_RUNNING);
 
@@ -138,7 +138,7 @@ TEST(BottleMapping, FourConcurrentRigsMapTheBottle) {
   ExpectExactlyOnceAndNothingLost(stubs, job.job_id(), record);
 
   // Refinement happened, near the patches: more sites than level 0 alone.
-  EXPECT_GT(done.progress().measured(), 182);
+  EXPECT_GT(done.progress().measured(), 82);
   std::set<std::string> rigs_used;
   for (const RigAck& ack : record.acks) rigs_used.insert(ack.rig);
   EXPECT_EQ(rigs_used.size(), 4u) << "all four rigs should have measured something";
