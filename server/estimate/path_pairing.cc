@@ -11,20 +11,26 @@
 namespace surfmap {
 namespace {
 
-struct Foot {
-  double distance;
-  double s;
+// One segment of the forward polyline, prepared once: every reverse sample
+// is projected onto a few of them (and the first onto all).
+struct Segment {
+  Eigen::Vector3d a;
+  Eigen::Vector3d ab;
+  double inverse_length2;  // 0 for a degenerate segment
 };
 
-// Closest point to q on the forward segment k (samples k, k + 1).
-Foot ProjectOnSegment(const std::vector<Eigen::Vector3d>& forward,
-                      const std::vector<double>& forward_s, int k, const Eigen::Vector3d& q) {
-  const Eigen::Vector3d& a = forward[k];
-  const Eigen::Vector3d ab = forward[k + 1] - a;
-  const double length2 = ab.squaredNorm();
-  double t = length2 > 0.0 ? (q - a).dot(ab) / length2 : 0.0;
-  t = std::clamp(t, 0.0, 1.0);
-  return {(a + t * ab - q).norm(), forward_s[k] + t * (forward_s[k + 1] - forward_s[k])};
+struct Foot {
+  double distance2;  // squared: compared far more often than reported
+  int segment;
+  double t;  // 0..1 along the segment
+};
+
+// Closest point to q on segment k.
+Foot ProjectOnSegment(const std::vector<Segment>& segments, int k, const Eigen::Vector3d& q) {
+  const Segment& seg = segments[k];
+  const Eigen::Vector3d aq = q - seg.a;
+  const double t = std::clamp(aq.dot(seg.ab) * seg.inverse_length2, 0.0, 1.0);
+  return {(aq - t * seg.ab).squaredNorm(), k, t};
 }
 
 }  // namespace
@@ -79,6 +85,16 @@ absl::StatusOr<PathPairing> PairPasses(std::span<const DragSample> forward,
   const double max_offset = std::max(options.max_offset_floor_mm,
                                      options.max_offset_fraction * pairing.path_length_mm);
   const int segments = nf - 1;
+  std::vector<Segment> segment(segments);
+  for (int m = 0; m < segments; ++m) {
+    const Eigen::Vector3d ab = path[m + 1] - path[m];
+    const double length2 = ab.squaredNorm();
+    segment[m] = {path[m], ab, length2 > 0.0 ? 1.0 / length2 : 0.0};
+  }
+  const auto arc_length = [&](const Foot& foot) {
+    const int m = foot.segment;
+    return pairing.forward_s[m] + foot.t * (pairing.forward_s[m + 1] - pairing.forward_s[m]);
+  };
 
   // The reverse pass runs from the forward end back to its start, so visiting
   // its samples from last to first walks the forward polyline forwards.
@@ -87,15 +103,15 @@ absl::StatusOr<PathPairing> PairPasses(std::span<const DragSample> forward,
     // The first foot is found by a full scan: the reverse pass may stop short.
     double best = std::numeric_limits<double>::infinity();
     for (int m = 0; m < segments; ++m) {
-      const Foot foot = ProjectOnSegment(path, pairing.forward_s, m, reverse[nr - 1].position);
-      if (foot.distance < best) {
-        best = foot.distance;
+      const Foot foot = ProjectOnSegment(segment, m, reverse[nr - 1].position);
+      if (foot.distance2 < best) {
+        best = foot.distance2;
         k = m;
       }
     }
   }
   double previous_s = 0.0;
-  double max_seen = 0.0;
+  double max_seen = 0.0;  // squared until the loop ends
   int worst = nr - 1;
   for (int j = nr - 1; j >= 0; --j) {
     const Eigen::Vector3d& q = reverse[j].position;
@@ -103,23 +119,20 @@ absl::StatusOr<PathPairing> PairPasses(std::span<const DragSample> forward,
     // plus a margin (0.1 mm, 20x the position noise of a typical rig).
     const double moved = j == nr - 1 ? 0.0 : (q - reverse[j + 1].position).norm();
     const double reach = std::max(previous_s, pairing.forward_s[k]) + moved + 0.1;
-    Foot best = ProjectOnSegment(path, pairing.forward_s, k, q);
-    int best_k = k;
+    Foot best = ProjectOnSegment(segment, k, q);
     for (int m = k + 1; m < segments && pairing.forward_s[m] <= reach; ++m) {
-      const Foot foot = ProjectOnSegment(path, pairing.forward_s, m, q);
-      if (foot.distance < best.distance) {
-        best = foot;
-        best_k = m;
-      }
+      const Foot foot = ProjectOnSegment(segment, m, q);
+      if (foot.distance2 < best.distance2) best = foot;
     }
-    k = best_k;
-    previous_s = best.s;
-    pairing.reverse_s[j] = best.s;
-    if (best.distance > max_seen) {
-      max_seen = best.distance;
+    k = best.segment;
+    previous_s = arc_length(best);
+    pairing.reverse_s[j] = previous_s;
+    if (best.distance2 > max_seen) {
+      max_seen = best.distance2;
       worst = j;
     }
   }
+  max_seen = std::sqrt(max_seen);
   pairing.max_offset_mm = max_seen;
   if (max_seen > max_offset) {
     return absl::InvalidArgumentError(absl::StrFormat(
