@@ -259,6 +259,21 @@ TEST_F(SqliteStoreTest, PlanJournalAppendsAndACheckpointClearsIt) {
   EXPECT_EQ(plan->revision, 5);
 }
 
+TEST_F(SqliteStoreTest, CountLeasedCommandsCountsOnlyUnexpiredLeases) {
+  CreatedJob job = Job(5);
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 0);
+  CommandRecord a = Lease(job.job.id, "rig-a", now_ms_, 1000);
+  Lease(job.job.id, "rig-b", now_ms_, 5000);
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 2);
+  // a's lease runs out at +1000 ms: from then on it counts no more.
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_ + 999), 2);
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_ + 1000), 1);
+  // An answered command is done, not leased.
+  ASSERT_TRUE(store_->AcceptTrace(MakeTestAccept(a, 10)).ok());
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 1);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id + 7, now_ms_).status().code(), absl::StatusCode::kNotFound);
+}
+
 TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {
   CreatedJob job = Job(2);
   CommandRecord command = Lease(job.job.id, "rig-a");

@@ -1,5 +1,6 @@
 #include "server/jobs/job_coordinator.h"
 
+#include <algorithm>
 #include <chrono>
 #include <utility>
 
@@ -68,6 +69,39 @@ std::vector<NewCommand> DrainCommands(SamplingPlan& plan) {
 
 NewEvent Event(const std::string& kind, nlohmann::json detail) { return NewEvent{kind, detail.dump()}; }
 
+// The time of the job's newest event: every change of a job (creation, state
+// change, accepted trace, reported failure) writes one in the same
+// transaction. `fallback` when the job has no events.
+absl::StatusOr<int64_t> LastEventUnixMs(Store& store, int64_t job_id, int64_t fallback) {
+  constexpr int kPage = 4096;
+  int64_t after = 0, last = fallback;
+  while (true) {
+    absl::StatusOr<std::vector<EventRecord>> events = store.ListEvents(job_id, after, kPage);
+    if (!events.ok()) return events.status();
+    for (const EventRecord& e : *events) last = std::max(last, e.unix_ms);
+    if (static_cast<int>(events->size()) < kPage) return last;
+    after = events->back().id;
+  }
+}
+
+// The job's newest stored trace as a sample (null when it has none).
+absl::StatusOr<std::shared_ptr<const AcceptedSample>> LoadLatestSample(Store& store, int64_t job_id) {
+  absl::StatusOr<std::vector<TraceRecord>> traces = store.ListTraces(job_id, /*include_samples=*/false);
+  if (!traces.ok()) return traces.status();
+  if (traces->empty()) return std::shared_ptr<const AcceptedSample>();
+  const TraceRecord& trace = traces->back();
+  auto sample = std::make_shared<AcceptedSample>();
+  absl::StatusOr<CommandRecord> command = store.GetCommand(trace.command_id);
+  if (!command.ok()) return command.status();
+  absl::StatusOr<FitRecord> fit = store.GetFit(trace.id, 1);
+  if (!fit.ok()) return fit.status();
+  sample->command = std::move(*command);
+  sample->trace_id = trace.id;
+  sample->fit = std::move(*fit);
+  sample->received_unix_ms = trace.received_unix_ms;
+  return std::shared_ptr<const AcceptedSample>(std::move(sample));
+}
+
 }  // namespace
 
 int64_t UnixMillisNow() {
@@ -111,7 +145,14 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobCoordinator::LoadRuntime(const Jo
   runtime->journal_entries = static_cast<int>(plan_record->journal.size());
   runtime->measured_revision = runtime->plan.Progress().measured;
   runtime->created_unix_ms = record.created_unix_ms;
-  runtime->updated_unix_ms = record.updated_unix_ms;
+  // The job row's time changes only with its state; traces and failures since
+  // then are newer changes.
+  absl::StatusOr<int64_t> updated = LastEventUnixMs(*store_, record.id, record.updated_unix_ms);
+  if (!updated.ok()) return updated.status();
+  runtime->updated_unix_ms = std::max(record.updated_unix_ms, *updated);
+  absl::StatusOr<std::shared_ptr<const AcceptedSample>> latest = LoadLatestSample(*store_, record.id);
+  if (!latest.ok()) return latest.status();
+  runtime->latest_sample = std::move(*latest);
   return runtime;
 }
 
@@ -193,8 +234,23 @@ JobSnapshot JobCoordinator::SnapshotLocked(JobRuntime& runtime, const JobRecord&
   s.record = record;
   s.record.state = runtime.state;
   s.params = runtime.params;
+  s.record.updated_unix_ms = std::max(record.updated_unix_ms, runtime.updated_unix_ms);
   s.progress = runtime.plan.Progress();
+  s.latest_sample = runtime.latest_sample;
   return s;
+}
+
+absl::StatusOr<int> JobCoordinator::LeasedCommandCount(int64_t job_id) {
+  return store_->CountLeasedCommands(job_id, UnixMillisNow());
+}
+
+absl::Status JobCoordinator::AddLeasedCount(JobSnapshot& snapshot) {
+  absl::StatusOr<int> leased = LeasedCommandCount(snapshot.record.id);
+  if (!leased.ok()) return leased.status();
+  // Read after the plan's counts: a command whose trace is being written is
+  // still leased in the store while the plan already counts it measured.
+  snapshot.leased = std::min(*leased, snapshot.progress.issued);
+  return absl::OkStatus();
 }
 
 absl::StatusOr<JobSnapshot> JobCoordinator::CreateJob(const JobParams& params) {
@@ -221,8 +277,13 @@ absl::StatusOr<JobSnapshot> JobCoordinator::CreateJob(const JobParams& params) {
     std::lock_guard<std::mutex> lock(mu_);
     jobs_[created->job.id] = runtime;
   }
-  std::lock_guard<std::mutex> lock(runtime->mu);
-  return SnapshotLocked(*runtime, created->job);
+  JobSnapshot snapshot;
+  {
+    std::lock_guard<std::mutex> lock(runtime->mu);
+    snapshot = SnapshotLocked(*runtime, created->job);
+  }
+  snapshot.leased = 0;  // nothing can have been leased yet
+  return snapshot;
 }
 
 absl::StatusOr<JobSnapshot> JobCoordinator::GetJob(int64_t job_id) {
@@ -230,9 +291,14 @@ absl::StatusOr<JobSnapshot> JobCoordinator::GetJob(int64_t job_id) {
   if (!record.ok()) return record.status();
   absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = Runtime(job_id);
   if (!runtime.ok()) return runtime.status();
-  std::lock_guard<std::mutex> lock((*runtime)->mu);
-  if (absl::Status s = ReloadIfNeeded(**runtime); !s.ok()) return s;
-  return SnapshotLocked(**runtime, *record);
+  JobSnapshot snapshot;
+  {
+    std::lock_guard<std::mutex> lock((*runtime)->mu);
+    if (absl::Status s = ReloadIfNeeded(**runtime); !s.ok()) return s;
+    snapshot = SnapshotLocked(**runtime, *record);
+  }
+  if (absl::Status s = AddLeasedCount(snapshot); !s.ok()) return s;
+  return snapshot;
 }
 
 absl::StatusOr<std::vector<JobSnapshot>> JobCoordinator::ListJobs(int64_t object_id) {
@@ -242,8 +308,11 @@ absl::StatusOr<std::vector<JobSnapshot>> JobCoordinator::ListJobs(int64_t object
   for (const JobRecord& record : *records) {
     absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = Runtime(record.id);
     if (!runtime.ok()) return runtime.status();
-    std::lock_guard<std::mutex> lock((*runtime)->mu);
-    out.push_back(SnapshotLocked(**runtime, record));
+    {
+      std::lock_guard<std::mutex> lock((*runtime)->mu);
+      out.push_back(SnapshotLocked(**runtime, record));
+    }
+    if (absl::Status s = AddLeasedCount(out.back()); !s.ok()) return s;
   }
   return out;
 }
@@ -264,11 +333,17 @@ absl::StatusOr<JobSnapshot> JobCoordinator::SetJobState(int64_t job_id, JobState
     record = store_->UpdateJobState(change);
     if (!record.ok()) return record.status();
     (*runtime)->state = target;
+    (*runtime)->updated_unix_ms = std::max((*runtime)->updated_unix_ms, record->updated_unix_ms);
     if (target == JobState::kCancelled) (*runtime)->plan.Cancel();
   }
   Notify(*runtime);
-  std::lock_guard<std::mutex> lock((*runtime)->mu);
-  return SnapshotLocked(**runtime, *record);
+  JobSnapshot snapshot;
+  {
+    std::lock_guard<std::mutex> lock((*runtime)->mu);
+    snapshot = SnapshotLocked(**runtime, *record);
+  }
+  if (absl::Status s = AddLeasedCount(snapshot); !s.ok()) return s;
+  return snapshot;
 }
 
 absl::StatusOr<std::vector<SiteRecord>> JobCoordinator::PlanSites(int64_t job_id, PlanProgress* progress) {
@@ -454,9 +529,25 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
           outcome.already_accepted = result->already_accepted;
           absl::StatusOr<FitRecord> stored = store_->GetFit(result->trace_id, 1);
           if (stored.ok()) outcome.fit = *stored;
+          std::shared_ptr<const AcceptedSample> accepted;
+          if (plan_changed && !result->already_accepted) {
+            auto sample = std::make_shared<AcceptedSample>();
+            sample->command = command;
+            sample->trace_id = result->trace_id;
+            sample->fit = outcome.fit;
+            // The trace and its fit are stored in one transaction at one time.
+            sample->received_unix_ms = stored.ok() ? stored->created_unix_ms : UnixMillisNow();
+            accepted = std::move(sample);
+          }
           {
             std::lock_guard<std::mutex> lock(runtime->mu);
             outcome.progress = runtime->plan.Progress();
+            // Writes of one job commit in queue order, so a later trace never
+            // lands here before an earlier one; the id check is a safeguard.
+            if (accepted && (!runtime->latest_sample || runtime->latest_sample->trace_id < accepted->trace_id)) {
+              runtime->updated_unix_ms = std::max(runtime->updated_unix_ms, accepted->received_unix_ms);
+              runtime->latest_sample = std::move(accepted);
+            }
           }
           if (plan_changed) Notify(runtime);
           done(std::move(outcome));
@@ -503,6 +594,10 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
     done(recorded);
     return;
   }
+  // Read before TakePlanChangeLocked: it re-issues a re-queued site at once
+  // (pending -> issued), so afterwards a retry no longer looks pending.
+  const SiteRecord* site = runtime->plan.FindSite(probe->site.vertex);
+  const bool will_retry = site != nullptr && site->state == SiteState::kPending;
   FailCommandRequest request;
   request.command_id = command_id;
   request.job_id = command->job_id;
@@ -514,8 +609,6 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
   request.expected_plan_revision = write.expected_revision;
   request.new_commands = std::move(write.new_commands);
   request.new_job_state = write.new_job_state;
-  const SiteRecord* site = runtime->plan.FindSite(probe->site.vertex);
-  const bool will_retry = site != nullptr && site->state == SiteState::kPending;
   request.events.push_back(Event("probe_failed", {{"command_id", command_id}, {"reason", reason}, {"rig", rig_id},
                                                   {"will_retry", will_retry}}));
   store_->FailCommandAsync(std::move(request), [this, runtime, will_retry, done = std::move(done)](
@@ -524,6 +617,10 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
       MarkWriteFailed(runtime);
       done(result.status());
       return;
+    }
+    {
+      std::lock_guard<std::mutex> lock(runtime->mu);
+      runtime->updated_unix_ms = std::max(runtime->updated_unix_ms, UnixMillisNow());
     }
     Notify(runtime);
     done(will_retry);

@@ -39,9 +39,13 @@
 namespace surfmap {
 
 struct JobSnapshot {
-  JobRecord record;
+  JobRecord record;   // updated_unix_ms: the job's last change (JobRuntime::updated_unix_ms)
   JobParams params;
   PlanProgress progress;
+  // Commands leased to a rig with an unexpired lease (at most progress.issued);
+  // counted from the store only by CreateJob, GetJob, ListJobs, SetJobState.
+  std::optional<int> leased;
+  std::shared_ptr<const AcceptedSample> latest_sample;  // null before the first trace
 };
 
 struct LeaseOutcome {
@@ -84,6 +88,9 @@ class JobCoordinator {
   absl::StatusOr<std::vector<JobSnapshot>> ListJobs(int64_t object_id);
   absl::StatusOr<JobSnapshot> SetJobState(int64_t job_id, JobState target);
   absl::StatusOr<std::vector<SiteRecord>> PlanSites(int64_t job_id, PlanProgress* progress);
+  // Commands of the job leased to a rig whose lease has not expired (one store
+  // read of the job's commands: not for the trace path).
+  absl::StatusOr<int> LeasedCommandCount(int64_t job_id);
 
   // Probing.
   using LeaseCallback = std::function<void(absl::StatusOr<LeaseOutcome>)>;
@@ -113,6 +120,8 @@ class JobCoordinator {
   // Under runtime->mu: reload the plan from the database if a write failed.
   absl::Status ReloadIfNeeded(JobRuntime& runtime);
   JobSnapshot SnapshotLocked(JobRuntime& runtime, const JobRecord& record);
+  // Sets snapshot.leased from the store; call without the job's lock.
+  absl::Status AddLeasedCount(JobSnapshot& snapshot);
   static void Notify(const std::shared_ptr<JobRuntime>& runtime);
   // A command, its decoded probe and its job's runtime.
   struct CommandContext {

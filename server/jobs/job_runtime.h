@@ -27,6 +27,15 @@ struct MapSnapshot {
   int64_t measured_revision = 0;           // JobRuntime::measured_revision it reflects
 };
 
+// A trace the job accepted, with what a Sample shows of it: the command (site,
+// drag), the trace id and the fit made on arrival (version 1).
+struct AcceptedSample {
+  CommandRecord command;
+  int64_t trace_id = 0;
+  FitRecord fit;
+  int64_t received_unix_ms = 0;
+};
+
 struct JobRuntime {
   JobRuntime(int64_t id, JobParams p, std::shared_ptr<const LoopSurface> s, SamplingPlan pl)
       : job_id(id), params(std::move(p)), surface(std::move(s)), plan(std::move(pl)) {}
@@ -43,7 +52,12 @@ struct JobRuntime {
   int journal_entries = 0;         // stored after the plan's last checkpoint
   int64_t measured_revision = 0;   // bumped on every accepted fit (map input changed)
   int64_t update_revision = 0;     // bumped on every change a watcher should see
+  // updated: the last change (creation, state change, accepted trace, reported
+  // failure); the stored job row only changes with the state, so this is newer.
   int64_t created_unix_ms = 0, updated_unix_ms = 0;
+  // The newest accepted trace (null before the first); immutable once shared,
+  // replaced as a whole.
+  std::shared_ptr<const AcceptedSample> latest_sample;
   // A write failed: memory may be ahead of the database. Atomic because a
   // store callback may report the failure on the thread that holds `mu`.
   std::atomic<bool> needs_reload{false};

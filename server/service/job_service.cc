@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <atomic>
 
 #include "absl/strings/str_cat.h"
@@ -118,6 +119,7 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     }
     update_.Clear();
     *update_.mutable_job() = JobInfoToProto(*job);
+    if (job->latest_sample) *update_.mutable_latest_sample() = BuildSample(*job->latest_sample);
     if (include_map_) {
       absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(job_id_);
       if (map.ok()) {
@@ -224,10 +226,13 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
     PlanProgress progress;
     absl::StatusOr<std::vector<SiteRecord>> sites = s_.coordinator->PlanSites(request->job_id(), &progress);
     if (!sites.ok()) return sites.status();
+    // Counted after the plan's snapshot; see JobCoordinator::AddLeasedCount.
+    absl::StatusOr<int> leased = s_.coordinator->LeasedCommandCount(request->job_id());
+    if (!leased.ok()) return leased.status();
     absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(request->job_id());
     const SurfaceLevel* finest = map.ok() ? &map->surface->finest() : nullptr;
     response->set_job_id(request->job_id());
-    *response->mutable_progress() = ProgressToProto(progress);
+    *response->mutable_progress() = ProgressToProto(progress, std::min(*leased, progress.issued));
     for (const SiteRecord& site : *sites) {
       pb::PlanSite* out = response->add_sites();
       out->mutable_site()->set_level(site.site.level);

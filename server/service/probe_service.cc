@@ -137,7 +137,10 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         trace_record.id = outcome->trace_id;
         trace_record.command_id = outcome->command.id;
         trace_record.job_id = outcome->command.job_id;
-        trace_record.received_unix_ms = UnixMillisNow();
+        // The trace and its first fit are stored at one time (also right for
+        // a retry's reply, which gets the original acceptance time).
+        trace_record.received_unix_ms =
+            outcome->fit.created_unix_ms != 0 ? outcome->fit.created_unix_ms : UnixMillisNow();
         *response->mutable_sample() = BuildSample(trace_record, outcome->command, outcome->fit);
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);

@@ -10,7 +10,7 @@
 
 namespace surfmap {
 
-pb::JobProgress ProgressToProto(const PlanProgress& p) {
+pb::JobProgress ProgressToProto(const PlanProgress& p, std::optional<int> leased) {
   pb::JobProgress out;
   out.set_measured(p.measured);
   out.set_pending(p.pending);
@@ -27,6 +27,7 @@ pb::JobProgress ProgressToProto(const PlanProgress& p) {
     level->set_issued(l.issued);
     level->set_failed(l.failed);
   }
+  if (leased.has_value()) out.set_leased(*leased);
   return out;
 }
 
@@ -35,7 +36,7 @@ pb::JobInfo JobInfoToProto(const JobSnapshot& job) {
   out.set_job_id(job.record.id);
   *out.mutable_spec() = JobParamsToProto(job.params);
   out.set_state(JobStateToProto(job.record.state));
-  *out.mutable_progress() = ProgressToProto(job.progress);
+  *out.mutable_progress() = ProgressToProto(job.progress, job.leased);
   *out.mutable_created() = TimestampFromUnixMs(job.record.created_unix_ms);
   *out.mutable_updated() = TimestampFromUnixMs(job.record.updated_unix_ms);
   return out;
@@ -68,6 +69,15 @@ pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, c
   *s.mutable_fit() = FitToProto(fit);
   *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
   return s;
+}
+
+pb::Sample BuildSample(const AcceptedSample& accepted) {
+  TraceRecord trace;
+  trace.id = accepted.trace_id;
+  trace.command_id = accepted.command.id;
+  trace.job_id = accepted.command.job_id;
+  trace.received_unix_ms = accepted.received_unix_ms;
+  return BuildSample(trace, accepted.command, accepted.fit);
 }
 
 absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,

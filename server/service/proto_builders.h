@@ -2,6 +2,8 @@
 // services and the watch stream).
 #pragma once
 
+#include <optional>
+
 #include "absl/status/statusor.h"
 #include "proto/surfmap/v1/surfmap.pb.h"
 #include "server/jobs/job_coordinator.h"
@@ -10,7 +12,10 @@ namespace surfmap {
 
 namespace pb = ::surfmap::v1;
 
-pb::JobProgress ProgressToProto(const PlanProgress& progress);
+// The plan's counts; `leased` (commands leased with an unexpired lease, from
+// the store) is set only when given: callers on the trace path leave it out.
+pb::JobProgress ProgressToProto(const PlanProgress& progress, std::optional<int> leased = std::nullopt);
+// The job with its progress (and leased count when the snapshot has one).
 pb::JobInfo JobInfoToProto(const JobSnapshot& job);
 pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 
@@ -18,6 +23,8 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
                                        int32_t fit_version);
 pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit);
+// A sample of a trace the job accepted (its fit on arrival).
+pb::Sample BuildSample(const AcceptedSample& accepted);
 
 // Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
 // vertices of `level`, by the numbering contract), and the measured samples.

@@ -100,7 +100,8 @@ absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& sett
       return absl::InvalidArgumentError("estimator settings: ar_method must be BURG or LEAST_SQUARES");
     default: return absl::InvalidArgumentError("estimator settings: unknown ar_method");
   }
-  o.noise_aware = settings.noise_aware();
+  // Not set: keep FitOptions' default (noise-aware), not proto3's false.
+  if (settings.has_noise_aware()) o.noise_aware = settings.noise_aware();
   std::string why;
   if (!o.IsValid(&why)) return absl::InvalidArgumentError("estimator settings: " + why);
   return o;
