@@ -28,9 +28,11 @@ std::string FormatProgressLine(const pb::JobProgress& progress, int bar_width) {
     line = absl::StrCat("[", std::string(filled, '#'), std::string(bar_width - filled, '-'), "] ");
   }
   const long long known = static_cast<long long>(progress.measured()) + progress.issued() + progress.pending();
-  absl::StrAppendFormat(&line, "%3d%%  %d/%d measured, %d issued, %d pending, %d failed",
-                        static_cast<int>(std::floor(fraction * 100.0 + 1e-9)), progress.measured(), known,
-                        progress.issued(), progress.pending(), progress.failed());
+  absl::StrAppendFormat(&line, "%3d%%  %d/%d measured, %d issued", static_cast<int>(std::floor(fraction * 100.0 + 1e-9)),
+                        progress.measured(), known, progress.issued());
+  // issued = queued for a rig or leased; leased = held by a rig right now.
+  if (progress.has_leased()) absl::StrAppendFormat(&line, " (%d at rigs)", progress.leased());
+  absl::StrAppendFormat(&line, ", %d pending, %d failed", progress.pending(), progress.failed());
   if (progress.skipped() > 0) absl::StrAppendFormat(&line, ", %d skipped", progress.skipped());
   if (progress.budget_left() >= 0) absl::StrAppendFormat(&line, ", budget left %d", progress.budget_left());
   if (progress.levels_size() > 0) {

@@ -52,6 +52,9 @@ TEST(FormatProgressLineTest, MentionsBudgetAndSkipped) {
   pb::JobProgress p = Progress(10, 0, 0, 5);
   p.set_skipped(3);
   EXPECT_EQ(FormatProgressLine(p, 0), "100%  10/10 measured, 0 issued, 0 pending, 0 failed, 3 skipped, budget left 5");
+  p.set_leased(0);
+  EXPECT_EQ(FormatProgressLine(p, 0),
+            "100%  10/10 measured, 0 issued (0 at rigs), 0 pending, 0 failed, 3 skipped, budget left 5");
 }
 
 std::string Captured(bool redraw, const std::vector<std::string>& lines) {

@@ -300,17 +300,18 @@ class SurfmapClient:
         return conv.trace(self._call("GetTrace", self._traces.GetTrace, pb.GetTraceRequest(trace_id=trace_id), timeout))
 
     def refit(self, job_id: int, step_mm: Optional[float] = None, ar_order: Optional[int] = None,
-              method: Union[r.ArMethod, str] = r.ArMethod.BURG, noise_aware: bool = True,
+              method: Union[r.ArMethod, str] = r.ArMethod.BURG, noise_aware: Optional[bool] = None,
               timeout: Optional[float] = None) -> r.RefitResult:
         """Refits every trace of a job with these estimator settings; a new
         fit version is stored per trace (the old ones stay). None = server
-        default (0.1 mm grid step, order 2)."""
+        default (0.1 mm grid step, order 2, noise-aware AR fit)."""
         try:
             ar_method = conv.AR_METHOD_TO_PROTO[r.ArMethod(method)]
         except ValueError as error:
             raise invalid_argument("RefitJob", str(error)) from None
-        settings = pb.EstimatorSettings(step_mm=step_mm or 0.0, ar_order=ar_order or 0, ar_method=ar_method,
-                                        noise_aware=noise_aware)
+        settings = pb.EstimatorSettings(step_mm=step_mm or 0.0, ar_order=ar_order or 0, ar_method=ar_method)
+        if noise_aware is not None:
+            settings.noise_aware = noise_aware
         response = self._call("RefitJob", self._traces.RefitJob, pb.RefitJobRequest(job_id=job_id, settings=settings),
                               timeout)
         return r.RefitResult(response.fit_version, response.refitted, response.failed)

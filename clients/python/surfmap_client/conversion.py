@@ -62,7 +62,9 @@ def job_spec(m) -> r.JobSpec:
 
 def job_progress(m) -> r.JobProgress:
     levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed) for l in m.levels)
-    return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels)
+    leased = m.leased if m.HasField("leased") else None
+    return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels,
+                         leased)
 
 
 def job_info(m) -> r.JobInfo:

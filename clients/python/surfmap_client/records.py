@@ -137,6 +137,10 @@ class JobProgress:
     budget_left: int              # -1 = unlimited
     complete: bool
     levels: Tuple[LevelProgress, ...]
+    # Of `issued` (queued for a rig or leased), the commands a rig holds with
+    # an unexpired lease; None where the server does not count it (the reply
+    # to a submitted trace).
+    leased: Optional[int] = None
 
 
 @dataclass(frozen=True)
@@ -327,7 +331,7 @@ class JobUpdate:
     """One message of the WatchJob stream."""
 
     job: JobInfo
-    latest_sample: Optional[Sample]   # the sample that caused this update, if any
+    latest_sample: Optional[Sample]   # the newest accepted sample as of this update (updates are coalesced: list_samples has them all)
     map: Optional[SurfaceMap]         # finest level, when watched with include_map
 
 

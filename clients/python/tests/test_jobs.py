@@ -34,6 +34,8 @@ def test_create_applies_settings_and_server_defaults(client, plate):
     assert spec.probe.normal_force_n == pytest.approx(5.0)    # server default
     assert spec.lease_s == pytest.approx(12.5)
     assert job.created is not None and job.updated is not None
+    assert job.progress.leased == 0             # nothing leased to a rig yet
+    assert job.progress.issued > 0              # but the plan's first sites are queued
     assert client.get_job(job.job_id).spec == spec
     assert job.job_id in [j.job_id for j in client.list_jobs(plate.object_id)]
     assert job.job_id in [j.job_id for j in client.list_jobs()]
