@@ -493,12 +493,7 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     absl::Status recorded =
         retry ? absl::NotFoundError("already answered") : ApplyPlanJournalEntry(answer, runtime->plan);
     if (recorded.ok()) {
-      PlanWrite write = TakePlanChangeLocked(*runtime, answer);
-      request.new_plan_json = std::move(write.checkpoint_json);
-      request.plan_journal_entry = std::move(write.journal_entry);
-      request.expected_plan_revision = write.expected_revision;
-      request.new_commands = std::move(write.new_commands);
-      request.new_job_state = write.new_job_state;
+      TakePlanChangeLocked(*runtime, answer).MoveInto(request);
       runtime->measured_revision++;
       request.events.push_back(Event("trace_accepted", {{"command_id", command_id},
                                                        {"vertex", probe->site.vertex},
@@ -603,12 +598,7 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
   request.job_id = command->job_id;
   request.lease_owner = rig_id;
   request.reason = reason;
-  PlanWrite write = TakePlanChangeLocked(*runtime, answer);
-  request.new_plan_json = std::move(write.checkpoint_json);
-  request.plan_journal_entry = std::move(write.journal_entry);
-  request.expected_plan_revision = write.expected_revision;
-  request.new_commands = std::move(write.new_commands);
-  request.new_job_state = write.new_job_state;
+  TakePlanChangeLocked(*runtime, answer).MoveInto(request);
   request.events.push_back(Event("probe_failed", {{"command_id", command_id}, {"reason", reason}, {"rig", rig_id},
                                                   {"will_retry", will_retry}}));
   store_->FailCommandAsync(std::move(request), [this, runtime, will_retry, done = std::move(done)](

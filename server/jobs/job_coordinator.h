@@ -139,6 +139,16 @@ class JobCoordinator {
     int64_t expected_revision = 0;
     std::vector<NewCommand> new_commands;
     std::optional<JobState> new_job_state;
+
+    // Into an AcceptTraceRequest or a FailCommandRequest (same field names).
+    template <typename Request>
+    void MoveInto(Request& request) && {
+      request.new_plan_json = std::move(checkpoint_json);
+      request.plan_journal_entry = std::move(journal_entry);
+      request.expected_plan_revision = expected_revision;
+      request.new_commands = std::move(new_commands);
+      request.new_job_state = new_job_state;
+    }
   };
   // Under runtime.mu, after the plan changed: the new commands it issues, its
   // stored form, the revision the write must find, and completion of the job.

@@ -26,27 +26,6 @@ int64_t UnixMsNow() {
 
 int64_t ToUnixMs(const google::protobuf::Timestamp& t) { return t.seconds() * 1000 + t.nanos() / 1'000'000; }
 
-struct Setup {
-  std::unique_ptr<ServerProcess> server;
-  std::unique_ptr<SimulatedRig> rig;
-  std::unique_ptr<Stubs> stubs;
-  int64_t object_id = 0;
-};
-
-absl::StatusOr<Setup> StartWithBottle() {
-  Setup setup;
-  auto server = ServerProcess::Start();
-  if (!server.ok()) return server.status();
-  setup.server = std::move(*server);
-  auto rig = MakeSceneRig("bottle");
-  if (!rig.ok()) return rig.status();
-  setup.rig = std::move(*rig);
-  setup.stubs = std::make_unique<Stubs>(setup.server->channel());
-  auto object = UploadSceneMesh(*setup.stubs, *setup.rig);
-  if (!object.ok()) return object.status();
-  setup.object_id = object->object_id();
-  return setup;
-}
 
 // A uniform job over the bottle's coarsest vertices.
 pb::JobSpec UniformSpec(int64_t object_id, int budget, double lease_s = 0.0) {
@@ -101,7 +80,7 @@ absl::StatusOr<pb::JobUpdate> FirstUpdate(Stubs& stubs, int64_t job_id) {
 }
 
 TEST(JobStatus, WatchUpdatesCarryTheNewestAcceptedSample) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   constexpr int kBudget = 8;
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, kBudget)));
@@ -183,7 +162,7 @@ TEST(JobStatus, WatchUpdatesCarryTheNewestAcceptedSample) {
 }
 
 TEST(JobStatus, UpdatedMovesWithEveryTraceAndFailureAndSurvivesARestart) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformSpec(setup.object_id, 0)));
   const int64_t created = ToUnixMs(job.created());
   EXPECT_EQ(ToUnixMs(job.updated()), created);
@@ -235,7 +214,7 @@ TEST(JobStatus, UpdatedMovesWithEveryTraceAndFailureAndSurvivesARestart) {
 }
 
 TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 0)));
   ASSERT_TRUE(job.progress().has_leased());
@@ -287,7 +266,7 @@ TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
 }
 
 TEST(JobStatus, AnExpiredLeaseIsNoLongerCountedAsLeased) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 0, /*lease_s=*/0.3)));
   ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-slow"));
@@ -315,7 +294,7 @@ std::string FitOptionsOf(Stubs& stubs, int64_t trace_id, int32_t version) {
 }
 
 TEST(JobStatus, RefitWithoutNoiseAwareUsesTheEstimatorDefault) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 2)));
   RigFleetOptions fleet_options;

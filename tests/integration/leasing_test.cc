@@ -18,27 +18,6 @@ namespace {
 
 using std::chrono::milliseconds;
 
-struct Setup {
-  std::unique_ptr<ServerProcess> server;
-  std::unique_ptr<SimulatedRig> rig;
-  std::unique_ptr<Stubs> stubs;
-  int64_t object_id = 0;
-};
-
-absl::StatusOr<Setup> StartWithBottle() {
-  Setup setup;
-  auto server = ServerProcess::Start();
-  if (!server.ok()) return server.status();
-  setup.server = std::move(*server);
-  auto rig = MakeSceneRig("bottle");
-  if (!rig.ok()) return rig.status();
-  setup.rig = std::move(*rig);
-  setup.stubs = std::make_unique<Stubs>(setup.server->channel());
-  auto object = UploadSceneMesh(*setup.stubs, *setup.rig);
-  if (!object.ok()) return object.status();
-  setup.object_id = object->object_id();
-  return setup;
-}
 
 pb::SubmitTraceRequest Execute(const SimulatedRig& rig, const pb::ProbeCommand& command, const std::string& rig_id) {
   pb::SubmitTraceRequest request;
@@ -51,7 +30,7 @@ pb::SubmitTraceRequest Execute(const SimulatedRig& rig, const pb::ProbeCommand& 
 }
 
 TEST(Leasing, ResubmittingTheSameTraceIsAcknowledgedOnceAndStoredOnce) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   JobSpecOptions spec;
   spec.mode = pb::SAMPLING_MODE_UNIFORM;
@@ -106,7 +85,7 @@ TEST(Leasing, ResubmittingTheSameTraceIsAcknowledgedOnceAndStoredOnce) {
 }
 
 TEST(Leasing, ConcurrentRigsNeverHoldTheSameCommand) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   JobSpecOptions spec;
   spec.mode = pb::SAMPLING_MODE_UNIFORM;
@@ -164,7 +143,7 @@ TEST(Leasing, ConcurrentRigsNeverHoldTheSameCommand) {
 }
 
 TEST(Leasing, AnExpiredLeaseIsReissuedToAnotherRigWithTheSameCommandId) {
-  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartWithBottle());
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   JobSpecOptions spec;
   spec.mode = pb::SAMPLING_MODE_UNIFORM;

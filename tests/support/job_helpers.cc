@@ -35,6 +35,21 @@ absl::StatusOr<pb::ObjectInfo> UploadSceneMesh(Stubs& stubs, const SimulatedRig&
   return response.object();
 }
 
+absl::StatusOr<SceneServer> StartServerWithScene(const std::string& scene) {
+  SceneServer setup;
+  auto server = ServerProcess::Start();
+  if (!server.ok()) return server.status();
+  setup.server = std::move(*server);
+  auto rig = MakeSceneRig(scene);
+  if (!rig.ok()) return rig.status();
+  setup.rig = std::move(*rig);
+  setup.stubs = std::make_unique<Stubs>(setup.server->channel());
+  auto object = UploadSceneMesh(*setup.stubs, *setup.rig);
+  if (!object.ok()) return object.status();
+  setup.object_id = object->object_id();
+  return setup;
+}
+
 pb::JobSpec MakeJobSpec(std::int64_t object_id, const JobSpecOptions& options) {
   pb::JobSpec spec;
   spec.set_object_id(object_id);

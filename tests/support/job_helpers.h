@@ -11,6 +11,7 @@
 
 #include "absl/status/statusor.h"
 #include "clients/rig/simulated_rig.h"
+#include "tests/support/server_process.h"
 #include "tests/support/surfmap_client.h"
 
 namespace surfmap::itest {
@@ -23,6 +24,16 @@ absl::StatusOr<std::unique_ptr<SimulatedRig>> MakeSceneRig(const std::string& sc
 // Uploads the rig scene's own control mesh (as OBJ), so the server's surface
 // and the rig's are the same object.
 absl::StatusOr<pb::ObjectInfo> UploadSceneMesh(Stubs& stubs, const SimulatedRig& rig, const std::string& token = "");
+
+// A fresh server (ServerProcess::Start()) with a scene's mesh uploaded, its
+// rig, and stubs on the server's channel.
+struct SceneServer {
+  std::unique_ptr<ServerProcess> server;
+  std::unique_ptr<SimulatedRig> rig;
+  std::unique_ptr<Stubs> stubs;
+  std::int64_t object_id = 0;
+};
+absl::StatusOr<SceneServer> StartServerWithScene(const std::string& scene);
 
 struct JobSpecOptions {
   pb::Property property = pb::PROPERTY_FRICTION;
