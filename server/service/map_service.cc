@@ -18,6 +18,10 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext*
     absl::StatusOr<pb::Sample> sample = BuildSample(store, *trace, *command, request->fit_version());
     if (!sample.ok()) return sample.status();
     *response->mutable_sample() = *sample;
+    if (request->include_series()) {
+      absl::Status added = AddRecomputedSeries(store, trace->id, request->fit_version(), response->mutable_sample());
+      if (!added.ok()) return added;
+    }
     return absl::OkStatus();
   });
 }

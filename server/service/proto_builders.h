@@ -25,6 +25,10 @@ absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, c
 pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit);
 // A sample of a trace the job accepted (its fit on arrival).
 pb::Sample BuildSample(const AcceptedSample& accepted);
+// Refits the stored trace with the options of its fit `fit_version` (0 =
+// latest) and adds the per-pair mu and the ACF to `sample`'s fit. DATA_LOSS if
+// the refit does not reproduce the stored mu (the estimator is deterministic).
+absl::Status AddRecomputedSeries(Store* store, int64_t trace_id, int32_t fit_version, pb::Sample* sample);
 
 // Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
 // vertices of `level`, by the numbering contract), and the measured samples.

@@ -203,6 +203,15 @@ pb::Fit FitToProto(const FitRecord& record) {
   return out;
 }
 
+void AddFitSeries(const TraceFit& fit, double grid_step_mm, pb::Fit* out) {
+  pb::FrictionEstimate* fe = out->mutable_friction();
+  fe->mutable_pair_s_mm()->Assign(fit.friction.pair_s_mm.begin(), fit.friction.pair_s_mm.end());
+  fe->mutable_pair_mu()->Assign(fit.friction.pair_mu.begin(), fit.friction.pair_mu.end());
+  pb::RoughnessEstimate* re = out->mutable_roughness();
+  re->mutable_acf()->Assign(fit.roughness.acf.begin(), fit.roughness.acf.end());
+  re->set_grid_step_mm(grid_step_mm);
+}
+
 pb::JobState JobStateToProto(JobState state) {
   switch (state) {
     case JobState::kRunning: return pb::JOB_STATE_RUNNING;

@@ -35,6 +35,9 @@ pb::JobSpec JobParamsToProto(const JobParams& params);
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 
 pb::Fit FitToProto(const FitRecord& record);  // result_json -> estimates
+// The per-pair mu, its arc lengths, the ACF and the grid step of `fit` (a
+// TraceFit computed with the record's options) into `out`.
+void AddFitSeries(const TraceFit& fit, double grid_step_mm, pb::Fit* out);
 pb::JobState JobStateToProto(JobState state);
 
 }  // namespace surfmap

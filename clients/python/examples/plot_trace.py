@@ -7,13 +7,10 @@
 Panels:
   (a) fx, fy, fz along the path, forward and reverse pass, data window shaded
       (the window is the server's fit: window_start_mm..window_end_mm);
-  (b) per-point mu along the window, with the server's mu and std. The API
-      returns only mu's mean/std/median, so the per-point values are
-      RECOMPUTED here from the raw trace (surfmap_client.trace_analysis,
-      a simplified re-implementation of the differential method);
-  (c) the autocorrelation of the force variation: measured (RECOMPUTED in
-      Python from the trace; the API returns only acf_decay_mm) against the
-      ACF implied by the server's AR coefficients;
+  (b) per-point mu along the window (the server's own per-pair values,
+      GetSample with include_series), with the server's mu and std;
+  (c) the autocorrelation of the force variation: measured (the server's, on
+      its grid) against the ACF implied by the server's AR coefficients;
   (d) measured force variation against a resynthesised AR process with the
       server's coefficients and sigma (seeded);
   (e, f) the map (per-vertex mu, grey: whiter = more friction) seen from the
@@ -60,14 +57,15 @@ def parse_args(argv: List[str]) -> argparse.Namespace:
 
 def choose_sample(client: sc.SurfmapClient, args: argparse.Namespace) -> sc.Sample:
     if args.trace:
-        return client.get_sample(args.trace)
+        return client.get_sample(args.trace, include_series=True)
     samples = [s for s in client.list_samples(args.job) if s.fit is not None]
     if not samples:
         raise RuntimeError(f"job {args.job} has no fitted samples yet")
     # A drag across a material boundary has a large sigma too (the step in
     # friction looks like texture), so prefer drags whose mu is uniform.
     uniform = [s for s in samples if s.fit.friction.mu_std <= UNIFORM_MU_STD] or samples
-    return max(uniform, key=lambda s: s.fit.roughness.sigma)
+    chosen = max(uniform, key=lambda s: s.fit.roughness.sigma)
+    return client.get_sample(chosen.trace_id, include_series=True)
 
 
 def draw_forces(ax, trace: sc.Trace, fit: sc.Fit) -> None:
@@ -84,11 +82,10 @@ def draw_forces(ax, trace: sc.Trace, fit: sc.Fit) -> None:
     ax.legend(fontsize=7, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.15))
 
 
-def draw_point_mu(ax, trace: sc.Trace, fit: sc.Fit) -> None:
+def draw_point_mu(ax, fit: sc.Fit) -> None:
     window = (fit.friction.window_start_mm, fit.friction.window_end_mm)
-    points = ta.per_point_friction(trace, window)
     mu, std = fit.friction.mu, fit.friction.mu_std
-    ax.plot(points.s, points.mu, ".", ms=3, color="k", label="per point (recomputed in Python)")
+    ax.plot(fit.friction.pair_s_mm, fit.friction.pair_mu, ".", ms=3, color="k", label="per pair (server)")
     ax.axhline(mu, color="tab:red", label=f"server fit mu = {mu:.4f}")
     ax.axhspan(mu - std, mu + std, color="tab:red", alpha=0.15, label=f"server std {std:.4f}")
     ax.set_xlim(*window)
@@ -98,11 +95,12 @@ def draw_point_mu(ax, trace: sc.Trace, fit: sc.Fit) -> None:
     ax.legend(fontsize=7, loc="best")
 
 
-def draw_acf(ax, passes, fit: sc.Fit, step_mm: float) -> None:
-    max_lag = min(60, min(len(v) for _, v in passes) - 1)
+def draw_acf(ax, fit: sc.Fit) -> None:
+    step_mm = fit.roughness.grid_step_mm
+    max_lag = min(60, fit.roughness.acf.size - 1)
     lags = np.arange(max_lag + 1) * step_mm
-    measured = ta.autocorrelation([v for _, v in passes], max_lag)
-    ax.plot(lags, measured, "o-", ms=2, lw=0.8, color="k", label="measured (recomputed in Python)")
+    measured = fit.roughness.acf[:max_lag + 1]
+    ax.plot(lags, measured, "o-", ms=2, lw=0.8, color="k", label="measured (server)")
     coefficients = fit.roughness.ar_coefficients
     if coefficients and fit.roughness.stationary:
         model = ta.ar_model_autocorrelation(coefficients, max_lag)
@@ -189,8 +187,8 @@ def plot(client: sc.SurfmapClient, args: argparse.Namespace) -> str:
     figure = plt.figure(figsize=(13, 18), dpi=100, layout="constrained")
     grid = figure.add_gridspec(4, 2, height_ratios=[1, 1, 1, 1.6])
     draw_forces(figure.add_subplot(grid[0, :]), trace, fit)
-    draw_point_mu(figure.add_subplot(grid[1, 0]), trace, fit)
-    draw_acf(figure.add_subplot(grid[1, 1]), passes, fit, args.step_mm)
+    draw_point_mu(figure.add_subplot(grid[1, 0]), fit)
+    draw_acf(figure.add_subplot(grid[1, 1]), fit)
     draw_roughness(figure.add_subplot(grid[2, :]), passes, fit)
     draw_map([figure.add_subplot(grid[3, 0]), figure.add_subplot(grid[3, 1])], surface, sample)
     figure.suptitle(f"trace {sample.trace_id} (job {sample.job_id}, site L{sample.level}/v{sample.vertex}): "

@@ -248,9 +248,13 @@ class SurfmapClient:
 
     # ------------------------------------------------------------ samples and the map
 
-    def get_sample(self, trace_id: int, fit_version: int = 0, timeout: Optional[float] = None) -> r.Sample:
-        """The sample of a trace with its fit (``fit_version`` 0 = latest)."""
-        request = pb.GetSampleRequest(trace_id=trace_id, fit_version=fit_version)
+    def get_sample(self, trace_id: int, fit_version: int = 0, include_series: bool = False,
+                   timeout: Optional[float] = None) -> r.Sample:
+        """The sample of a trace with its fit (``fit_version`` 0 = latest). With
+        ``include_series`` the fit also carries the server's per-pair mu along
+        the data window and the ACF (recomputed from the stored trace with the
+        fit's own options)."""
+        request = pb.GetSampleRequest(trace_id=trace_id, fit_version=fit_version, include_series=include_series)
         return conv.sample(self._call("GetSample", self._maps.GetSample, request, timeout).sample)
 
     def list_samples(self, job_id: int, fit_version: int = 0, timeout: Optional[float] = None) -> List[r.Sample]:

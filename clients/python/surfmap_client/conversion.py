@@ -82,11 +82,12 @@ def plan(m) -> r.Plan:
 def fit(m) -> r.Fit:
     f = m.friction
     friction = r.FrictionEstimate(f.mu, f.mu_std, f.mu_median, _vec(f.normal), f.pair_count,
-                                  f.window_start_mm, f.window_end_mm)
+                                  f.window_start_mm, f.window_end_mm,
+                                  np.asarray(f.pair_s_mm, dtype=float), np.asarray(f.pair_mu, dtype=float))
     g = m.roughness
     roughness = r.RoughnessEstimate(tuple(g.ar_coefficients), tuple(g.ar_stderr), g.sigma, g.stationary,
                                     tuple(g.reflection), g.acf_decay_mm, g.dominant_wavelength_mm,
-                                    g.below_noise_floor)
+                                    g.below_noise_floor, np.asarray(g.acf, dtype=float), g.grid_step_mm)
     return r.Fit(m.fit_id, m.version, m.estimator, m.estimator_version, m.options_json, friction, roughness,
                  m.noise_std)
 

@@ -179,6 +179,10 @@ class FrictionEstimate:
     pair_count: int
     window_start_mm: float        # the data window, along the forward path from its first sample
     window_end_mm: float
+    # get_sample(..., include_series=True) only, else empty: each pair's arc
+    # length (mm) and mu = tan(theta/2), as the server's estimator computed them.
+    pair_s_mm: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    pair_mu: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 @dataclass(frozen=True)
@@ -191,6 +195,10 @@ class RoughnessEstimate:
     acf_decay_mm: float
     dominant_wavelength_mm: float        # 0 when there is no oscillation
     below_noise_floor: bool
+    # get_sample(..., include_series=True) only, else empty: the measured ACF
+    # at lags 0, 1, ... grid steps of grid_step_mm.
+    acf: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    grid_step_mm: float = 0.0
 
     @property
     def a1(self) -> float:

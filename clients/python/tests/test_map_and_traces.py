@@ -89,6 +89,21 @@ def test_samples_and_their_fits(client, completed_job):
     assert fit.noise_std > 0
 
 
+def test_sample_series_from_the_server(client, completed_job):
+    sample = client.list_samples(completed_job.job.job_id)[0]
+    assert sample.fit.friction.pair_mu.size == 0 and sample.fit.roughness.acf.size == 0  # lists: summary only
+    detailed = client.get_sample(sample.trace_id, include_series=True)
+    friction = detailed.fit.friction
+    assert friction.pair_mu.shape == (friction.pair_count,) == friction.pair_s_mm.shape
+    assert friction.pair_mu.mean() == pytest.approx(friction.mu, abs=1e-12)
+    assert np.all(np.diff(friction.pair_s_mm) >= 0)
+    assert friction.window_start_mm - 1e-9 <= friction.pair_s_mm[0]
+    assert friction.pair_s_mm[-1] <= friction.window_end_mm + 1e-9
+    roughness = detailed.fit.roughness
+    assert roughness.acf[0] == pytest.approx(1.0) and roughness.acf.size > 10
+    assert roughness.grid_step_mm == pytest.approx(0.1)
+
+
 def test_trace_arrays(client, completed_job):
     sample = client.list_samples(completed_job.job.job_id)[0]
     trace = client.get_trace(sample.trace_id)

@@ -1,0 +1,84 @@
+// GetSample with include_series: the per-pair mu along the data window and
+// the ACF, recomputed from the stored trace with the fit's own options, for
+// the fit on arrival and for a refit with another grid step.
+#include <cmath>
+#include <numeric>
+
+#include "gtest/gtest.h"
+#include "tests/support/job_helpers.h"
+#include "tests/support/rig_fleet.h"
+#include "tests/support/status_matchers.h"
+
+namespace surfmap::itest {
+namespace {
+
+absl::StatusOr<pb::Sample> GetSample(Stubs& stubs, int64_t trace_id, int32_t version, bool series) {
+  pb::GetSampleRequest request;
+  request.set_trace_id(trace_id);
+  request.set_fit_version(version);
+  request.set_include_series(series);
+  pb::GetSampleResponse response;
+  grpc::Status status = stubs.maps->GetSample(Context().get(), request, &response);
+  if (!status.ok()) return FromGrpc(status, "GetSample");
+  return response.sample();
+}
+
+TEST(SampleSeries, PerPairMuAndAcfBelongToTheStoredFit) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  Stubs& stubs = *setup.stubs;
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.finest_level = 0;
+  spec.budget = 3;
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  RigFleetOptions fleet_options;
+  fleet_options.rigs = 1;
+  fleet_options.job_id = job.job_id();
+  RigFleetRecord record = RigFleet(setup.server->address(), *setup.rig, fleet_options).Run();
+  for (const std::string& error : record.rpc_errors) ADD_FAILURE() << error;
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  ASSERT_EQ(samples.samples_size(), 3);
+  const pb::Sample& listed = samples.samples(0);
+  EXPECT_EQ(listed.fit().friction().pair_mu_size(), 0) << "lists carry no series";
+  EXPECT_EQ(listed.fit().roughness().acf_size(), 0);
+
+  ITEST_ASSERT_OK_AND_ASSIGN(plain, GetSample(stubs, listed.trace_id(), 0, false));
+  EXPECT_EQ(plain.fit().friction().pair_mu_size(), 0);
+
+  ITEST_ASSERT_OK_AND_ASSIGN(detailed, GetSample(stubs, listed.trace_id(), 0, true));
+  const pb::FrictionEstimate& f = detailed.fit().friction();
+  ASSERT_EQ(f.pair_mu_size(), f.pair_count());
+  ASSERT_EQ(f.pair_s_mm_size(), f.pair_count());
+  ASSERT_GT(f.pair_count(), 50);
+  // The summary is the mean of the per-pair values, inside the window.
+  const double mean = std::accumulate(f.pair_mu().begin(), f.pair_mu().end(), 0.0) / f.pair_count();
+  EXPECT_NEAR(mean, f.mu(), 1e-12);
+  EXPECT_EQ(f.mu(), listed.fit().friction().mu()) << "the same fit as stored";
+  for (double s : f.pair_s_mm()) {
+    EXPECT_GE(s, f.window_start_mm() - 1e-9);
+    EXPECT_LE(s, f.window_end_mm() + 1e-9);
+  }
+  const pb::RoughnessEstimate& r = detailed.fit().roughness();
+  ASSERT_GT(r.acf_size(), 10);
+  EXPECT_DOUBLE_EQ(r.acf(0), 1.0);
+  for (double a : r.acf()) EXPECT_LE(std::abs(a), 1.0 + 1e-12);
+  EXPECT_DOUBLE_EQ(r.grid_step_mm(), 0.1);
+
+  // A refit on a 0.2 mm grid: version 2's series are on that grid.
+  pb::RefitJobRequest refit;
+  refit.set_job_id(job.job_id());
+  refit.mutable_settings()->set_step_mm(0.2);
+  refit.mutable_settings()->set_ar_method(pb::AR_METHOD_BURG);
+  pb::RefitJobResponse refitted;
+  GRPC_ASSERT_OK(stubs.traces->RefitJob(Context().get(), refit, &refitted));
+  ASSERT_EQ(refitted.fit_version(), 2);
+  ITEST_ASSERT_OK_AND_ASSIGN(v2, GetSample(stubs, listed.trace_id(), 2, true));
+  EXPECT_EQ(v2.fit().version(), 2);
+  EXPECT_DOUBLE_EQ(v2.fit().roughness().grid_step_mm(), 0.2);
+  EXPECT_LT(v2.fit().roughness().acf_size(), r.acf_size()) << "half as many grid points, fewer lags";
+  ITEST_ASSERT_OK_AND_ASSIGN(v1, GetSample(stubs, listed.trace_id(), 1, true));
+  EXPECT_DOUBLE_EQ(v1.fit().roughness().grid_step_mm(), 0.1) << "the old version keeps its own options";
+}
+
+}  // namespace
+}  // namespace surfmap::itest
