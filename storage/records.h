@@ -157,6 +157,13 @@ struct CreatedJob {
   std::vector<int64_t> command_ids;  // in the order of NewJob::commands
 };
 
+struct LeaseRequest {
+  int64_t job_id = 0;               // 0: any running job
+  std::string owner;                // the rig; must not be empty
+  int64_t now_unix_ms = 0;
+  int64_t lease_duration_ms = 0;    // > 0
+};
+
 // The key write: a rig's trace for a leased command, with everything it changed.
 struct AcceptTraceRequest {
   int64_t command_id = 0;
@@ -176,6 +183,9 @@ struct AcceptTraceRequest {
   std::vector<NewCommand> new_commands;   // sites the plan added (pending)
   std::optional<JobState> new_job_state;  // e.g. completed when the plan is done
   std::vector<NewEvent> events;           // job_id filled in
+  // Also lease the rig's next command in the same transaction (one durable
+  // write per trace cycle instead of two). Not done when the write fails.
+  std::optional<LeaseRequest> lease_next;
 };
 
 struct AcceptTraceResult {
@@ -186,6 +196,7 @@ struct AcceptTraceResult {
   // True if a trace for this command already existed: nothing was written and
   // the ids are the stored ones (a rig's retry after a lost reply).
   bool already_accepted = false;
+  std::optional<CommandRecord> next_command;  // lease_next: the command leased, if one was ready
 };
 
 // A rig could not measure a leased command: the command is marked failed and
@@ -207,13 +218,6 @@ struct FailCommandRequest {
 struct FailCommandResult {
   int64_t plan_revision = 0;
   std::vector<int64_t> new_command_ids;
-};
-
-struct LeaseRequest {
-  int64_t job_id = 0;               // 0: any running job
-  std::string owner;                // the rig; must not be empty
-  int64_t now_unix_ms = 0;
-  int64_t lease_duration_ms = 0;    // > 0
 };
 
 struct JobStateChange {

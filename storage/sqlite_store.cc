@@ -458,6 +458,53 @@ absl::StatusOr<FailCommandResult> FailCommandWrite(SqliteConnection& db, const F
   return result;
 }
 
+absl::Status ValidateLease(const LeaseRequest& request) {
+  if (request.owner.empty()) return absl::InvalidArgumentError("lease owner is empty");
+  if (request.lease_duration_ms <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("lease_duration_ms must be > 0, got ", request.lease_duration_ms));
+  }
+  return absl::OkStatus();
+}
+
+// The lease itself, inside the caller's transaction: the oldest leasable
+// command (pending, or leased with an expired lease) of a running job.
+absl::StatusOr<std::optional<CommandRecord>> LeaseWrite(SqliteConnection& db, const LeaseRequest& request) {
+  if (request.job_id != 0) {
+    SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, request.job_id));
+    (void)job;  // only its existence matters: an unknown job is NotFound
+  }
+  // The state IN (...) term matches the partial indexes commands_leasable
+  // (any job) and commands_leasable_by_job (one job: without it a lease
+  // would scan the pending commands of every older running job).
+  SURFMAP_ASSIGN_OR_RETURN(
+      SqliteStatement pick,
+      db.Prepare(request.job_id == 0
+                     ? "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
+                       "WHERE c.state IN ('pending', 'leased') "
+                       "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
+                       "AND j.state = 'running' ORDER BY c.id LIMIT 1"
+                     : "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
+                       "WHERE c.job_id = ?2 AND c.state IN ('pending', 'leased') "
+                       "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
+                       "AND j.state = 'running' ORDER BY c.id LIMIT 1"));
+  pick.BindInt(1, request.now_unix_ms);
+  if (request.job_id != 0) pick.BindInt(2, request.job_id);
+  SURFMAP_ASSIGN_OR_RETURN(bool found, pick.Step());
+  if (!found) return std::optional<CommandRecord>();
+  const int64_t command_id = pick.ColumnInt(0);
+  {
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("UPDATE commands SET state = 'leased', lease_owner = ?2, "
+                   "lease_deadline_unix_ms = ?3, attempt = attempt + 1 WHERE id = ?1"));
+    stmt.BindInt(1, command_id).BindText(2, request.owner);
+    stmt.BindInt(3, request.now_unix_ms + request.lease_duration_ms);
+    SURFMAP_RETURN_IF_ERROR(stmt.Run());
+  }
+  SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, command_id));
+  return std::optional<CommandRecord>(std::move(command));
+}
+
 }  // namespace
 
 // ---- Open / close ----
@@ -651,53 +698,12 @@ absl::StatusOr<PlanRecord> SqliteStore::GetPlan(int64_t job_id) {
 // ---- Commands ----
 
 void SqliteStore::LeaseNextCommandAsync(const LeaseRequest& request, LeaseCallback done) {
-  if (request.owner.empty()) {
-    done(absl::InvalidArgumentError("lease owner is empty"));
-    return;
-  }
-  if (request.lease_duration_ms <= 0) {
-    done(absl::InvalidArgumentError(
-        absl::StrCat("lease_duration_ms must be > 0, got ", request.lease_duration_ms)));
+  if (absl::Status s = ValidateLease(request); !s.ok()) {
+    done(std::move(s));
     return;
   }
   writer_->SubmitForResult<std::optional<CommandRecord>>(
-      [request](SqliteConnection& db) -> absl::StatusOr<std::optional<CommandRecord>> {
-        if (request.job_id != 0) {
-          SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, request.job_id));
-          (void)job;  // only its existence matters: an unknown job is NotFound
-        }
-        // The state IN (...) term matches the partial indexes commands_leasable
-        // (any job) and commands_leasable_by_job (one job: without it a lease
-        // would scan the pending commands of every older running job).
-        SURFMAP_ASSIGN_OR_RETURN(
-            SqliteStatement pick,
-            db.Prepare(request.job_id == 0
-                           ? "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
-                             "WHERE c.state IN ('pending', 'leased') "
-                             "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
-                             "AND j.state = 'running' ORDER BY c.id LIMIT 1"
-                           : "SELECT c.id FROM commands c JOIN jobs j ON j.id = c.job_id "
-                             "WHERE c.job_id = ?2 AND c.state IN ('pending', 'leased') "
-                             "AND (c.state = 'pending' OR c.lease_deadline_unix_ms <= ?1) "
-                             "AND j.state = 'running' ORDER BY c.id LIMIT 1"));
-        pick.BindInt(1, request.now_unix_ms);
-        if (request.job_id != 0) pick.BindInt(2, request.job_id);
-        SURFMAP_ASSIGN_OR_RETURN(bool found, pick.Step());
-        if (!found) return std::optional<CommandRecord>();
-        const int64_t command_id = pick.ColumnInt(0);
-        {
-          SURFMAP_ASSIGN_OR_RETURN(
-              SqliteStatement stmt,
-              db.Prepare("UPDATE commands SET state = 'leased', lease_owner = ?2, "
-                         "lease_deadline_unix_ms = ?3, attempt = attempt + 1 WHERE id = ?1"));
-          stmt.BindInt(1, command_id).BindText(2, request.owner);
-          stmt.BindInt(3, request.now_unix_ms + request.lease_duration_ms);
-          SURFMAP_RETURN_IF_ERROR(stmt.Run());
-        }
-        SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, command_id));
-        return std::optional<CommandRecord>(std::move(command));
-      },
-      std::move(done));
+      [request](SqliteConnection& db) { return LeaseWrite(db, request); }, std::move(done));
 }
 
 absl::StatusOr<CommandRecord> SqliteStore::GetCommand(int64_t command_id) {
@@ -747,6 +753,12 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
     done(std::move(s));
     return;
   }
+  if (request.lease_next.has_value()) {
+    if (absl::Status s = ValidateLease(*request.lease_next); !s.ok()) {
+      done(std::move(s));
+      return;
+    }
+  }
   // Encode here, on the caller's thread: the writer thread is the bottleneck.
   auto encoded = std::make_shared<EncodedTrace>();
   encoded->n_samples = static_cast<int64_t>(request.samples.size());
@@ -760,6 +772,14 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
         if (!result.ok()) {
           return Annotate(result.status(),
                           absl::StrCat("AcceptTrace(command ", encoded->request.command_id, ")"));
+        }
+        if (encoded->request.lease_next.has_value()) {
+          absl::StatusOr<std::optional<CommandRecord>> next = LeaseWrite(db, *encoded->request.lease_next);
+          if (!next.ok()) {
+            return Annotate(next.status(), absl::StrCat("AcceptTrace(command ", encoded->request.command_id,
+                                                        "): leasing the next command"));
+          }
+          result->next_command = std::move(*next);
         }
         return result;
       },

@@ -135,6 +135,10 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
   pb::SubmitTraceRequest submit;
   submit.set_command_id(command.command_id());
   submit.set_rig_id(options_.rig_id);
+  // Ask for the next command with this answer unless this is the last one:
+  // a lease nobody executes holds its site until the lease expires.
+  const bool last = Stopping() || (options_.max_commands > 0 && summary_.executed() + 1 >= options_.max_commands);
+  submit.set_lease_next(!last);
   *submit.mutable_samples() = TraceToSamples(*trace);
   pb::SubmitTraceResponse response;
   grpc::Status status = WithRetries("SubmitTrace", [&] {
@@ -144,6 +148,7 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
   if (status.ok()) {
     ++summary_.accepted;
     if (response.already_accepted()) ++summary_.already_accepted;
+    if (response.has_next()) next_lease_ = response.next();
     if (hooks_.on_progress) hooks_.on_progress(response.progress());
     return Step::kContinue;
   }
@@ -166,6 +171,7 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
 
 RigLoopSummary RigLoop::Run() {
   summary_ = RigLoopSummary();
+  next_lease_.reset();
   const double start = hooks_.now_s();
   std::string why;
   if (!options_.IsValid(&why)) {
@@ -186,10 +192,16 @@ RigLoopSummary RigLoop::Run() {
       break;
     }
     pb::LeaseCommandResponse response;
-    grpc::Status status = WithRetries("LeaseCommand", [&] {
-      response.Clear();
-      return endpoint_.LeaseCommand(lease, &response);
-    });
+    grpc::Status status = grpc::Status::OK;
+    if (next_lease_) {
+      response = std::move(*next_lease_);
+      next_lease_.reset();
+    } else {
+      status = WithRetries("LeaseCommand", [&] {
+        response.Clear();
+        return endpoint_.LeaseCommand(lease, &response);
+      });
+    }
     if (!status.ok()) {
       if (Stopping()) continue;  // gave up waiting because of the stop request
       Fail("LeaseCommand", status);

@@ -20,6 +20,7 @@
 #include <atomic>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <grpcpp/grpcpp.h>
@@ -99,6 +100,9 @@ class RigLoop {
   const std::atomic<bool>* stop_;
   RigLoopHooks hooks_;
   RigLoopSummary summary_;
+  // The lease a submission came back with (SubmitTrace lease_next): the next
+  // command, without a LeaseCommand round trip.
+  std::optional<surfmap::v1::LeaseCommandResponse> next_lease_;
 };
 
 }  // namespace surfmap::rig

@@ -1,6 +1,7 @@
 #include "clients/rig_client/rig_loop.h"
 
 #include <deque>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -22,6 +23,7 @@ class ScriptedEndpoint : public ProbeEndpoint {
   struct SubmitAnswer {
     grpc::Status status;
     bool already_accepted = false;
+    std::optional<pb::LeaseCommandResponse> next;  // answered when the request asked lease_next
   };
 
   std::deque<LeaseAnswer> leases;
@@ -30,6 +32,7 @@ class ScriptedEndpoint : public ProbeEndpoint {
   std::vector<int64_t> submitted_ids;
   std::vector<size_t> submitted_sizes;
   std::vector<std::string> failure_reasons;
+  std::vector<bool> asked_next;
   int lease_calls = 0;
 
   grpc::Status LeaseCommand(const pb::LeaseCommandRequest& request, pb::LeaseCommandResponse* response) override {
@@ -47,6 +50,7 @@ class ScriptedEndpoint : public ProbeEndpoint {
   grpc::Status SubmitTrace(const pb::SubmitTraceRequest& request, pb::SubmitTraceResponse* response) override {
     submitted_ids.push_back(request.command_id());
     submitted_sizes.push_back(static_cast<size_t>(request.samples().t_size()));
+    asked_next.push_back(request.lease_next());
     SubmitAnswer a;
     if (!submits.empty()) {
       a = submits.front();
@@ -55,6 +59,7 @@ class ScriptedEndpoint : public ProbeEndpoint {
     if (a.status.ok()) {
       response->set_already_accepted(a.already_accepted);
       response->mutable_progress()->set_measured(static_cast<int>(submitted_ids.size()));
+      if (request.lease_next() && a.next) *response->mutable_next() = *a.next;
     }
     return a.status;
   }
@@ -152,6 +157,25 @@ TEST(RigLoopTest, ExecutesCommandsUntilTheJobFinishes) {
   EXPECT_EQ(h.progress, (std::vector<int>{1, 2}));
   EXPECT_EQ(h.endpoint.lease_calls, 4);
   EXPECT_DOUBLE_EQ(s.elapsed_s, 1.0);  // the fake clock ticks once per read
+}
+
+TEST(RigLoopTest, TheNextCommandComesWithTheAnswerWhenTheServerGivesIt) {
+  Harness h;
+  h.options.max_commands = 3;
+  h.endpoint.leases = {Command(1)};
+  ScriptedEndpoint::SubmitAnswer with_next;
+  with_next.next = Command(2).response;
+  ScriptedEndpoint::SubmitAnswer with_next_3;
+  with_next_3.next = Command(3).response;
+  h.endpoint.submits = {with_next, with_next_3, {}};
+  RigLoopSummary s = h.Run();
+  EXPECT_TRUE(s.error.ok()) << s.error.error_message();
+  EXPECT_TRUE(s.reached_max_commands);
+  EXPECT_EQ(h.driver.executed, (std::vector<int64_t>{1, 2, 3}));
+  EXPECT_EQ(h.endpoint.lease_calls, 1) << "commands 2 and 3 came with the answers";
+  // The last command of the rig's budget asks for nothing: a lease nobody
+  // executes would hold its site until it expires.
+  EXPECT_EQ(h.endpoint.asked_next, (std::vector<bool>{true, true, false}));
 }
 
 TEST(RigLoopTest, MissingOrHugeRetryAfterUsesDefaultAndCap) {

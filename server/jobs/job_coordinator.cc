@@ -69,6 +69,21 @@ std::vector<NewCommand> DrainCommands(SamplingPlan& plan) {
 
 NewEvent Event(const std::string& kind, nlohmann::json detail) { return NewEvent{kind, detail.dump()}; }
 
+// A leased command (or none: ask again after kRetryAfterMs) with its probe decoded.
+absl::StatusOr<LeaseOutcome> LeaseOutcomeOf(std::optional<CommandRecord> leased) {
+  LeaseOutcome outcome;
+  if (!leased.has_value()) {
+    outcome.retry_after_ms = kRetryAfterMs;
+    return outcome;
+  }
+  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(leased->command_json);
+  if (!probe.ok()) return probe.status();
+  probe->attempt = leased->attempt;
+  outcome.record = std::move(*leased);
+  outcome.command = *probe;
+  return outcome;
+}
+
 // The time of the job's newest event: every change of a job (creation, state
 // change, accepted trace, reported failure) writes one in the same
 // transaction. `fallback` when the job has no events.
@@ -419,25 +434,12 @@ void JobCoordinator::LeaseCommand(const std::string& rig_id, int64_t job_id, Lea
       done(leased.status());
       return;
     }
-    LeaseOutcome outcome;
-    if (!leased->has_value()) {
-      outcome.retry_after_ms = kRetryAfterMs;
-      done(outcome);
-      return;
-    }
-    absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson((*leased)->command_json);
-    if (!probe.ok()) {
-      done(probe.status());
-      return;
-    }
-    probe->attempt = (*leased)->attempt;
-    outcome.record = std::move(**leased);
-    outcome.command = *probe;
-    done(std::move(outcome));
+    done(LeaseOutcomeOf(std::move(*leased)));
   });
 }
 
-void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, DragTrace trace, SubmitCallback done) {
+void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, DragTrace trace, bool lease_next,
+                                 SubmitCallback done) {
   absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
   if (!context.ok()) {
     done(context.status());
@@ -476,6 +478,9 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
   request.lease_owner = rig_id;
   request.samples = {};
   request.fit = NewFitOf(*fit, options);
+  if (lease_next) {
+    request.lease_next = LeaseRequest{command->job_id, rig_id, UnixMillisNow(), runtime->params.lease_ms};
+  }
   {
     std::lock_guard<std::mutex> lock(runtime->mu);
     if (absl::Status s = ReloadIfNeeded(*runtime); !s.ok()) {
@@ -510,7 +515,7 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     const bool plan_changed = recorded.ok();
     store_->AcceptTraceAsync(
         std::move(request),
-        [this, runtime, plan_changed, command = context->record, probe = context->probe, done = std::move(done)](
+        [this, runtime, plan_changed, lease_next, command = context->record, probe = context->probe, done = std::move(done)](
             absl::StatusOr<AcceptTraceResult> result) {
           if (!result.ok()) {
             if (plan_changed) MarkWriteFailed(runtime);
@@ -543,6 +548,18 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
               runtime->updated_unix_ms = std::max(runtime->updated_unix_ms, accepted->received_unix_ms);
               runtime->latest_sample = std::move(accepted);
             }
+          }
+          if (lease_next) {
+            absl::StatusOr<LeaseOutcome> next = LeaseOutcomeOf(std::move(result->next_command));
+            if (!next.ok()) {
+              done(next.status());
+              return;
+            }
+            if (!next->record) {
+              std::lock_guard<std::mutex> lock(runtime->mu);
+              next->job_finished = runtime->state == JobState::kCompleted || runtime->state == JobState::kCancelled;
+            }
+            outcome.next = std::move(*next);
           }
           if (plan_changed) Notify(runtime);
           done(std::move(outcome));

@@ -62,6 +62,7 @@ struct SubmitOutcome {
   FitRecord fit;
   bool already_accepted = false;
   PlanProgress progress;
+  std::optional<LeaseOutcome> next;  // when the submission asked to lease the next command
 };
 
 struct RefitOutcome {
@@ -96,7 +97,10 @@ class JobCoordinator {
   using LeaseCallback = std::function<void(absl::StatusOr<LeaseOutcome>)>;
   void LeaseCommand(const std::string& rig_id, int64_t job_id, LeaseCallback done);
   using SubmitCallback = std::function<void(absl::StatusOr<SubmitOutcome>)>;
-  void SubmitTrace(int64_t command_id, const std::string& rig_id, DragTrace trace, SubmitCallback done);
+  // lease_next: also lease this rig's next command of the same job in the
+  // same durable write (outcome.next), saving the rig a round trip.
+  void SubmitTrace(int64_t command_id, const std::string& rig_id, DragTrace trace, bool lease_next,
+                   SubmitCallback done);
   using FailureCallback = std::function<void(absl::StatusOr<bool>)>;  // will the site be retried?
   void ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
                      FailureCallback done);

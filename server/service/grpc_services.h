@@ -66,7 +66,7 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
 
   // Shared by the unary and streamed submissions: validates, fits, stores,
   // then calls `finish` once the trace is durable (or was refused).
-  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples,
+  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples, bool lease_next,
               pb::SubmitTraceResponse* response, std::function<void(absl::Status)> finish);
 
  private:

@@ -18,6 +18,30 @@ google::protobuf::Duration DurationFromMs(int64_t ms) {
   return d;
 }
 
+// A lease outcome as the API's answer (LeaseCommand, or SubmitTrace's `next`).
+void FillLeaseResponse(const LeaseOutcome& outcome, pb::LeaseCommandResponse* response) {
+  response->set_job_finished(outcome.job_finished);
+  if (outcome.command) {
+    const CommandRecord& record = *outcome.record;
+    const ProbeCommand& c = *outcome.command;
+    pb::ProbeCommand* out = response->mutable_command();
+    out->set_command_id(record.id);
+    out->set_job_id(record.job_id);
+    out->mutable_site()->set_level(c.site.level);
+    out->mutable_site()->set_vertex(c.site.vertex);
+    *out->mutable_position() = ToProto(c.position);
+    *out->mutable_normal() = ToProto(c.normal);
+    *out->mutable_drag_direction() = ToProto(c.drag_direction);
+    out->mutable_probe()->set_segment_length_mm(c.probe.segment_length_mm);
+    out->mutable_probe()->set_speed_mm_s(c.probe.speed_mm_per_s);
+    out->mutable_probe()->set_normal_force_n(c.probe.normal_force_n);
+    out->set_attempt(record.attempt);
+    *out->mutable_lease_deadline() = TimestampFromUnixMs(record.lease_deadline_unix_ms);
+  } else if (!outcome.job_finished) {
+    *response->mutable_retry_after() = DurationFromMs(outcome.retry_after_ms);
+  }
+}
+
 // SubmitTraceStream: chunks are concatenated; the first names the command.
 class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTraceChunk> {
  public:
@@ -32,13 +56,14 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
         Finish(ToGrpcStatus(absl::InvalidArgumentError("stream carried no chunk with a command_id")));
         return;
       }
-      service_->Submit(command_id_, rig_id_, samples_, response_,
+      service_->Submit(command_id_, rig_id_, samples_, lease_next_, response_,
                        [this](absl::Status status) { Finish(ToGrpcStatus(status)); });
       return;
     }
     if (command_id_ == 0) {
       command_id_ = chunk_.command_id();
       rig_id_ = chunk_.rig_id();
+      lease_next_ = chunk_.lease_next();
     } else if (chunk_.command_id() != 0 && chunk_.command_id() != command_id_) {
       Finish(ToGrpcStatus(absl::InvalidArgumentError(
           absl::StrCat("chunk for command ", chunk_.command_id(), " in a stream for command ", command_id_))));
@@ -62,6 +87,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   pb::SubmitTraceChunk chunk_;
   int64_t command_id_ = 0;
   std::string rig_id_;
+  bool lease_next_ = false;
   pb::TraceSamples samples_;
 };
 
@@ -84,27 +110,10 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerCon
       FinishUnary(reactor, "LeaseCommand", outcome.status());
       return;
     }
-    response->set_job_finished(outcome->job_finished);
-    if (outcome->command) {
-      const CommandRecord& record = *outcome->record;
-      const ProbeCommand& c = *outcome->command;
-      pb::ProbeCommand* out = response->mutable_command();
-      out->set_command_id(record.id);
-      out->set_job_id(record.job_id);
-      out->mutable_site()->set_level(c.site.level);
-      out->mutable_site()->set_vertex(c.site.vertex);
-      *out->mutable_position() = ToProto(c.position);
-      *out->mutable_normal() = ToProto(c.normal);
-      *out->mutable_drag_direction() = ToProto(c.drag_direction);
-      out->mutable_probe()->set_segment_length_mm(c.probe.segment_length_mm);
-      out->mutable_probe()->set_speed_mm_s(c.probe.speed_mm_per_s);
-      out->mutable_probe()->set_normal_force_n(c.probe.normal_force_n);
-      out->set_attempt(record.attempt);
-      *out->mutable_lease_deadline() = TimestampFromUnixMs(record.lease_deadline_unix_ms);
-      spdlog::debug("rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", rig_id, record.id,
-                    record.job_id, c.site.vertex, record.attempt);
-    } else if (!outcome->job_finished) {
-      *response->mutable_retry_after() = DurationFromMs(outcome->retry_after_ms);
+    FillLeaseResponse(*outcome, response);
+    if (outcome->record) {
+      spdlog::debug("rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", rig_id, outcome->record->id,
+                    outcome->record->job_id, outcome->record->site_vertex, outcome->record->attempt);
     }
     FinishUnary(reactor, "LeaseCommand", absl::OkStatus());
   });
@@ -112,7 +121,8 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerCon
 }
 
 void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples,
-                              pb::SubmitTraceResponse* response, std::function<void(absl::Status)> finish) {
+                              bool lease_next, pb::SubmitTraceResponse* response,
+                              std::function<void(absl::Status)> finish) {
   if (command_id <= 0) {
     finish(absl::InvalidArgumentError("command_id must be a positive command id"));
     return;
@@ -127,7 +137,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
     return;
   }
   s_.coordinator->SubmitTrace(
-      command_id, rig_id, std::move(*trace),
+      command_id, rig_id, std::move(*trace), lease_next,
       [response, rig_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
         if (!outcome.ok()) {
           finish(outcome.status());
@@ -144,6 +154,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         *response->mutable_sample() = BuildSample(trace_record, outcome->command, outcome->fit);
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);
+        if (outcome->next) FillLeaseResponse(*outcome->next, response->mutable_next());
         spdlog::debug("rpc=SubmitTrace rig={} command_id={} trace_id={} mu={:.4f} retry={}", rig_id,
                       outcome->command.id, outcome->trace_id, response->sample().fit().friction().mu(),
                       outcome->already_accepted);
@@ -160,7 +171,7 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerCont
     FinishUnary(reactor, "SubmitTrace", admitted);
     return reactor;
   }
-  Submit(request->command_id(), request->rig_id(), request->samples(), response,
+  Submit(request->command_id(), request->rig_id(), request->samples(), request->lease_next(), response,
          [reactor](absl::Status status) { FinishUnary(reactor, "SubmitTrace", status); });
   return reactor;
 }

@@ -3,13 +3,15 @@
 //
 //   surfmap-bench [--server HOST:PORT] [--seconds 5] [--rigs 1,4,16]
 //                 [--level 4] [--queries 2000] [--points 100] [--token T]
+//                 [--lease combined|separate|both]
 //
 // Without --server it starts surfmapd itself (tests/support/ServerProcess, a
 // temp database). Throughput: for each rig count a fresh uniform job on the
 // plate scene's mesh at a fine level (level 4: ~20,800 sites, enough not to
 // run out), rigs = threads with their own connection doing LeaseCommand ->
-// SubmitTrace with pre-generated ~1,000-sample traces moved to the command's
-// site; every ack is durable (the server commits before it answers). Map
+// SubmitTrace ("separate") or SubmitTrace with lease_next, which returns the
+// rig's next command ("combined"), with pre-generated ~1,000-sample traces
+// moved to the command's site; every ack is durable (the server commits before it answers). Map
 // latency: QueryMap with `points` random points per call, one caller, on a
 // finished job. Not a test: it prints numbers and exits 0 unless the server
 // fails.
@@ -51,10 +53,12 @@ struct Flags {
   int queries = 2000;
   int points = 100;
   std::string token;
+  std::string lease = "both";
 };
 
 struct PhaseResult {
   int rigs = 0;
+  bool combined = false;  // lease_next on SubmitTrace instead of a LeaseCommand per trace
   int acked = 0;
   int errors = 0;
   double seconds = 0.0;
@@ -65,10 +69,11 @@ struct PhaseResult {
 
 double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
-PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, double seconds,
+PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, bool combined, double seconds,
                           const std::vector<DragTrace>& templates, const std::string& token) {
   PhaseResult result;
   result.rigs = rigs;
+  result.combined = combined;
   std::atomic<int> acked{0}, errors{0};
   std::atomic<bool> ran_out{false};
   std::mutex mutex;
@@ -83,12 +88,17 @@ PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, 
       const std::string rig_id = absl::StrFormat("bench-%d-%d", rigs, r);
       std::vector<double> local_ms;
       size_t next_template = r;
+      pb::LeaseCommandResponse lease;
+      bool have_lease = false;  // combined: the previous submission's `next`
       while (Clock::now() < end) {
-        pb::LeaseCommandRequest lease_request;
-        lease_request.set_rig_id(rig_id);
-        lease_request.set_job_id(job_id);
-        pb::LeaseCommandResponse lease;
-        grpc::Status status = stubs.probe->LeaseCommand(Context(30, token).get(), lease_request, &lease);
+        grpc::Status status;
+        if (!have_lease) {
+          pb::LeaseCommandRequest lease_request;
+          lease_request.set_rig_id(rig_id);
+          lease_request.set_job_id(job_id);
+          status = stubs.probe->LeaseCommand(Context(30, token).get(), lease_request, &lease);
+        }
+        have_lease = false;
         if (!status.ok()) {
           ++errors;
           std::lock_guard<std::mutex> lock(mutex);
@@ -107,6 +117,7 @@ PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, 
         pb::SubmitTraceRequest submit;
         submit.set_command_id(lease.command().command_id());
         submit.set_rig_id(rig_id);
+        submit.set_lease_next(combined);
         *submit.mutable_samples() = PlaceTrace(templates[next_template++ % templates.size()], lease.command());
         pb::SubmitTraceResponse response;
         const Clock::time_point sent = Clock::now();
@@ -114,6 +125,10 @@ PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, 
         local_ms.push_back(Ms(Clock::now() - sent));
         if (status.ok()) {
           ++acked;
+          if (combined) {
+            lease = response.next();
+            have_lease = true;
+          }
         } else {
           ++errors;
           std::lock_guard<std::mutex> lock(mutex);
@@ -144,6 +159,10 @@ int Main(int argc, char** argv) {
   app.add_option("--queries", flags.queries, "QueryMap calls")->check(CLI::NonNegativeNumber);
   app.add_option("--points", flags.points, "points per QueryMap call")->check(CLI::Range(1, 10000));
   app.add_option("--token", flags.token, "bearer token (steer role) when the server has tokens");
+  app.add_option("--lease", flags.lease,
+                 "combined: SubmitTrace leases the rig's next command (lease_next); separate: a LeaseCommand "
+                 "per trace; both: each rig count both ways, in this order")
+      ->check(CLI::IsMember({"combined", "separate", "both"}));
   CLI11_PARSE(app, argc, argv);
 
   std::vector<int> rig_counts;
@@ -196,8 +215,13 @@ int Main(int argc, char** argv) {
   std::cout << absl::StrFormat("%zu template traces of %zu samples simulated in %.0f ms\n", templates->size(),
                                templates->front().samples.size(), Ms(Clock::now() - generating));
 
-  std::vector<PhaseResult> phases;
+  std::vector<std::pair<int, bool>> runs;  // rigs, combined
   for (int rigs : rig_counts) {
+    if (flags.lease != "combined") runs.emplace_back(rigs, false);
+    if (flags.lease != "separate") runs.emplace_back(rigs, true);
+  }
+  std::vector<PhaseResult> phases;
+  for (const auto& [rigs, combined] : runs) {
     itest::JobSpecOptions spec;
     spec.mode = pb::SAMPLING_MODE_UNIFORM;
     spec.coarsest_level = flags.level;
@@ -211,7 +235,7 @@ int Main(int argc, char** argv) {
     std::cout << absl::StrFormat("job %d (uniform, level %d, %d sites pending) created in %.0f ms; %d rig(s) for %.1f s\n",
                                  job->job_id(), flags.level, job->progress().pending() + job->progress().issued(),
                                  Ms(Clock::now() - creating), rigs, flags.seconds);
-    phases.push_back(RunThroughput(address, job->job_id(), rigs, flags.seconds, *templates, flags.token));
+    phases.push_back(RunThroughput(address, job->job_id(), rigs, combined, flags.seconds, *templates, flags.token));
     if (!phases.back().first_error.empty()) std::cout << "  first error: " << phases.back().first_error << "\n";
     pb::SetJobStateRequest cancel;
     cancel.set_job_id(job->job_id());
@@ -221,12 +245,13 @@ int Main(int argc, char** argv) {
 
   std::cout << "\nAcknowledged traces (~" << templates->front().samples.size()
             << " samples each, durable before ack)\n";
-  std::cout << "rigs   acked   errors  seconds   traces/s   vs 1 rig   submit p50 ms   submit p99 ms\n";
+  std::cout << "rigs  lease      acked   errors  seconds   traces/s   vs first   submit p50 ms   submit p99 ms\n";
   const double base = phases.empty() || phases[0].seconds == 0 ? 0 : phases[0].acked / phases[0].seconds;
   for (const PhaseResult& p : phases) {
     const double rate = p.seconds > 0 ? p.acked / p.seconds : 0.0;
-    std::cout << absl::StrFormat("%4d  %6d  %7d  %7.2f  %9.0f  %8.2fx  %14.2f  %14.2f%s\n", p.rigs, p.acked, p.errors,
-                                 p.seconds, rate, base > 0 ? rate / base : 0.0, p.submit.p50_ms, p.submit.p99_ms,
+    std::cout << absl::StrFormat("%4d  %-8s  %6d  %7d  %7.2f  %9.0f  %8.2fx  %14.2f  %14.2f%s\n", p.rigs,
+                                 p.combined ? "combined" : "separate", p.acked, p.errors, p.seconds, rate,
+                                 base > 0 ? rate / base : 0.0, p.submit.p50_ms, p.submit.p99_ms,
                                  p.ran_out ? "  (job ran out of sites)" : "");
   }
 
@@ -240,7 +265,7 @@ int Main(int argc, char** argv) {
     std::cerr << job.status() << "\n";
     return 1;
   }
-  PhaseResult fill = RunThroughput(address, job->job_id(), 4, 600.0, *templates, flags.token);
+  PhaseResult fill = RunThroughput(address, job->job_id(), 4, /*combined=*/true, 600.0, *templates, flags.token);
   absl::StatusOr<pb::JobInfo> done = itest::WaitForJobState(stubs, job->job_id(), pb::JOB_STATE_COMPLETED,
                                                             std::chrono::seconds(60));
   if (!done.ok()) {

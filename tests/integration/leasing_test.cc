@@ -189,3 +189,56 @@ TEST(Leasing, AnExpiredLeaseIsReissuedToAnotherRigWithTheSameCommandId) {
 
 }  // namespace
 }  // namespace surfmap::itest
+
+namespace surfmap::itest {
+namespace {
+
+// SubmitTrace with lease_next: the answer carries the rig's next command,
+// leased to it in the same durable write; nobody else gets that command; the
+// last answer of a job says the job is finished.
+TEST(Leasing, ASubmissionCanLeaseTheRigsNextCommand) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
+  Stubs& stubs = *setup.stubs;
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.finest_level = 0;
+  spec.budget = 4;
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-a"));
+
+  std::set<int64_t> executed;
+  int leased_by_answers = 0;
+  bool finished = false;
+  for (int i = 0; i < 10 && !finished; ++i) {
+    ASSERT_TRUE(executed.insert(command.command_id()).second) << "command " << command.command_id() << " twice";
+    pb::SubmitTraceRequest request = Execute(*setup.rig, command, "rig-a");
+    request.set_lease_next(true);
+    pb::SubmitTraceResponse response;
+    GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), request, &response));
+    ASSERT_TRUE(response.has_next());
+    if (response.next().job_finished()) {
+      finished = true;
+      break;
+    }
+    ASSERT_TRUE(response.next().has_command()) << response.next().ShortDebugString();
+    command = response.next().command();
+    ++leased_by_answers;
+    EXPECT_GT(command.lease_deadline().seconds(), 0);
+    // Leased to rig-a: another rig cannot have it, or submit for it.
+    pb::SubmitTraceRequest stolen = Execute(*setup.rig, command, "rig-b");
+    pb::SubmitTraceResponse stolen_response;
+    grpc::Status status = stubs.probe->SubmitTrace(Context().get(), stolen, &stolen_response);
+    EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << Describe(status);
+    ITEST_ASSERT_OK_AND_ASSIGN(info, GetJob(stubs, job.job_id()));
+    EXPECT_EQ(info.progress().leased(), 1) << "exactly the command the answer handed out";
+  }
+  EXPECT_TRUE(finished) << "the last answer says the job is finished";
+  EXPECT_EQ(executed.size(), 4u);
+  EXPECT_EQ(leased_by_answers, 3);
+  ITEST_ASSERT_OK_AND_ASSIGN(done, GetJob(stubs, job.job_id()));
+  EXPECT_EQ(done.state(), pb::JOB_STATE_COMPLETED);
+  EXPECT_EQ(done.progress().measured(), 4);
+}
+
+}  // namespace
+}  // namespace surfmap::itest
