@@ -274,6 +274,35 @@ TEST_F(SqliteStoreTest, CountLeasedCommandsCountsOnlyUnexpiredLeases) {
   EXPECT_EQ(store_->CountLeasedCommands(job.job.id + 7, now_ms_).status().code(), absl::StatusCode::kNotFound);
 }
 
+TEST_F(SqliteStoreTest, AcceptTraceCanLeaseTheNextCommandInTheSameWrite) {
+  CreatedJob job = Job(3);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 20);
+  request.lease_next = LeaseRequest{job.job.id, "rig-a", now_ms_, 30'000};
+  absl::StatusOr<AcceptTraceResult> result = store_->AcceptTrace(request);
+  ASSERT_TRUE(result.ok()) << result.status();
+  ASSERT_TRUE(result->next_command.has_value());
+  EXPECT_NE(result->next_command->id, command.id);
+  EXPECT_EQ(result->next_command->state, CommandState::kLeased);
+  EXPECT_EQ(result->next_command->lease_owner, "rig-a");
+  EXPECT_EQ(result->next_command->lease_deadline_unix_ms, kStartMs + 30'000);
+  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 1);
+
+  // A write that fails leases nothing: the next command stays pending.
+  AcceptTraceRequest broken = MakeTestAccept(*result->next_command, 20);
+  broken.events.push_back(NewEvent{"note", "{broken"});
+  broken.lease_next = LeaseRequest{job.job.id, "rig-a", now_ms_, 30'000};
+  auto before = TableCounts();
+  EXPECT_FALSE(store_->AcceptTrace(broken).ok());
+  EXPECT_EQ(TableCounts(), before);
+
+  // An invalid lease request is rejected before anything is written.
+  AcceptTraceRequest bad_lease = MakeTestAccept(*result->next_command, 20);
+  bad_lease.lease_next = LeaseRequest{job.job.id, "", now_ms_, 30'000};
+  EXPECT_EQ(store_->AcceptTrace(bad_lease).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(TableCounts(), before);
+}
+
 TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {
   CreatedJob job = Job(2);
   CommandRecord command = Lease(job.job.id, "rig-a");
