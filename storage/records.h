@@ -197,6 +197,7 @@ struct AcceptTraceResult {
   // the ids are the stored ones (a rig's retry after a lost reply).
   bool already_accepted = false;
   std::optional<CommandRecord> next_command;  // lease_next: the command leased, if one was ready
+  int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (0 when already_accepted)
 };
 
 // A rig could not measure a leased command: the command is marked failed and

@@ -436,6 +436,7 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
     stmt.BindInt(4, kSampleEncodingPackedLE).BindInt(5, now).BindBlob(6, in.blob);
     SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing trace"));
     result.trace_id = db.LastInsertRowId();
+    result.accepted_unix_ms = now;
   }
   SURFMAP_RETURN_IF_ERROR(SetCommandState(db, req.command_id, "done"));
   if (req.fit.has_value()) {

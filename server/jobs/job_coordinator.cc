@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <utility>
 
 #include <nlohmann/json.hpp>
@@ -68,6 +69,28 @@ std::vector<NewCommand> DrainCommands(SamplingPlan& plan) {
 }
 
 NewEvent Event(const std::string& kind, nlohmann::json detail) { return NewEvent{kind, detail.dump()}; }
+
+// What the store holds for the fit of a newly accepted trace (NaN headline
+// numbers are stored as empty, as SqliteStatement::BindOptionalDouble does).
+FitRecord FitRecordOf(const NewFit& fit, const AcceptTraceResult& result) {
+  auto stored = [](const std::optional<double>& v) {
+    return v.has_value() && !std::isnan(*v) ? v : std::nullopt;
+  };
+  FitRecord record;
+  record.id = result.fit_id;
+  record.trace_id = result.trace_id;
+  record.version = 1;
+  record.estimator_name = fit.estimator_name;
+  record.estimator_version = fit.estimator_version;
+  record.options_json = fit.options_json;
+  record.result_json = fit.result_json;
+  record.mu = stored(fit.mu);
+  record.a1 = stored(fit.a1);
+  record.a2 = stored(fit.a2);
+  record.sigma = stored(fit.sigma);
+  record.created_unix_ms = result.accepted_unix_ms;
+  return record;
+}
 
 // A leased command (or none: ask again after kRetryAfterMs) with its probe decoded.
 absl::StatusOr<LeaseOutcome> LeaseOutcomeOf(std::optional<CommandRecord> leased) {
@@ -478,6 +501,10 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
   request.lease_owner = rig_id;
   request.samples = {};
   request.fit = NewFitOf(*fit, options);
+  // The stored fit as the reply shows it, without reading it back (this
+  // callback runs on the store's writer thread, which every rig waits for).
+  auto new_fit = std::make_shared<const NewFit>(*request.fit);
+  auto decoded_fit = std::make_shared<const TraceFit>(*fit);
   if (lease_next) {
     request.lease_next = LeaseRequest{command->job_id, rig_id, UnixMillisNow(), runtime->params.lease_ms};
   }
@@ -515,7 +542,8 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     const bool plan_changed = recorded.ok();
     store_->AcceptTraceAsync(
         std::move(request),
-        [this, runtime, plan_changed, lease_next, command = context->record, probe = context->probe, done = std::move(done)](
+        [this, runtime, plan_changed, lease_next, new_fit, decoded_fit, command = context->record,
+         probe = context->probe, done = std::move(done)](
             absl::StatusOr<AcceptTraceResult> result) {
           if (!result.ok()) {
             if (plan_changed) MarkWriteFailed(runtime);
@@ -527,8 +555,11 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
           outcome.probe = probe;
           outcome.trace_id = result->trace_id;
           outcome.already_accepted = result->already_accepted;
-          absl::StatusOr<FitRecord> stored = store_->GetFit(result->trace_id, 1);
+          absl::StatusOr<FitRecord> stored = result->already_accepted
+                                                 ? store_->GetFit(result->trace_id, 1)
+                                                 : absl::StatusOr<FitRecord>(FitRecordOf(*new_fit, *result));
           if (stored.ok()) outcome.fit = *stored;
+          if (!result->already_accepted) outcome.decoded_fit = decoded_fit;
           std::shared_ptr<const AcceptedSample> accepted;
           if (plan_changed && !result->already_accepted) {
             auto sample = std::make_shared<AcceptedSample>();

@@ -63,6 +63,7 @@ struct SubmitOutcome {
   bool already_accepted = false;
   PlanProgress progress;
   std::optional<LeaseOutcome> next;  // when the submission asked to lease the next command
+  std::shared_ptr<const TraceFit> decoded_fit;  // fit.result_json decoded; null for a retry
 };
 
 struct RefitOutcome {

@@ -151,7 +151,8 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         // a retry's reply, which gets the original acceptance time).
         trace_record.received_unix_ms =
             outcome->fit.created_unix_ms != 0 ? outcome->fit.created_unix_ms : UnixMillisNow();
-        *response->mutable_sample() = BuildSample(trace_record, outcome->command, outcome->fit);
+        *response->mutable_sample() =
+            BuildSample(trace_record, outcome->command, outcome->fit, &outcome->probe, outcome->decoded_fit.get());
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);
         if (outcome->next) FillLeaseResponse(*outcome->next, response->mutable_next());

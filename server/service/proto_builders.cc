@@ -57,20 +57,22 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   return out;
 }
 
-pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit) {
+pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
+                       const ProbeCommand* decoded_probe, const TraceFit* decoded_fit) {
   pb::Sample s;
   s.set_trace_id(trace.id);
   s.set_command_id(command.id);
   s.set_job_id(command.job_id);
   s.mutable_site()->set_level(command.site_level);
   s.mutable_site()->set_vertex(static_cast<int32_t>(command.site_vertex));
-  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command.command_json);
+  absl::StatusOr<ProbeCommand> probe =
+      decoded_probe != nullptr ? absl::StatusOr<ProbeCommand>(*decoded_probe) : ProbeCommandFromJson(command.command_json);
   if (probe.ok()) {
     *s.mutable_position() = ToProto(probe->position);
     *s.mutable_drag_direction() = ToProto(probe->drag_direction);
     s.set_segment_length_mm(probe->probe.segment_length_mm);
   }
-  *s.mutable_fit() = FitToProto(fit);
+  *s.mutable_fit() = FitToProto(fit, decoded_fit);
   *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
   return s;
 }

@@ -22,7 +22,10 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 // A sample: the command's site and drag with the trace's fit (version, 0 = latest).
 absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
                                        int32_t fit_version);
-pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit);
+// `probe` and `decoded_fit`, when given, are command.command_json and
+// fit.result_json already decoded (the trace path has them).
+pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
+                       const ProbeCommand* probe = nullptr, const TraceFit* decoded_fit = nullptr);
 // A sample of a trace the job accepted (its fit on arrival).
 pb::Sample BuildSample(const AcceptedSample& accepted);
 // Refits the stored trace with the options of its fit `fit_version` (0 =

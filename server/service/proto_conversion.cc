@@ -169,16 +169,20 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   return spec;
 }
 
-pb::Fit FitToProto(const FitRecord& record) {
+pb::Fit FitToProto(const FitRecord& record, const TraceFit* decoded) {
   pb::Fit out;
   out.set_fit_id(record.id);
   out.set_version(record.version);
   out.set_estimator(record.estimator_name);
   out.set_estimator_version(record.estimator_version);
   out.set_options_json(record.options_json);
-  nlohmann::json j = nlohmann::json::parse(record.result_json, nullptr, false);
-  absl::StatusOr<TraceFit> fit = j.is_discarded() ? absl::DataLossError("stored fit is not JSON")
-                                                  : TraceFitFromJson(j);
+  absl::StatusOr<TraceFit> fit = absl::UnknownError("not decoded");
+  if (decoded != nullptr) {
+    fit = *decoded;
+  } else {
+    nlohmann::json j = nlohmann::json::parse(record.result_json, nullptr, false);
+    fit = j.is_discarded() ? absl::DataLossError("stored fit is not JSON") : TraceFitFromJson(j);
+  }
   if (!fit.ok()) return out;  // the ids and provenance still identify it
   const FrictionFit& f = fit->friction;
   pb::FrictionEstimate* fe = out.mutable_friction();

@@ -34,7 +34,9 @@ pb::JobSpec JobParamsToProto(const JobParams& params);
 
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 
-pb::Fit FitToProto(const FitRecord& record);  // result_json -> estimates
+// result_json -> estimates; `decoded` (when given) is result_json already
+// decoded, which spares the JSON on the trace path.
+pb::Fit FitToProto(const FitRecord& record, const TraceFit* decoded = nullptr);
 // The per-pair mu, its arc lengths, the ACF and the grid step of `fit` (a
 // TraceFit computed with the record's options) into `out`.
 void AddFitSeries(const TraceFit& fit, double grid_step_mm, pb::Fit* out);

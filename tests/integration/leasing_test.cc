@@ -7,6 +7,8 @@
 #include <set>
 #include <thread>
 
+#include <google/protobuf/util/message_differencer.h>
+
 #include "gtest/gtest.h"
 #include "tests/support/db_snapshot.h"
 #include "tests/support/job_helpers.h"
@@ -49,6 +51,18 @@ TEST(Leasing, ResubmittingTheSameTraceIsAcknowledgedOnceAndStoredOnce) {
 
   EXPECT_FALSE(first.already_accepted());
   EXPECT_TRUE(second.already_accepted());
+  // The reply to a new trace is built from the fit in memory, a retry's from
+  // the stored rows: both must be exactly what GetSample reads back.
+  {
+    pb::GetSampleRequest get_sample;
+    get_sample.set_trace_id(first.sample().trace_id());
+    pb::GetSampleResponse stored;
+    GRPC_ASSERT_OK(stubs.maps->GetSample(Context().get(), get_sample, &stored));
+    EXPECT_TRUE(google::protobuf::util::MessageDifferencer::Equals(first.sample(), stored.sample()))
+        << "reply " << first.sample().ShortDebugString() << "\nstored " << stored.sample().ShortDebugString();
+    EXPECT_TRUE(google::protobuf::util::MessageDifferencer::Equals(second.sample(), stored.sample()))
+        << "retry " << second.sample().ShortDebugString();
+  }
   EXPECT_TRUE(third.already_accepted());
   EXPECT_EQ(second.sample().trace_id(), first.sample().trace_id());
   EXPECT_EQ(third.sample().trace_id(), first.sample().trace_id());
