@@ -28,29 +28,13 @@ int64_t ToUnixMs(const google::protobuf::Timestamp& t) { return t.seconds() * 10
 
 
 // A uniform job over the bottle's coarsest vertices.
-pb::JobSpec UniformSpec(int64_t object_id, int budget, double lease_s = 0.0) {
-  JobSpecOptions spec;
-  spec.mode = pb::SAMPLING_MODE_UNIFORM;
-  spec.finest_level = 0;
-  spec.budget = budget;
-  spec.lease_s = lease_s;
-  return MakeJobSpec(object_id, spec);
-}
-
-pb::SubmitTraceRequest Execute(const SimulatedRig& rig, const pb::ProbeCommand& command, const std::string& rig_id) {
-  pb::SubmitTraceRequest request;
-  request.set_command_id(command.command_id());
-  request.set_rig_id(rig_id);
-  auto execution = rig.ExecuteDetailed(ProbeRequestFromCommand(command, command.command_id()));
-  EXPECT_TRUE(execution.ok()) << execution.status();
-  if (execution.ok()) *request.mutable_samples() = TraceToProto(execution->trace);
-  return request;
-}
 
 absl::StatusOr<pb::SubmitTraceResponse> Submit(Stubs& stubs, const SimulatedRig& rig, const pb::ProbeCommand& command,
                                                const std::string& rig_id) {
   pb::SubmitTraceResponse response;
-  grpc::Status status = stubs.probe->SubmitTrace(Context().get(), Execute(rig, command, rig_id), &response);
+  absl::StatusOr<pb::SubmitTraceRequest> request = ExecuteOnRig(rig, command, rig_id);
+  if (!request.ok()) return request.status();
+  grpc::Status status = stubs.probe->SubmitTrace(Context().get(), *request, &response);
   if (!status.ok()) return FromGrpc(status, "SubmitTrace");
   return response;
 }
@@ -83,7 +67,7 @@ TEST(JobStatus, WatchUpdatesCarryTheNewestAcceptedSample) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
   constexpr int kBudget = 8;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, kBudget)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, kBudget)));
 
   std::vector<pb::JobUpdate> updates;
   grpc::Status watch_status;
@@ -163,7 +147,7 @@ TEST(JobStatus, WatchUpdatesCarryTheNewestAcceptedSample) {
 
 TEST(JobStatus, UpdatedMovesWithEveryTraceAndFailureAndSurvivesARestart) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformSpec(setup.object_id, 0)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformLevel0Spec(setup.object_id, 0)));
   const int64_t created = ToUnixMs(job.created());
   EXPECT_EQ(ToUnixMs(job.updated()), created);
 
@@ -216,7 +200,7 @@ TEST(JobStatus, UpdatedMovesWithEveryTraceAndFailureAndSurvivesARestart) {
 TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 0)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, 0)));
   ASSERT_TRUE(job.progress().has_leased());
   EXPECT_EQ(job.progress().leased(), 0);
   const int sites = job.progress().issued();
@@ -268,7 +252,7 @@ TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
 TEST(JobStatus, AnExpiredLeaseIsNoLongerCountedAsLeased) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 0, /*lease_s=*/0.3)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, 0, /*lease_s=*/0.3)));
   ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-slow"));
   ITEST_ASSERT_OK_AND_ASSIGN(held, GetJob(stubs, job.job_id()));
   const int64_t deadline = ToUnixMs(command.lease_deadline());
@@ -296,7 +280,7 @@ std::string FitOptionsOf(Stubs& stubs, int64_t trace_id, int32_t version) {
 TEST(JobStatus, RefitWithoutNoiseAwareUsesTheEstimatorDefault) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformSpec(setup.object_id, 2)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, 2)));
   RigFleetOptions fleet_options;
   fleet_options.rigs = 1;
   fleet_options.job_id = job.job_id();

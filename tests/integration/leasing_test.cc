@@ -21,25 +21,13 @@ namespace {
 using std::chrono::milliseconds;
 
 
-pb::SubmitTraceRequest Execute(const SimulatedRig& rig, const pb::ProbeCommand& command, const std::string& rig_id) {
-  pb::SubmitTraceRequest request;
-  request.set_command_id(command.command_id());
-  request.set_rig_id(rig_id);
-  auto execution = rig.ExecuteDetailed(ProbeRequestFromCommand(command, command.command_id()));
-  EXPECT_TRUE(execution.ok()) << execution.status();
-  if (execution.ok()) *request.mutable_samples() = TraceToProto(execution->trace);
-  return request;
-}
 
 TEST(Leasing, ResubmittingTheSameTraceIsAcknowledgedOnceAndStoredOnce) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  JobSpecOptions spec;
-  spec.mode = pb::SAMPLING_MODE_UNIFORM;
-  spec.finest_level = 0;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id)));
   ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-a"));
-  pb::SubmitTraceRequest request = Execute(*setup.rig, command, "rig-a");
+  ITEST_ASSERT_OK_AND_ASSIGN(request, ExecuteOnRig(*setup.rig, command, "rig-a"));
 
   ITEST_ASSERT_OK_AND_ASSIGN(before, TakeDbSnapshot(setup.server->db_path()));
   pb::SubmitTraceResponse first, second, third;
@@ -104,7 +92,7 @@ TEST(Leasing, ConcurrentRigsNeverHoldTheSameCommand) {
   JobSpecOptions spec;
   spec.mode = pb::SAMPLING_MODE_UNIFORM;
   spec.coarsest_level = 1;
-  spec.finest_level = 1;  // 722 sites
+  spec.finest_level = 1;  // 322 sites
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
 
   constexpr int kThreads = 16;
@@ -159,11 +147,7 @@ TEST(Leasing, ConcurrentRigsNeverHoldTheSameCommand) {
 TEST(Leasing, AnExpiredLeaseIsReissuedToAnotherRigWithTheSameCommandId) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  JobSpecOptions spec;
-  spec.mode = pb::SAMPLING_MODE_UNIFORM;
-  spec.finest_level = 0;
-  spec.lease_s = 0.3;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, 0, /*lease_s=*/0.3)));
   ITEST_ASSERT_OK_AND_ASSIGN(abandoned, LeaseOne(stubs, job.job_id(), "rig-slow"));
   const auto lease_length = std::chrono::seconds(abandoned.lease_deadline().seconds()) +
                             std::chrono::nanoseconds(abandoned.lease_deadline().nanos());
@@ -183,13 +167,14 @@ TEST(Leasing, AnExpiredLeaseIsReissuedToAnotherRigWithTheSameCommandId) {
   EXPECT_EQ(reissued.site().level(), abandoned.site().level());
 
   pb::SubmitTraceResponse fresh;
-  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), Execute(*setup.rig, reissued, "rig-fast"), &fresh));
+  ITEST_ASSERT_OK_AND_ASSIGN(fresh_request, ExecuteOnRig(*setup.rig, reissued, "rig-fast"));
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), fresh_request, &fresh));
   EXPECT_FALSE(fresh.already_accepted());
 
   // The slow rig finally submits the same command: stored once at most.
+  ITEST_ASSERT_OK_AND_ASSIGN(late_request, ExecuteOnRig(*setup.rig, abandoned, "rig-slow"));
   pb::SubmitTraceResponse late;
-  grpc::Status status =
-      stubs.probe->SubmitTrace(Context().get(), Execute(*setup.rig, abandoned, "rig-slow"), &late);
+  grpc::Status status = stubs.probe->SubmitTrace(Context().get(), late_request, &late);
   if (status.ok()) {
     EXPECT_TRUE(late.already_accepted()) << "the expired lease's late trace was stored as new";
   } else {
@@ -213,11 +198,7 @@ namespace {
 TEST(Leasing, ASubmissionCanLeaseTheRigsNextCommand) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("bottle"));
   Stubs& stubs = *setup.stubs;
-  JobSpecOptions spec;
-  spec.mode = pb::SAMPLING_MODE_UNIFORM;
-  spec.finest_level = 0;
-  spec.budget = 4;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, /*budget=*/4)));
   ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(stubs, job.job_id(), "rig-a"));
 
   std::set<int64_t> executed;
@@ -225,7 +206,7 @@ TEST(Leasing, ASubmissionCanLeaseTheRigsNextCommand) {
   bool finished = false;
   for (int i = 0; i < 10 && !finished; ++i) {
     ASSERT_TRUE(executed.insert(command.command_id()).second) << "command " << command.command_id() << " twice";
-    pb::SubmitTraceRequest request = Execute(*setup.rig, command, "rig-a");
+    ITEST_ASSERT_OK_AND_ASSIGN(request, ExecuteOnRig(*setup.rig, command, "rig-a"));
     request.set_lease_next(true);
     pb::SubmitTraceResponse response;
     GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), request, &response));
@@ -239,7 +220,7 @@ TEST(Leasing, ASubmissionCanLeaseTheRigsNextCommand) {
     ++leased_by_answers;
     EXPECT_GT(command.lease_deadline().seconds(), 0);
     // Leased to rig-a: another rig cannot have it, or submit for it.
-    pb::SubmitTraceRequest stolen = Execute(*setup.rig, command, "rig-b");
+    ITEST_ASSERT_OK_AND_ASSIGN(stolen, ExecuteOnRig(*setup.rig, command, "rig-b"));
     pb::SubmitTraceResponse stolen_response;
     grpc::Status status = stubs.probe->SubmitTrace(Context().get(), stolen, &stolen_response);
     EXPECT_EQ(status.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << Describe(status);

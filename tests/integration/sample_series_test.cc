@@ -26,11 +26,7 @@ absl::StatusOr<pb::Sample> GetSample(Stubs& stubs, int64_t trace_id, int32_t ver
 TEST(SampleSeries, PerPairMuAndAcfBelongToTheStoredFit) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
   Stubs& stubs = *setup.stubs;
-  JobSpecOptions spec;
-  spec.mode = pb::SAMPLING_MODE_UNIFORM;
-  spec.finest_level = 0;
-  spec.budget = 3;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, MakeJobSpec(setup.object_id, spec)));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, /*budget=*/3)));
   RigFleetOptions fleet_options;
   fleet_options.rigs = 1;
   fleet_options.job_id = job.job_id();

@@ -50,6 +50,27 @@ absl::StatusOr<SceneServer> StartServerWithScene(const std::string& scene) {
   return setup;
 }
 
+absl::StatusOr<pb::SubmitTraceRequest> ExecuteOnRig(const SimulatedRig& rig, const pb::ProbeCommand& command,
+                                                    const std::string& rig_id) {
+  absl::StatusOr<ProbeExecution> execution =
+      rig.ExecuteDetailed(ProbeRequestFromCommand(command, command.command_id()));
+  if (!execution.ok()) return execution.status();
+  pb::SubmitTraceRequest request;
+  request.set_command_id(command.command_id());
+  request.set_rig_id(rig_id);
+  *request.mutable_samples() = TraceToProto(execution->trace);
+  return request;
+}
+
+pb::JobSpec UniformLevel0Spec(std::int64_t object_id, int budget, double lease_s) {
+  JobSpecOptions spec;
+  spec.mode = pb::SAMPLING_MODE_UNIFORM;
+  spec.finest_level = 0;
+  spec.budget = budget;
+  spec.lease_s = lease_s;
+  return MakeJobSpec(object_id, spec);
+}
+
 pb::JobSpec MakeJobSpec(std::int64_t object_id, const JobSpecOptions& options) {
   pb::JobSpec spec;
   spec.set_object_id(object_id);

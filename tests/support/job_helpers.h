@@ -35,6 +35,10 @@ struct SceneServer {
 };
 absl::StatusOr<SceneServer> StartServerWithScene(const std::string& scene);
 
+// The simulated rig's trace for `command`, as `rig_id`'s SubmitTrace request.
+absl::StatusOr<pb::SubmitTraceRequest> ExecuteOnRig(const SimulatedRig& rig, const pb::ProbeCommand& command,
+                                                    const std::string& rig_id);
+
 struct JobSpecOptions {
   pb::Property property = pb::PROPERTY_FRICTION;
   pb::SamplingMode mode = pb::SAMPLING_MODE_ADAPTIVE;
@@ -47,6 +51,8 @@ struct JobSpecOptions {
   int max_retries = 0;    // 0 = server default
 };
 pb::JobSpec MakeJobSpec(std::int64_t object_id, const JobSpecOptions& options = {});
+// A uniform job over the level-0 sites (budget 0 = all; lease_s 0 = server default).
+pb::JobSpec UniformLevel0Spec(std::int64_t object_id, int budget = 0, double lease_s = 0.0);
 
 absl::StatusOr<pb::JobInfo> CreateJob(Stubs& stubs, const pb::JobSpec& spec, const std::string& token = "");
 absl::StatusOr<pb::JobInfo> GetJob(Stubs& stubs, std::int64_t job_id);
