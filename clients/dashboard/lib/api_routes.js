@@ -94,7 +94,9 @@ const ROUTES = [
   }],
   ['/api/samples/:trace', async ({ client, params, query }) => {
     const fitVersion = parseIntParam(query, 'fit_version', { min: 0, max: 1e6, fallback: 0 });
-    const r = await client.call('GetSample', { trace_id: params.trace, fit_version: fitVersion });
+    // include_series: the per-pair mu along the window (and the ACF), which
+    // the trace plot draws under the forces.
+    const r = await client.call('GetSample', { trace_id: params.trace, fit_version: fitVersion, include_series: true });
     return { sample: sampleForm(r.sample) };
   }],
   ['/api/traces/:trace', async ({ client, params }) => ({ trace: traceForm(await client.call('GetTrace', { trace_id: params.trace })) })],

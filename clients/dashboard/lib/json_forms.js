@@ -94,11 +94,14 @@ export function fitForm(f) {
     friction: {
       mu: fr.mu, mu_std: fr.mu_std, mu_median: fr.mu_median, normal: vec(fr.normal),
       pair_count: fr.pair_count, window_start_mm: fr.window_start_mm, window_end_mm: fr.window_end_mm,
+      // Only from GetSample with include_series; empty elsewhere.
+      pair_s_mm: fr.pair_s_mm || [], pair_mu: fr.pair_mu || [],
     },
     roughness: {
       ar_coefficients: ro.ar_coefficients || [], ar_stderr: ro.ar_stderr || [], sigma: ro.sigma,
       stationary: ro.stationary, reflection: ro.reflection || [], acf_decay_mm: ro.acf_decay_mm,
       dominant_wavelength_mm: ro.dominant_wavelength_mm, below_noise_floor: ro.below_noise_floor,
+      acf: ro.acf || [], grid_step_mm: ro.grid_step_mm,
     },
   };
 }

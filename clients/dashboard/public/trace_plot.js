@@ -1,4 +1,5 @@
-// A drag trace as an inline SVG: fz and fx (N), two panels, along the path (mm from the
+// A drag trace as an inline SVG: fz and fx (N), and the fit's per-pair mu when
+// the sample carries it, in panels along the path (mm from the
 // start of the forward pass; the reverse pass runs back over the same path, so
 // it is plotted at the same positions), forward solid, reverse dashed, the
 // pause left out (the probe does not move), and the fit's data window shaded.
@@ -7,7 +8,7 @@
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const W = 380;
-const H = 260;
+const H = 340;
 const M = { left: 42, right: 10, top: 22, bottom: 28 };
 
 function el(name, attrs, text) {
@@ -63,10 +64,15 @@ export function drawTracePlot(container, trace, fit) {
   const px = (x) => M.left + (x / xMax) * (W - M.left - M.right);
   const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, role: 'img', 'aria-label': `trace ${trace.trace_id}: fx and fz along the path` });
 
-  // Two panels sharing the path axis: fz (~ the normal force) and fx (~ the
-  // friction) differ by an order of magnitude, so each gets its own scale.
+  // Panels sharing the path axis: fz (~ the normal force) and fx (~ the
+  // friction) differ by an order of magnitude, so each gets its own scale;
+  // below them mu = tan(theta/2) of each forward/reverse pair in the window.
+  const pairS = (fit && fit.friction && fit.friction.pair_s_mm) || [];
+  const pairMu = (fit && fit.friction && fit.friction.pair_mu) || [];
+  const withMu = pairMu.length > 0 && pairMu.length === pairS.length;
   const gap = 14;
-  const panelH = (H - M.top - M.bottom - gap) / 2;
+  const count = withMu ? 3 : 2;
+  const panelH = (H - M.top - M.bottom - gap * (count - 1)) / count;
   const panels = [
     { key: 'fz', top: M.top, colour: '#f0a04b' },
     { key: 'fx', top: M.top + panelH + gap, colour: '#5ab0ff' },
@@ -103,6 +109,7 @@ export function drawTracePlot(container, trace, fit) {
     }
     svg.append(el('text', { x: W - M.right - 2, y: panel.top + 10, 'text-anchor': 'end' }, `${panel.key} (N)`));
   }
+  if (withMu) drawPairMu(svg, { top: M.top + 2 * (panelH + gap), height: panelH, px }, pairS, pairMu, fit.friction.mu);
   for (const v of niceTicks(0, xMax, 6)) {
     svg.append(el('text', { x: px(v), y: H - M.bottom + 12, 'text-anchor': 'middle' }, String(v)));
   }
@@ -116,4 +123,24 @@ export function drawTracePlot(container, trace, fit) {
   container.append(svg);
   container.dataset.traceId = String(trace.trace_id);
   container.dataset.pointCount = String(trace.t.length);
+  container.dataset.pairCount = String(withMu ? pairMu.length : 0);
+}
+
+// The estimator's per-pair mu (dots) and its mean (line), on the path axis.
+function drawPairMu(svg, { top, height, px }, s, mu, mean) {
+  let lo = Math.min(...mu, mean);
+  let hi = Math.max(...mu, mean);
+  const pad = (hi - lo) * 0.08 || 0.02;
+  lo -= pad;
+  hi += pad;
+  const py = (y) => top + height - ((y - lo) / (hi - lo)) * height;
+  for (const v of niceTicks(lo, hi, 3)) {
+    svg.append(el('line', { x1: M.left, x2: W - M.right, y1: py(v), y2: py(v), stroke: '#2e343e' }));
+    svg.append(el('text', { x: M.left - 4, y: py(v) + 3, 'text-anchor': 'end' }, String(v)));
+  }
+  const dots = el('g', { class: 'pair-mu', fill: '#c8e06a' });
+  for (let i = 0; i < mu.length; ++i) dots.append(el('circle', { cx: px(s[i]).toFixed(1), cy: py(mu[i]).toFixed(1), r: 1.4 }));
+  svg.append(dots);
+  svg.append(el('line', { x1: px(s[0]), x2: px(s[s.length - 1]), y1: py(mean), y2: py(mean), stroke: '#ff6b6b', 'stroke-width': 1.2 }));
+  svg.append(el('text', { x: W - M.right - 2, y: top + 10, 'text-anchor': 'end' }, `mu per pair (mean ${mean.toFixed(4)})`));
 }

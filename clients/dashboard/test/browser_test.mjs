@@ -350,10 +350,14 @@ async function main() {
     const plot = await page.evaluate(() => ({
       traceId: document.querySelector('#trace-plot').dataset.traceId,
       lines: document.querySelectorAll('#trace-plot svg polyline').length,
+      pairs: Number(document.querySelector('#trace-plot').dataset.pairCount),
+      dots: document.querySelectorAll('#trace-plot svg g.pair-mu circle').length,
       sample: document.querySelector('#sample-body').innerText,
     }));
     assert.ok(Number(plot.traceId) > 0);
     assert.equal(plot.lines, 4, 'fz and fx, forward and reverse');
+    assert.ok(plot.pairs > 50, `per-pair mu from GetSample include_series (${plot.pairs} pairs)`);
+    assert.equal(plot.dots, plot.pairs, 'one dot per pair');
     assert.match(plot.sample, new RegExp(`^trace\\s+${plot.traceId} `, 'm'));
     assert.match(plot.sample, /mu \(mean ± std\)\s+0\.\d{4} ± 0\.\d{4}/);
   });
