@@ -14,6 +14,7 @@
 #include "clients/render/map_ply.h"
 #include "clients/render/map_render.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
+#include "server/codec/trace_samples_proto.h"
 #include "server/estimate/drag_trace.h"
 #include "server/estimate/trace_csv.h"
 
@@ -154,31 +155,6 @@ void RunMapQuery(RemoteCli& cli, const MapQueryArgs& args) {
   }
 }
 
-// TraceSamples -> the domain trace, for the CSV writer. Columns of unequal
-// length are a server bug; report rather than guess.
-absl::StatusOr<DragTrace> TraceFromProto(const pb::TraceSamples& s) {
-  const int n = s.t_size();
-  if (s.x_size() != n || s.y_size() != n || s.z_size() != n || s.fx_size() != n || s.fy_size() != n ||
-      s.fz_size() != n || s.phases_size() != n) {
-    return absl::DataLossError("trace columns have different lengths");
-  }
-  DragTrace trace;
-  trace.samples.reserve(n);
-  for (int i = 0; i < n; ++i) {
-    DragSample sample;
-    sample.t = s.t(i);
-    sample.position = {s.x(i), s.y(i), s.z(i)};
-    sample.force = {s.fx(i), s.fy(i), s.fz(i)};
-    switch (s.phases(i)) {
-      case pb::PHASE_FORWARD: sample.phase = DragPhase::kForward; break;
-      case pb::PHASE_PAUSE: sample.phase = DragPhase::kPause; break;
-      case pb::PHASE_REVERSE: sample.phase = DragPhase::kReverse; break;
-      default: return absl::DataLossError(absl::StrCat("trace sample ", i, " has no phase"));
-    }
-    trace.samples.push_back(sample);
-  }
-  return trace;
-}
 
 }  // namespace
 
@@ -273,7 +249,7 @@ void AddTraceCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
     request.set_trace_id(*trace_id);
     pb::GetTraceResponse response;
     if (!CallRpc(*cli, "GetTrace", *stub, &pb::TraceService::Stub::GetTrace, request, &response)) return;
-    absl::StatusOr<DragTrace> trace = TraceFromProto(response.samples());
+    absl::StatusOr<DragTrace> trace = DragTraceFromProto(response.samples());
     if (!trace.ok()) return FailUsage(*cli, absl::StrCat("trace ", *trace_id, ": ", trace.status().message()));
     const std::string csv = absl::StrCat("# surfmap trace ", response.trace_id(), " (command ", response.command_id(),
                                          ", job ", response.job_id(), ")\n", FormatTraceCsv(*trace));

@@ -27,29 +27,5 @@ absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const pb::ProbeCommand& com
   return request;
 }
 
-pb::TraceSamples TraceToSamples(const DragTrace& trace) {
-  pb::TraceSamples out;
-  const int n = static_cast<int>(trace.samples.size());
-  for (auto* column : {out.mutable_t(), out.mutable_x(), out.mutable_y(), out.mutable_z(), out.mutable_fx(),
-                       out.mutable_fy(), out.mutable_fz()}) {
-    column->Reserve(n);
-  }
-  out.mutable_phases()->Reserve(n);
-  for (const DragSample& s : trace.samples) {
-    out.add_t(s.t);
-    out.add_x(s.position.x());
-    out.add_y(s.position.y());
-    out.add_z(s.position.z());
-    out.add_fx(s.force.x());
-    out.add_fy(s.force.y());
-    out.add_fz(s.force.z());
-    switch (s.phase) {
-      case DragPhase::kForward: out.add_phases(pb::PHASE_FORWARD); break;
-      case DragPhase::kPause: out.add_phases(pb::PHASE_PAUSE); break;
-      case DragPhase::kReverse: out.add_phases(pb::PHASE_REVERSE); break;
-    }
-  }
-  return out;
-}
 
 }  // namespace surfmap::rig

@@ -13,7 +13,4 @@ namespace surfmap::rig {
 // INVALID_ARGUMENT (via ValidateProbeRequest) naming the bad field.
 absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const surfmap::v1::ProbeCommand& command);
 
-// The trace in the API's columnar form.
-surfmap::v1::TraceSamples TraceToSamples(const DragTrace& trace);
-
 }  // namespace surfmap::rig

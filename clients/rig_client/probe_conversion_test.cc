@@ -40,22 +40,5 @@ TEST(ProbeRequestFromCommandTest, RejectsAZeroNormalNamingTheCommand) {
   EXPECT_NE(r.status().message().find("command 42"), std::string_view::npos) << r.status();
 }
 
-TEST(TraceToSamplesTest, ColumnsInOrder) {
-  DragTrace trace;
-  trace.samples.push_back({0.0, {1, 2, 3}, {4, 5, 6}, DragPhase::kForward});
-  trace.samples.push_back({0.5, {1, 2, 3}, {0, 0, 6}, DragPhase::kPause});
-  trace.samples.push_back({1.0, {7, 8, 9}, {-4, -5, 6}, DragPhase::kReverse});
-  pb::TraceSamples s = TraceToSamples(trace);
-  ASSERT_EQ(s.t_size(), 3);
-  EXPECT_EQ(s.phases_size(), 3);
-  EXPECT_DOUBLE_EQ(s.t(2), 1.0);
-  EXPECT_DOUBLE_EQ(s.x(2), 7.0);
-  EXPECT_DOUBLE_EQ(s.fy(0), 5.0);
-  EXPECT_DOUBLE_EQ(s.fz(1), 6.0);
-  EXPECT_EQ(s.phases(0), pb::PHASE_FORWARD);
-  EXPECT_EQ(s.phases(1), pb::PHASE_PAUSE);
-  EXPECT_EQ(s.phases(2), pb::PHASE_REVERSE);
-}
-
 }  // namespace
 }  // namespace surfmap::rig

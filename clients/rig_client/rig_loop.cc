@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "clients/rig_client/probe_conversion.h"
+#include "server/codec/trace_samples_proto.h"
 
 namespace surfmap::rig {
 
@@ -139,7 +140,7 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
   // a lease nobody executes holds its site until the lease expires.
   const bool last = Stopping() || (options_.max_commands > 0 && summary_.executed() + 1 >= options_.max_commands);
   submit.set_lease_next(!last);
-  *submit.mutable_samples() = TraceToSamples(*trace);
+  *submit.mutable_samples() = DragTraceToProto(*trace);
   pb::SubmitTraceResponse response;
   grpc::Status status = WithRetries("SubmitTrace", [&] {
     response.Clear();

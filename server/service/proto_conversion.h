@@ -8,6 +8,7 @@
 #include "absl/status/statusor.h"
 #include "proto/surfmap/v1/surfmap.pb.h"
 #include "server/estimate/drag_trace.h"
+#include "server/codec/trace_samples_proto.h"
 #include "server/estimate/fit_trace.h"
 #include "server/jobs/job_params.h"
 #include "storage/records.h"
@@ -20,12 +21,8 @@ pb::Vec3 ToProto(const Eigen::Vector3d& v);
 Eigen::Vector3d FromProto(const pb::Vec3& v);
 google::protobuf::Timestamp TimestampFromUnixMs(int64_t unix_ms);
 
-// Columns must have equal lengths, 1..max_samples rows, phases not
-// UNSPECIFIED; values are checked by FitTrace (and the CSV reader) later.
-absl::StatusOr<DragTrace> DragTraceFromProto(const pb::TraceSamples& samples, int max_samples);
 // Appends `more` to `into` column by column (streamed submissions).
 void AppendSamples(const pb::TraceSamples& more, pb::TraceSamples* into);
-pb::TraceSamples DragTraceToProto(const DragTrace& trace);
 
 // JobSpec -> JobParams with defaults for zero fields. UNSPECIFIED property or
 // mode, unknown enum values, and out-of-range numbers are INVALID_ARGUMENT.

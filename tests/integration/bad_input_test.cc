@@ -14,6 +14,7 @@
 
 #include "absl/strings/ascii.h"
 #include "absl/strings/str_join.h"
+#include "clients/cli/remote_call.h"
 #include "gtest/gtest.h"
 #include "tests/support/db_snapshot.h"
 #include "tests/support/job_helpers.h"
@@ -67,9 +68,9 @@ class BadInputTest : public ::testing::Test {
     auto command = LeaseOne(*stubs_, job_id_, "rig-bad");
     ASSERT_TRUE(command.ok()) << command.status();
     command_ = *command;
-    auto execution = rig_->ExecuteDetailed(ProbeRequestFromCommand(command_, command_.command_id()));
-    ASSERT_TRUE(execution.ok()) << execution.status();
-    good_trace_ = TraceToProto(execution->trace);
+    auto submit = ExecuteOnRig(*rig_, command_, "rig-bad");
+    ASSERT_TRUE(submit.ok()) << submit.status();
+    good_trace_ = submit->samples();
   }
 
   // Runs `call`, checks the code and message, and that the DB did not change.
@@ -80,7 +81,7 @@ class BadInputTest : public ::testing::Test {
     grpc::Status status = call();
     std::cout << "  " << name << " -> " << Describe(status).substr(0, 160) << "\n";
     EXPECT_EQ(status.error_code(), expected.code)
-        << name << ": expected " << CodeName(expected.code) << ", got " << Describe(status);
+        << name << ": expected " << cli::StatusCodeName(expected.code) << ", got " << Describe(status);
     EXPECT_TRUE(MessageNames(status.error_message(), expected.any_of))
         << name << ": the message should name the problem (one of: " << absl::StrJoin(expected.any_of, ", ")
         << "), got: " << Describe(status);

@@ -2,6 +2,7 @@
 
 #include <thread>
 
+#include "server/codec/trace_samples_proto.h"
 #include "absl/strings/str_cat.h"
 #include "clients/rig/scene.h"
 #include "server/mesh/control_mesh.h"
@@ -52,13 +53,14 @@ absl::StatusOr<SceneServer> StartServerWithScene(const std::string& scene) {
 
 absl::StatusOr<pb::SubmitTraceRequest> ExecuteOnRig(const SimulatedRig& rig, const pb::ProbeCommand& command,
                                                     const std::string& rig_id) {
-  absl::StatusOr<ProbeExecution> execution =
-      rig.ExecuteDetailed(ProbeRequestFromCommand(command, command.command_id()));
+  absl::StatusOr<ProbeRequest> probe = SeededProbeRequest(command, command.command_id());
+  if (!probe.ok()) return probe.status();
+  absl::StatusOr<ProbeExecution> execution = rig.ExecuteDetailed(*probe);
   if (!execution.ok()) return execution.status();
   pb::SubmitTraceRequest request;
   request.set_command_id(command.command_id());
   request.set_rig_id(rig_id);
-  *request.mutable_samples() = TraceToProto(execution->trace);
+  *request.mutable_samples() = DragTraceToProto(execution->trace);
   return request;
 }
 

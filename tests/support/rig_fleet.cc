@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
+#include "server/codec/trace_samples_proto.h"
 #include "absl/strings/str_cat.h"
 #include "tests/support/server_process.h"
 
@@ -76,7 +77,9 @@ void RigFleet::RigLoop(int index) {
     }
 
     const int64_t seed_id = options_.seed_by_site ? SiteSeedId(command.site()) : command.command_id();
-    absl::StatusOr<ProbeExecution> execution = rig_.ExecuteDetailed(ProbeRequestFromCommand(command, seed_id));
+    absl::StatusOr<ProbeRequest> request = SeededProbeRequest(command, seed_id);
+    absl::StatusOr<ProbeExecution> execution =
+        request.ok() ? rig_.ExecuteDetailed(*request) : absl::StatusOr<ProbeExecution>(request.status());
     if (!execution.ok()) {
       pb::ReportFailureRequest failure;
       failure.set_command_id(command.command_id());
@@ -102,7 +105,7 @@ void RigFleet::RigLoop(int index) {
     pb::SubmitTraceRequest submit;
     submit.set_command_id(command.command_id());
     submit.set_rig_id(rig_id);
-    *submit.mutable_samples() = TraceToProto(execution->trace);
+    *submit.mutable_samples() = DragTraceToProto(execution->trace);
     pb::SubmitTraceResponse response;
     status = stubs.probe->SubmitTrace(Context(options_.call_deadline_s).get(), submit, &response);
     if (!status.ok()) {

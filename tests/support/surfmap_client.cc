@@ -6,6 +6,8 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
+#include "clients/cli/remote_call.h"
+#include "clients/rig_client/probe_conversion.h"
 
 #ifndef SURFMAP_SOURCE_DIR
 #define SURFMAP_SOURCE_DIR "."
@@ -28,32 +30,10 @@ std::unique_ptr<grpc::ClientContext> Context(double deadline_s, const std::strin
   return context;
 }
 
-const char* CodeName(grpc::StatusCode code) {
-  switch (code) {
-    case grpc::StatusCode::OK: return "OK";
-    case grpc::StatusCode::CANCELLED: return "CANCELLED";
-    case grpc::StatusCode::UNKNOWN: return "UNKNOWN";
-    case grpc::StatusCode::INVALID_ARGUMENT: return "INVALID_ARGUMENT";
-    case grpc::StatusCode::DEADLINE_EXCEEDED: return "DEADLINE_EXCEEDED";
-    case grpc::StatusCode::NOT_FOUND: return "NOT_FOUND";
-    case grpc::StatusCode::ALREADY_EXISTS: return "ALREADY_EXISTS";
-    case grpc::StatusCode::PERMISSION_DENIED: return "PERMISSION_DENIED";
-    case grpc::StatusCode::RESOURCE_EXHAUSTED: return "RESOURCE_EXHAUSTED";
-    case grpc::StatusCode::FAILED_PRECONDITION: return "FAILED_PRECONDITION";
-    case grpc::StatusCode::ABORTED: return "ABORTED";
-    case grpc::StatusCode::OUT_OF_RANGE: return "OUT_OF_RANGE";
-    case grpc::StatusCode::UNIMPLEMENTED: return "UNIMPLEMENTED";
-    case grpc::StatusCode::INTERNAL: return "INTERNAL";
-    case grpc::StatusCode::UNAVAILABLE: return "UNAVAILABLE";
-    case grpc::StatusCode::DATA_LOSS: return "DATA_LOSS";
-    case grpc::StatusCode::UNAUTHENTICATED: return "UNAUTHENTICATED";
-    default: return "UNKNOWN_CODE";
-  }
-}
 
 std::string Describe(const grpc::Status& status) {
   if (status.ok()) return "OK";
-  return absl::StrCat(CodeName(status.error_code()), ": ", status.error_message());
+  return absl::StrCat(std::string(cli::StatusCodeName(status.error_code())), ": ", status.error_message());
 }
 
 std::string SourcePath(const std::string& relative) { return std::string(SURFMAP_SOURCE_DIR) + "/" + relative; }
@@ -80,56 +60,9 @@ absl::StatusOr<pb::ObjectInfo> UploadMeshFile(Stubs& stubs, const std::string& n
   return response.object();
 }
 
-pb::TraceSamples TraceToProto(const DragTrace& trace) {
-  pb::TraceSamples out;
-  const int n = static_cast<int>(trace.samples.size());
-  for (auto* column : {out.mutable_t(), out.mutable_x(), out.mutable_y(), out.mutable_z(), out.mutable_fx(),
-                       out.mutable_fy(), out.mutable_fz()}) {
-    column->Reserve(n);
-  }
-  out.mutable_phases()->Reserve(n);
-  for (const DragSample& s : trace.samples) {
-    out.add_t(s.t);
-    out.add_x(s.position.x());
-    out.add_y(s.position.y());
-    out.add_z(s.position.z());
-    out.add_fx(s.force.x());
-    out.add_fy(s.force.y());
-    out.add_fz(s.force.z());
-    out.add_phases(s.phase == DragPhase::kForward ? pb::PHASE_FORWARD
-                   : s.phase == DragPhase::kPause ? pb::PHASE_PAUSE
-                                                  : pb::PHASE_REVERSE);
-  }
-  return out;
-}
-
-DragTrace TraceFromProto(const pb::TraceSamples& samples) {
-  DragTrace trace;
-  const int n = samples.t_size();
-  trace.samples.resize(n);
-  for (int i = 0; i < n; ++i) {
-    DragSample& s = trace.samples[i];
-    s.t = samples.t(i);
-    s.position = {samples.x(i), samples.y(i), samples.z(i)};
-    s.force = {samples.fx(i), samples.fy(i), samples.fz(i)};
-    s.phase = samples.phases(i) == pb::PHASE_FORWARD ? DragPhase::kForward
-              : samples.phases(i) == pb::PHASE_PAUSE ? DragPhase::kPause
-                                                     : DragPhase::kReverse;
-  }
-  return trace;
-}
-
-ProbeRequest ProbeRequestFromCommand(const pb::ProbeCommand& command, std::int64_t seed_id) {
-  ProbeRequest request;
-  request.position = {command.position().x(), command.position().y(), command.position().z()};
-  request.normal = {command.normal().x(), command.normal().y(), command.normal().z()};
-  request.drag_direction = {command.drag_direction().x(), command.drag_direction().y(),
-                            command.drag_direction().z()};
-  // Zero fields mean "the default" in the API; the rig wants explicit values.
-  if (command.probe().segment_length_mm() > 0) request.segment_length_mm = command.probe().segment_length_mm();
-  if (command.probe().speed_mm_s() > 0) request.speed_mm_s = command.probe().speed_mm_s();
-  if (command.probe().normal_force_n() > 0) request.normal_force_n = command.probe().normal_force_n();
-  request.command_id = seed_id;
+absl::StatusOr<ProbeRequest> SeededProbeRequest(const pb::ProbeCommand& command, std::int64_t seed_id) {
+  absl::StatusOr<ProbeRequest> request = rig::ProbeRequestFromCommand(command);
+  if (request.ok()) request->command_id = seed_id;
   return request;
 }
 

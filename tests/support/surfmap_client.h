@@ -1,6 +1,6 @@
 // Client-side helpers for talking to a real surfmapd: one stub per service,
-// contexts with deadlines and tokens, proto <-> domain conversions of traces
-// and probe commands, and readable status text for test failure messages.
+// contexts with deadlines and tokens, seeded probe requests, and readable
+// status text for test failure messages.
 #pragma once
 
 #include <cstdint>
@@ -33,7 +33,6 @@ std::unique_ptr<grpc::ClientContext> Context(double deadline_s = 60.0, const std
 
 // "NOT_FOUND: job 7 does not exist" (or "OK").
 std::string Describe(const grpc::Status& status);
-const char* CodeName(grpc::StatusCode code);
 
 // A file of the source tree (SURFMAP_SOURCE_DIR), e.g. "tests/data/meshes/bottle.obj".
 std::string SourcePath(const std::string& relative);
@@ -43,14 +42,11 @@ absl::StatusOr<std::string> ReadFileBytes(const std::string& path);
 absl::StatusOr<pb::ObjectInfo> UploadMeshFile(Stubs& stubs, const std::string& name, const std::string& path,
                                               pb::MeshFormat format, const std::string& token = "");
 
-pb::TraceSamples TraceToProto(const DragTrace& trace);
-// Inverse of TraceToProto for well-formed columns (equal lengths, known phases).
-DragTrace TraceFromProto(const pb::TraceSamples& samples);
-
-// The rig's view of a command. `seed_id` goes to ProbeRequest::command_id,
-// which seeds the simulated rig: pass the command id, or a per-site number
-// to make a trace independent of the order in which commands were issued.
-ProbeRequest ProbeRequestFromCommand(const pb::ProbeCommand& command, std::int64_t seed_id);
+// The rig's view of a command (rig::ProbeRequestFromCommand, as surfmap-rig
+// sees it), with `seed_id` as ProbeRequest::command_id, which seeds the
+// simulated rig: pass the command id, or a per-site number to make a trace
+// independent of the order in which commands were issued.
+absl::StatusOr<ProbeRequest> SeededProbeRequest(const pb::ProbeCommand& command, std::int64_t seed_id);
 // A seed id that depends only on the site (its finest-level vertex index).
 std::int64_t SiteSeedId(const pb::Site& site);
 
