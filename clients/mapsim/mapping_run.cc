@@ -22,20 +22,6 @@ std::int64_t SiteCommandId(int vertex, int attempt) {
   return static_cast<std::int64_t>(vertex) * kAttemptsPerSiteSeed + attempt;
 }
 
-// What the plan and the map take from a fit (as the server's job coordinator
-// does): an unstable roughness model has no valid reflection coefficients, so
-// only its friction is kept.
-TextureParams TextureOf(const TraceFit& fit) {
-  TextureParams t;
-  t.mu = fit.friction.mu;
-  t.mu_std = fit.friction.mu_std;
-  if (fit.roughness.stationary) {
-    t.reflection = fit.roughness.reflection;
-    t.sigma = fit.roughness.sigma;
-  }
-  return t;
-}
-
 // Executes and fits one probe. The record says whether it was measured.
 ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& options, int vertex, int attempt,
                         const Eigen::Vector3d& position, const Eigen::Vector3d& normal,

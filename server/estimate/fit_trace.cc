@@ -73,4 +73,15 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   return fit;
 }
 
+TextureParams TextureOf(const TraceFit& fit) {
+  TextureParams t;
+  t.mu = fit.friction.mu;
+  t.mu_std = fit.friction.mu_std;
+  if (fit.roughness.stationary) {
+    t.reflection = fit.roughness.reflection;
+    t.sigma = fit.roughness.sigma;
+  }
+  return t;
+}
+
 }  // namespace surfmap

@@ -16,6 +16,7 @@
 #include "server/estimate/friction.h"
 #include "server/estimate/path_pairing.h"
 #include "server/estimate/roughness.h"
+#include "server/estimate/texture.h"
 
 namespace surfmap {
 
@@ -59,5 +60,10 @@ struct TraceFit {
 // is noise_std^2 * (1 + mu^2): the variation |f_t| - mu f_n carries the
 // tangential noise plus mu times the normal noise.
 absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& options);
+
+// What the sampling plan and the map take from a fit: mu and its spread, and
+// the roughness model only when it is stationary (an unstable model has no
+// valid reflection coefficients; leaving it out keeps it from poisoning the map).
+TextureParams TextureOf(const TraceFit& fit);
 
 }  // namespace surfmap

@@ -193,5 +193,24 @@ TEST(FitTraceTest, BadExampleTracesAreRejectedWithClearMessages) {
   }
 }
 
+TEST(TextureOfTest, KeepsRoughnessOnlyWhenTheModelIsStationary) {
+  TraceFit fit;
+  fit.friction.mu = 0.3;
+  fit.friction.mu_std = 0.02;
+  fit.roughness.reflection = {0.5, -0.2};
+  fit.roughness.sigma = 0.11;
+  fit.roughness.stationary = true;
+  TextureParams t = TextureOf(fit);
+  EXPECT_EQ(t.mu, 0.3);
+  EXPECT_EQ(t.mu_std, 0.02);
+  EXPECT_EQ(t.reflection, (std::vector<double>{0.5, -0.2}));
+  EXPECT_EQ(t.sigma, 0.11);
+  fit.roughness.stationary = false;
+  t = TextureOf(fit);
+  EXPECT_EQ(t.mu, 0.3);
+  EXPECT_TRUE(t.reflection.empty());
+  EXPECT_EQ(t.sigma, 0.0);
+}
+
 }  // namespace
 }  // namespace surfmap

@@ -34,19 +34,6 @@ SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
   return o;
 }
 
-TextureParams TextureOf(const TraceFit& fit) {
-  TextureParams t;
-  t.mu = fit.friction.mu;
-  t.mu_std = fit.friction.mu_std;
-  // An unstable roughness model has no valid reflection coefficients: keep
-  // friction and leave roughness out rather than poisoning the map.
-  if (fit.roughness.stationary) {
-    t.reflection = fit.roughness.reflection;
-    t.sigma = fit.roughness.sigma;
-  }
-  return t;
-}
-
 NewFit NewFitOf(const TraceFit& fit, const FitOptions& options) {
   NewFit f;
   f.estimator_name = kEstimatorName;
