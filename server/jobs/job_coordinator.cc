@@ -34,6 +34,21 @@ SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
   return o;
 }
 
+// An answer to a command (trace or failure) must come from the rig holding
+// its lease: checked before the plan is touched (the store checks again).
+absl::Status CheckLeasedTo(const CommandRecord& command, const std::string& rig_id, const char* otherwise) {
+  if (command.state != CommandState::kLeased) {
+    return absl::FailedPreconditionError(absl::StrCat("command ", command.id, " is ",
+                                                      std::string(CommandStateName(command.state)),
+                                                      ", not leased: ", otherwise));
+  }
+  if (command.lease_owner != rig_id) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("command ", command.id, " is leased to '", command.lease_owner, "', not to '", rig_id, "'"));
+  }
+  return absl::OkStatus();
+}
+
 NewFit NewFitOf(const TraceFit& fit, const FitOptions& options) {
   NewFit f;
   f.estimator_name = kEstimatorName;
@@ -463,16 +478,11 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
   // stored ids (already_accepted). Anything else must be leased by this rig:
   // checked here too, before the plan is touched.
   const bool retry = command->state == CommandState::kDone;
-  if (!retry && command->state != CommandState::kLeased) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ",
-                                                    std::string(CommandStateName(command->state)),
-                                                    ", not leased: lease it before submitting a trace")));
-    return;
-  }
-  if (!retry && command->lease_owner != rig_id) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is leased to '", command->lease_owner,
-                                                    "', not to '", rig_id, "'")));
-    return;
+  if (!retry) {
+    if (absl::Status held = CheckLeasedTo(*command, rig_id, "lease it before submitting a trace"); !held.ok()) {
+      done(held);
+      return;
+    }
   }
 
   // The fit is pure computation: outside the job lock.
@@ -542,11 +552,20 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
           outcome.probe = probe;
           outcome.trace_id = result->trace_id;
           outcome.already_accepted = result->already_accepted;
-          absl::StatusOr<FitRecord> stored = result->already_accepted
-                                                 ? store_->GetFit(result->trace_id, 1)
-                                                 : absl::StatusOr<FitRecord>(FitRecordOf(*new_fit, *result));
-          if (stored.ok()) outcome.fit = *stored;
-          if (!result->already_accepted) outcome.decoded_fit = decoded_fit;
+          if (result->already_accepted) {
+            // A retry: its reply shows the fit stored the first time. The
+            // trace is durable either way; a failed read is reported (the rig
+            // retries, idempotently) rather than answered with an empty fit.
+            absl::StatusOr<FitRecord> stored = store_->GetFit(result->trace_id, 1);
+            if (!stored.ok()) {
+              done(stored.status());
+              return;
+            }
+            outcome.fit = std::move(*stored);
+          } else {
+            outcome.fit = FitRecordOf(*new_fit, *result);
+            outcome.decoded_fit = decoded_fit;
+          }
           std::shared_ptr<const AcceptedSample> accepted;
           if (plan_changed && !result->already_accepted) {
             auto sample = std::make_shared<AcceptedSample>();
@@ -554,7 +573,7 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
             sample->trace_id = result->trace_id;
             sample->fit = outcome.fit;
             // The trace and its fit are stored in one transaction at one time.
-            sample->received_unix_ms = stored.ok() ? stored->created_unix_ms : UnixMillisNow();
+            sample->received_unix_ms = result->accepted_unix_ms;
             accepted = std::move(sample);
           }
           {
@@ -598,15 +617,8 @@ void JobCoordinator::ReportFailure(int64_t command_id, const std::string& rig_id
   }
   const CommandRecord* command = &context->record;
   const ProbeCommand* probe = &context->probe;
-  if (command->state != CommandState::kLeased) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is ",
-                                                    std::string(CommandStateName(command->state)),
-                                                    ", not leased: nothing to report")));
-    return;
-  }
-  if (command->lease_owner != rig_id) {
-    done(absl::FailedPreconditionError(absl::StrCat("command ", command_id, " is leased to '", command->lease_owner,
-                                                    "', not to '", rig_id, "'")));
+  if (absl::Status held = CheckLeasedTo(*command, rig_id, "nothing to report"); !held.ok()) {
+    done(held);
     return;
   }
   std::shared_ptr<JobRuntime> runtime = context->runtime;
