@@ -1,5 +1,6 @@
 #include "clients/cli/remote_call.h"
 
+#include <algorithm>
 #include <chrono>
 
 
@@ -13,6 +14,16 @@ std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options) {
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10'000);
   args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 0);
   return grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+}
+
+std::shared_ptr<grpc::Channel> ConnectChannel(const RemoteOptions& options) {
+  std::shared_ptr<grpc::Channel> channel = MakeChannel(options);
+  const double wait_s = options.timeout_s > 0 ? std::min(options.timeout_s, kConnectWaitS) : kConnectWaitS;
+  // The result is not needed: a channel that did not connect makes the first
+  // call fail with the real reason.
+  channel->WaitForConnected(std::chrono::system_clock::now() +
+                            std::chrono::microseconds(static_cast<long long>(wait_s * 1e6)));
+  return channel;
 }
 
 void PrepareContext(const RemoteOptions& options, grpc::ClientContext* context, bool with_deadline) {

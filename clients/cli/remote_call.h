@@ -26,6 +26,16 @@ inline constexpr std::string_view kDefaultServer = "127.0.0.1:50051";
 // notices a vanished server.
 std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options);
 
+// MakeChannel, then waits up to kConnectWait (or the timeout, if shorter) for
+// the connection. Why: gRPC 1.51 (Debian 12) can report a fresh TCP connect as
+// failed with a stale errno ("UNKNOWN: ...: No such file or directory",
+// grpc/grpc#35064), and a call made in that moment fails UNAVAILABLE although
+// the server is up; the wait lets gRPC's own reconnect (about 1 s later) go
+// through. A server that is really down still gives the usual UNAVAILABLE
+// error, after the wait.
+inline constexpr double kConnectWaitS = 2.5;
+std::shared_ptr<grpc::Channel> ConnectChannel(const RemoteOptions& options);
+
 // Sets the deadline (when timeout_s > 0 and `with_deadline`) and the
 // authorization metadata on a fresh context. Streams that last as long as a
 // job (WatchJob) pass with_deadline = false.

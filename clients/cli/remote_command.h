@@ -27,8 +27,9 @@ struct RemoteCli {
   RemoteOptions options;
   int* exit_code = nullptr;
 
+  // The channel, connected before its first use (see ConnectChannel).
   std::shared_ptr<grpc::Channel> Channel() {
-    if (!channel_) channel_ = MakeChannel(options);
+    if (!channel_) channel_ = ConnectChannel(options);
     return channel_;
   }
 

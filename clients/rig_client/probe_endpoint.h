@@ -26,7 +26,7 @@ class ProbeEndpoint {
 class GrpcProbeEndpoint : public ProbeEndpoint {
  public:
   explicit GrpcProbeEndpoint(const cli::RemoteOptions& options)
-      : options_(options), stub_(surfmap::v1::ProbeService::NewStub(cli::MakeChannel(options))) {}
+      : options_(options), stub_(surfmap::v1::ProbeService::NewStub(cli::ConnectChannel(options))) {}
 
   grpc::Status LeaseCommand(const surfmap::v1::LeaseCommandRequest& request,
                             surfmap::v1::LeaseCommandResponse* response) override;

@@ -84,7 +84,7 @@ PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, 
   std::vector<std::thread> threads;
   for (int r = 0; r < rigs; ++r) {
     threads.emplace_back([&, r] {
-      itest::Stubs stubs(itest::MakeChannel(address, /*own_subchannel=*/true));
+      itest::Stubs stubs(itest::ConnectedChannel(address, /*own_subchannel=*/true));
       const std::string rig_id = absl::StrFormat("bench-%d-%d", rigs, r);
       std::vector<double> local_ms;
       size_t next_template = r;

@@ -41,7 +41,7 @@ RigFleetRecord RigFleet::record() const {
 
 void RigFleet::RigLoop(int index) {
   const std::string rig_id = absl::StrCat(options_.rig_prefix, "-", index);
-  Stubs stubs(MakeChannel(address_, /*own_subchannel=*/true));
+  Stubs stubs(ConnectedChannel(address_, /*own_subchannel=*/true));
   auto rpc_error = [&](const std::string& what, const grpc::Status& status) {
     std::lock_guard<std::mutex> lock(mutex_);
     record_.rpc_errors.push_back(absl::StrCat(rig_id, " ", what, ": ", Describe(status)));

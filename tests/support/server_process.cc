@@ -7,6 +7,7 @@
 #include <unistd.h>
 
 #include <cerrno>
+#include <chrono>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -59,6 +60,13 @@ std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_
   return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
 }
 
+std::shared_ptr<grpc::Channel> ConnectedChannel(const std::string& address, bool own_subchannel) {
+  std::shared_ptr<grpc::Channel> channel = MakeChannel(address, own_subchannel);
+  // Not connecting is left to the first call to report, with its reason.
+  channel->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(20));
+  return channel;
+}
+
 absl::StatusOr<std::unique_ptr<ServerProcess>> ServerProcess::Start(ServerOptions options) {
   if (access(options.binary.c_str(), X_OK) != 0) {
     return absl::FailedPreconditionError(
@@ -85,7 +93,7 @@ ServerProcess::~ServerProcess() {
 
 std::string ServerProcess::address() const { return absl::StrCat("127.0.0.1:", port_); }
 
-std::shared_ptr<grpc::Channel> ServerProcess::NewChannel() const { return MakeChannel(address(), true); }
+std::shared_ptr<grpc::Channel> ServerProcess::NewChannel() const { return ConnectedChannel(address(), true); }
 
 std::string ServerProcess::Log() const {
   std::string all;

@@ -77,7 +77,8 @@ class ServerProcess {
   int port() const { return port_; }
   std::string address() const;              // "127.0.0.1:<port>"
   const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
-  // A separate connection (its own subchannel), e.g. one per simulated rig.
+  // A separate, connected connection (its own subchannel), e.g. one per
+  // simulated rig (see ConnectedChannel).
   std::shared_ptr<grpc::Channel> NewChannel() const;
 
   std::string db_path() const { return dir_.File("surfmap.db"); }
@@ -105,5 +106,12 @@ class ServerProcess {
 // sends any size (so the server, not the client, enforces its limit).
 // `own_subchannel`: do not share a TCP connection with other channels.
 std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_subchannel = false);
+
+// MakeChannel, then waits (up to 20 s) until it is connected. Tests that open
+// many connections at once use this: gRPC 1.51 sometimes reports a fresh
+// connect as failed with a stale errno ("No such file or directory",
+// grpc/grpc#35064) and fails the first call UNAVAILABLE; waiting lets its own
+// reconnect go through. Later calls still fail fast (a killed server shows).
+std::shared_ptr<grpc::Channel> ConnectedChannel(const std::string& address, bool own_subchannel = false);
 
 }  // namespace surfmap::itest
