@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "server/estimate/lag_products.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap {
@@ -11,26 +12,10 @@ Eigen::VectorXd PooledAutocovariance(const std::vector<Eigen::VectorXd>& centere
   if (max_lag < 0) return Eigen::VectorXd();
   Eigen::VectorXd c = Eigen::VectorXd::Zero(max_lag + 1);
   Eigen::Index total = 0;
-  Eigen::VectorXd padded;
   for (const auto& x : centered) {
-    const Eigen::Index n = x.size();
+    const int n = static_cast<int>(x.size());
     total += n;
-    const Eigen::Index lags = std::min<Eigen::Index>(max_lag + 1, n);
-    if (lags <= 0) continue;
-    if (lags == 1) {  // the variance alone: no copy needed
-      c(0) += x.squaredNorm();
-      continue;
-    }
-    // c(k) = sum_i x(i) x(i + k) for all lags as one matrix-vector product:
-    // column k of `shifted` is x moved up by k (zeros past the end), a view of
-    // one padded copy (outer stride 1). Eigen's GEMV works on several columns
-    // at once, ~1.5x faster than a dot product per lag, and the work grows as
-    // n x lags either way.
-    padded.setZero(n + lags);
-    padded.head(n) = x;
-    const Eigen::Map<const Eigen::MatrixXd, 0, Eigen::OuterStride<1>> shifted(padded.data(), n, lags,
-                                                                             Eigen::OuterStride<1>(1));
-    c.head(lags).noalias() += shifted.transpose() * x;
+    AddLagProducts(x.data(), n, std::min(max_lag + 1, n), c.data());
   }
   if (total > 0) c /= static_cast<double>(total);
   return c;

@@ -51,11 +51,15 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     double w;
     normal_bracket.Locate(s[i], pair_key, &k, &w);
     const int k1 = std::min(k + 1, np - 1);
-    const Eigen::Vector3d n =
-        ((1.0 - w) * friction.pair_normal[k] + w * friction.pair_normal[k1]).normalized();
+    // With m = `normal`, interpolated and not unit: fn = f.m / |m| and
+    // ft^2 = |f|^2 - fn^2. Two independent square roots and a division,
+    // instead of normalising m and then measuring f - fn n (a dependent chain).
+    const Eigen::Vector3d normal = (1.0 - w) * friction.pair_normal[k] + w * friction.pair_normal[k1];
     const Eigen::Vector3d& f = samples[i].force;
-    const double fn = f.dot(n);
-    const double ft = (f - fn * n).norm();
+    const double m_norm = normal.norm();
+    const double fm = f.dot(normal);
+    const double fn = fm / m_norm;
+    const double ft = std::sqrt(std::max(0.0, f.squaredNorm() - fm * fm / (m_norm * m_norm)));
     pos.push_back(s[i]);
     val.push_back(ft - friction.mu * fn);
   }

@@ -53,47 +53,56 @@ absl::StatusOr<FrictionFit> FitFriction(std::span<const DragSample> forward,
   MonotoneBracket bracket(nr);
   const double min_force = options.min_contact_force_n;
   Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+  // Per pair everything is kept in terms of the raw forces f and r: with
+  // F = |f| and R = |r|, fh + rh is parallel to u = R f + F r, fh - rh to
+  // d = R f - F r, and tan(theta/2) = |fh x rh| / (1 + fh . rh)
+  // = |f x r| / (F R + f . r). The three square roots are independent and
+  // there is one division, instead of a chain of normalisations (this loop
+  // is a sixth of a whole fit).
+  const double min_force2 = min_force * min_force;
   for (int i = first; i < last; ++i) {
     const double s = fs[i];
     const Eigen::Vector3d& f = forward[i].force;
-    const double f_norm = f.norm();
-    if (!(f_norm >= min_force)) {
+    const double f_norm2 = f.squaredNorm();
+    if (!(f_norm2 >= min_force2)) {
       return absl::InvalidArgumentError(absl::StrFormat(
           "forward sample %d (t=%.3f s): contact force %.4g N is below %.3g N (probe not in "
           "contact?)",
-          i, forward[i].t, f_norm, min_force));
+          i, forward[i].t, std::sqrt(f_norm2), min_force));
     }
     int k;
     double w;
     bracket.Locate(s, reverse_key, &k, &w);
     const int a = nr - 1 - k, b = nr - 2 - k < 0 ? a : nr - 2 - k;  // reverse indices
     const Eigen::Vector3d r = (1.0 - w) * reverse[a].force + w * reverse[b].force;
-    const double r_norm = r.norm();
-    if (!(r_norm >= min_force)) {
+    const double r_norm2 = r.squaredNorm();
+    if (!(r_norm2 >= min_force2)) {
       return absl::InvalidArgumentError(absl::StrFormat(
           "reverse samples %d-%d (t=%.3f s): contact force %.4g N is below %.3g N (probe not in "
           "contact?)",
-          std::min(a, b), std::max(a, b), reverse[a].t, r_norm, min_force));
+          std::min(a, b), std::max(a, b), reverse[a].t, std::sqrt(r_norm2), min_force));
     }
-    const Eigen::Vector3d fh = f / f_norm;
-    const Eigen::Vector3d rh = r / r_norm;
-    const Eigen::Vector3d sum = fh + rh;
-    const double sum_norm = sum.norm();
-    if (!(sum_norm > 1e-9)) {
+    const double f_norm = std::sqrt(f_norm2);
+    const double r_norm = std::sqrt(r_norm2);
+    const double cross_norm = f.cross(r).norm();
+    const Eigen::Vector3d u = r_norm * f + f_norm * r;
+    const double u_norm = u.norm();
+    const double fr = f_norm * r_norm;
+    if (!(u_norm > 1e-9 * fr)) {  // |fh + rh| <= 1e-9
       return absl::InvalidArgumentError(absl::StrFormat(
           "forward sample %d (s=%.3f mm): forward and reverse forces are opposite, no normal", i,
           s));
     }
-    // tan(theta / 2) = sin(theta) / (1 + cos(theta)) = |fh x rh| / (1 + fh . rh):
-    // the same value as tan(atan2(|cross|, dot) / 2), as accurate at small
-    // angles (no acos), without the two transcendental calls.
-    double mu = fh.cross(rh).norm() / (1.0 + fh.dot(rh));
+    // tan(theta / 2) = sin(theta) / (1 + cos(theta)): the same value as
+    // tan(atan2(|cross|, dot) / 2), as accurate at small angles (no acos),
+    // without the two transcendental calls.
+    double mu = cross_norm / (fr + f.dot(r));
     // Sign: forward friction points against the forward motion, so fh - rh
     // has a negative component along it; the opposite means negative friction.
     const int prev = std::max(0, i - 1), next = std::min(nf - 1, i + 1);
     const Eigen::Vector3d motion = forward[next].position - forward[prev].position;
-    if ((fh - rh).dot(motion) > 0.0) mu = -mu;
-    const Eigen::Vector3d normal = sum / sum_norm;
+    if ((r_norm * f - f_norm * r).dot(motion) > 0.0) mu = -mu;
+    const Eigen::Vector3d normal = u / u_norm;
     fit.pair_s_mm.push_back(s);
     fit.pair_mu.push_back(mu);
     fit.pair_normal.push_back(normal);
