@@ -6,7 +6,7 @@
 // and for the browser test: #view[data-vertex-count, data-triangle-count,
 // data-sample-count, data-map-updates, data-frames], #progress[data-measured,
 // data-total, data-state, data-job], #point-info[data-mu], #trace-plot[data-trace-id].
-import { QUANTITIES, drawLegend, valueRange } from './colour_scale.js';
+import { FIXED_RANGES, QUANTITIES, chooseRange, drawLegend } from './colour_scale.js';
 import { SurfaceView } from './surface_view.js';
 import { drawTracePlot } from './trace_plot.js';
 
@@ -22,6 +22,8 @@ const state = {
   mesh: null,        // { level, vertex_count, ... } of what the view shows
   map: null,
   quantity: 'mu',
+  // Colour scale: the data's min..max, or fixed limits kept per quantity.
+  scale: { mode: 'data', fixed: Object.fromEntries(Object.entries(FIXED_RANGES).map(([k, r]) => [k, [...r]])) },
   events: null,
   selection: 0,      // bumps on every job change so late answers for an old job are dropped
   mapUpdates: 0,
@@ -214,10 +216,17 @@ function viewMessage(text) {
   msg.textContent = text || '';
 }
 
+function currentScale() {
+  const [min, max] = state.scale.fixed[state.quantity];
+  return { mode: state.scale.mode, min, max };
+}
+
 function recolour() {
   if (!state.map || !view.ok) return;
   const values = state.map[state.quantity] || [];
-  const range = valueRange(values);
+  const { range, outside, error } = chooseRange(values, currentScale());
+  $('scale-note').textContent = error || (outside > 0 ? `${outside} vertices outside the scale (end colours)` : '');
+  $('scale-note').classList.toggle('error', Boolean(error));
   view.setColours(values, range);
   const legend = $('legend');
   legend.hidden = !range;
@@ -424,11 +433,34 @@ const view = new SurfaceView($('view'), { onPick });
 $('view').dataset.webgl = view.ok ? 'ok' : 'unavailable';
 if (!view.ok) viewMessage(view.error);
 
+function showScaleInputs() {
+  const fixed = state.scale.mode === 'fixed';
+  $('scale-fixed').hidden = !fixed;
+  const [min, max] = state.scale.fixed[state.quantity];
+  $('scale-min').value = String(min);
+  $('scale-max').value = String(max);
+}
+
 $('quantity').addEventListener('change', (e) => {
   state.quantity = e.target.value;
   if (!QUANTITIES[state.quantity]) state.quantity = 'mu';
+  showScaleInputs();
   recolour();
 });
+$('scale-mode').addEventListener('change', (e) => {
+  state.scale.mode = e.target.value === 'fixed' ? 'fixed' : 'data';
+  showScaleInputs();
+  recolour();
+});
+for (const [id, index] of [['scale-min', 0], ['scale-max', 1]]) {
+  $(id).addEventListener('input', (e) => {
+    // Kept as typed (a half-typed "-" is not a number yet); chooseRange says
+    // what is wrong and falls back to the data range meanwhile.
+    state.scale.fixed[state.quantity][index] = e.target.value;
+    recolour();
+  });
+}
+showScaleInputs();
 const overlays = () => view.ok && view.setOverlayVisibility({ samples: $('show-samples').checked, segments: $('show-segments').checked });
 $('show-samples').addEventListener('change', overlays);
 $('show-segments').addEventListener('change', overlays);

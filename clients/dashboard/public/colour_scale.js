@@ -1,6 +1,7 @@
 // What the surface can be coloured by, the colour map and the legend.
 // Viridis (perceptually uniform, readable in grey scale and by most colour-blind
-// viewers); the range is the data's own min..max so small contrasts show.
+// viewers). The range is the data's own min..max by default, so small contrasts
+// show; a fixed range keeps colours comparable between jobs and objects.
 
 export const QUANTITIES = Object.freeze({
   mu: { label: 'friction coefficient mu', unit: '', digits: 3 },
@@ -43,6 +44,42 @@ export function valueRange(values) {
     return { min: lo - pad, max: hi + pad };
   }
   return { min: lo, max: hi };
+}
+
+/** Default fixed ranges: the span each quantity takes on real surfaces
+ * (mu of the paper's materials lies in 0..1; a stationary AR(2) has
+ * |a1| < 2 and |a2| < 1). */
+export const FIXED_RANGES = Object.freeze({
+  mu: Object.freeze([0, 1]),
+  mu_uncertainty: Object.freeze([0, 0.1]),
+  sigma: Object.freeze([0, 0.5]),
+  a1: Object.freeze([-2, 2]),
+  a2: Object.freeze([-1, 1]),
+});
+
+/**
+ * The colour range for `values` under `scale` ({ mode: 'data' } or
+ * { mode: 'fixed', min, max }). Returns { range, outside, error }: range null
+ * when there is no finite value; `outside` counts finite values beyond a
+ * fixed range (drawn at its end colours); an unusable fixed range (not two
+ * numbers with min < max) falls back to the data range and says why.
+ */
+export function chooseRange(values, scale) {
+  const data = valueRange(values);
+  if (!data) return { range: null, outside: 0, error: '' };
+  if (!scale || scale.mode !== 'fixed') return { range: data, outside: 0, error: '' };
+  const min = typeof scale.min === 'number' ? scale.min : Number.parseFloat(scale.min);
+  const max = typeof scale.max === 'number' ? scale.max : Number.parseFloat(scale.max);
+  if (!Number.isFinite(min) || !Number.isFinite(max) || !(max > min)) {
+    return {
+      range: data,
+      outside: 0,
+      error: `fixed scale needs two numbers with min < max (got "${scale.min}" .. "${scale.max}"); showing the data range`,
+    };
+  }
+  let outside = 0;
+  for (const v of values) if (Number.isFinite(v) && (v < min || v > max)) outside += 1;
+  return { range: { min, max }, outside, error: '' };
 }
 
 /** Draws the bar (max at the top) and its five tick labels. */

@@ -9,7 +9,7 @@
 //     page reports its vertex/triangle/sample counts;
 //   - the progress number on the page advances while the job runs, and the map
 //     follows (sample count), through ONE WatchJob shared by two open pages;
-//   - after completion: state, counts, colour selector and legend;
+//   - after completion: state, counts, colour selector and legend, fixed scale;
 //   - a click on the surface shows QueryMap values, the nearest sample's fit
 //     and its trace plot;
 //   - no page errors; screenshot dashboard.png into the output folder.
@@ -338,6 +338,24 @@ async function main() {
     await page.selectOption('#quantity', 'mu_uncertainty');
     await page.waitForFunction(() => /uncertainty/.test(document.querySelector('#legend-title').textContent));
     await page.selectOption('#quantity', 'mu');
+  });
+
+  await check('a fixed colour scale sets the legend to its limits; a bad limit is named and falls back', async () => {
+    const ticks = async () => (await page.locator('#legend-ticks span').allInnerTexts()).map(Number);
+    await page.selectOption('#scale-mode', 'fixed');
+    await page.waitForFunction(() => document.querySelector('#legend-ticks span').textContent === '1.000');
+    const fixed = await ticks();
+    assert.deepEqual([fixed[0], fixed[4]], [1, 0], `fixed mu scale ${fixed}`);
+    await page.fill('#scale-max', '0.3');
+    await page.waitForFunction(() => document.querySelector('#legend-ticks span').textContent === '0.300');
+    assert.match(await page.locator('#scale-note').innerText(), /vertices outside the scale/);
+    await page.fill('#scale-max', '-1');
+    await page.waitForFunction(() => /min < max/.test(document.querySelector('#scale-note').textContent));
+    const fallback = await ticks();
+    assert.ok(fallback[0] > 0.4 && fallback[0] < 0.7, `fell back to the data range, top ${fallback[0]}`);
+    await page.fill('#scale-max', '1');
+    await page.selectOption('#scale-mode', 'data');
+    await page.waitForFunction(() => document.querySelector('#scale-note').textContent === '');
   });
 
   await check('a click on the surface shows the interpolated values, the nearest fit and its trace', async () => {
