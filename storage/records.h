@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cstdint>
+#include <map>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -122,6 +123,13 @@ struct NewObject {
   std::string mesh_bytes;
   int64_t control_vertices = 0;
   int64_t control_faces = 0;
+};
+
+// Commands leased to a rig with a lease still valid, in all and per site level
+// (levels without any are absent).
+struct LeasedCounts {
+  int total = 0;
+  std::map<int, int> by_level;
 };
 
 struct NewCommand {

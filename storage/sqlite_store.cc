@@ -722,18 +722,26 @@ absl::StatusOr<std::vector<CommandRecord>> SqliteStore::ListCommands(int64_t job
   return CollectRows<CommandRecord>(stmt, ReadCommand);
 }
 
-absl::StatusOr<int> SqliteStore::CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) {
+absl::StatusOr<LeasedCounts> SqliteStore::CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) {
   SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
   SURFMAP_RETURN_IF_ERROR(LoadJob(*db, job_id).status());
   // The state IN (...) term lets the partial index commands_leasable_by_job
   // serve this: it holds only the job's pending and leased commands.
   SURFMAP_ASSIGN_OR_RETURN(
       SqliteStatement stmt,
-      db->Prepare("SELECT COUNT(*) FROM commands WHERE job_id = ?1 AND state IN ('pending', 'leased') "
-                  "AND state = 'leased' AND lease_deadline_unix_ms > ?2"));
+      db->Prepare("SELECT site_level, COUNT(*) FROM commands WHERE job_id = ?1 "
+                  "AND state IN ('pending', 'leased') AND state = 'leased' AND lease_deadline_unix_ms > ?2 "
+                  "GROUP BY site_level"));
   stmt.BindInt(1, job_id).BindInt(2, now_unix_ms);
-  SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
-  return found ? static_cast<int>(stmt.ColumnInt(0)) : 0;
+  LeasedCounts counts;
+  while (true) {
+    SURFMAP_ASSIGN_OR_RETURN(bool row, stmt.Step());
+    if (!row) break;
+    const int n = static_cast<int>(stmt.ColumnInt(1));
+    counts.by_level[static_cast<int>(stmt.ColumnInt(0))] = n;
+    counts.total += n;
+  }
+  return counts;
 }
 
 // ---- Traces ----

@@ -61,7 +61,7 @@ class SqliteStore : public Store {
   void LeaseNextCommandAsync(const LeaseRequest& request, LeaseCallback done) override;
   absl::StatusOr<CommandRecord> GetCommand(int64_t command_id) override;
   absl::StatusOr<std::vector<CommandRecord>> ListCommands(int64_t job_id) override;
-  absl::StatusOr<int> CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) override;
+  absl::StatusOr<LeasedCounts> CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) override;
 
   void AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallback done) override;
   void FailCommandAsync(FailCommandRequest request, FailCommandCallback done) override;

@@ -261,17 +261,29 @@ TEST_F(SqliteStoreTest, PlanJournalAppendsAndACheckpointClearsIt) {
 
 TEST_F(SqliteStoreTest, CountLeasedCommandsCountsOnlyUnexpiredLeases) {
   CreatedJob job = Job(5);
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 0);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_)->total, 0);
+  EXPECT_TRUE(store_->CountLeasedCommands(job.job.id, now_ms_)->by_level.empty());
   CommandRecord a = Lease(job.job.id, "rig-a", now_ms_, 1000);
   Lease(job.job.id, "rig-b", now_ms_, 5000);
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 2);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_)->total, 2);
   // a's lease runs out at +1000 ms: from then on it counts no more.
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_ + 999), 2);
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_ + 1000), 1);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_ + 999)->total, 2);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_ + 1000)->total, 1);
   // An answered command is done, not leased.
   ASSERT_TRUE(store_->AcceptTrace(MakeTestAccept(a, 10)).ok());
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 1);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_)->total, 1);
   EXPECT_EQ(store_->CountLeasedCommands(job.job.id + 7, now_ms_).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_F(SqliteStoreTest, CountLeasedCommandsSplitsThemBySiteLevel) {
+  absl::StatusOr<CreatedJob> job = MakeTestJob(
+      *store_, {MakeTestCommand(0, 1), MakeTestCommand(0, 2), MakeTestCommand(1, 7), MakeTestCommand(2, 9)});
+  ASSERT_TRUE(job.ok()) << job.status();
+  for (const char* rig : {"rig-a", "rig-b", "rig-c"}) Lease(job->job.id, rig, now_ms_, 5000);  // oldest first
+  absl::StatusOr<LeasedCounts> counts = store_->CountLeasedCommands(job->job.id, now_ms_);
+  ASSERT_TRUE(counts.ok()) << counts.status();
+  EXPECT_EQ(counts->total, 3);
+  EXPECT_EQ(counts->by_level, (std::map<int, int>{{0, 2}, {1, 1}}));
 }
 
 TEST_F(SqliteStoreTest, AcceptTraceCanLeaseTheNextCommandInTheSameWrite) {
@@ -286,7 +298,7 @@ TEST_F(SqliteStoreTest, AcceptTraceCanLeaseTheNextCommandInTheSameWrite) {
   EXPECT_EQ(result->next_command->state, CommandState::kLeased);
   EXPECT_EQ(result->next_command->lease_owner, "rig-a");
   EXPECT_EQ(result->next_command->lease_deadline_unix_ms, kStartMs + 30'000);
-  EXPECT_EQ(*store_->CountLeasedCommands(job.job.id, now_ms_), 1);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_)->total, 1);
 
   // A write that fails leases nothing: the next command stays pending.
   AcceptTraceRequest broken = MakeTestAccept(*result->next_command, 20);

@@ -62,8 +62,9 @@ class Store {
   // In id order.
   virtual absl::StatusOr<std::vector<CommandRecord>> ListCommands(int64_t job_id) = 0;
   // Commands of the job leased with a lease still valid at now_unix_ms
-  // (deadline > now: the rule LeaseNextCommand uses). NotFound for an unknown job.
-  virtual absl::StatusOr<int> CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) = 0;
+  // (deadline > now: the rule LeaseNextCommand uses), in all and per site
+  // level. NotFound for an unknown job.
+  virtual absl::StatusOr<LeasedCounts> CountLeasedCommands(int64_t job_id, int64_t now_unix_ms) = 0;
 
   // ---- Traces ----
   // One atomic, durable write: the trace, its fit (version 1), the command set

@@ -51,7 +51,8 @@ inline NewCommand MakeTestCommand(int level, int vertex) {
 }
 
 // An object and a running job with n_commands pending commands.
-inline absl::StatusOr<CreatedJob> MakeTestJob(Store& store, int n_commands) {
+// A job on a one-triangle object with exactly these commands.
+inline absl::StatusOr<CreatedJob> MakeTestJob(Store& store, std::vector<NewCommand> commands) {
   NewObject object{"bottle", "obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n", 3, 1};
   absl::StatusOr<int64_t> object_id = store.CreateObject(object);
   if (!object_id.ok()) return object_id.status();
@@ -59,9 +60,16 @@ inline absl::StatusOr<CreatedJob> MakeTestJob(Store& store, int n_commands) {
   job.object_id = *object_id;
   job.params_json = R"({"threshold":0.1})";
   job.plan_json = R"({"measured":[]})";
-  for (int i = 0; i < n_commands; ++i) job.commands.push_back(MakeTestCommand(0, i));
+  job.commands = std::move(commands);
   job.events.push_back(NewEvent{"job_created", "{}"});
   return store.CreateJob(job);
+}
+
+// ... with n_commands commands for the level-0 sites 0..n-1.
+inline absl::StatusOr<CreatedJob> MakeTestJob(Store& store, int n_commands) {
+  std::vector<NewCommand> commands;
+  for (int i = 0; i < n_commands; ++i) commands.push_back(MakeTestCommand(0, i));
+  return MakeTestJob(store, std::move(commands));
 }
 
 inline AcceptTraceRequest MakeTestAccept(const CommandRecord& command, int n_samples) {

@@ -280,16 +280,22 @@ JobSnapshot JobCoordinator::SnapshotLocked(JobRuntime& runtime, const JobRecord&
   return s;
 }
 
-absl::StatusOr<int> JobCoordinator::LeasedCommandCount(int64_t job_id) {
-  return store_->CountLeasedCommands(job_id, UnixMillisNow());
+absl::StatusOr<LeasedCounts> JobCoordinator::LeasedCommands(int64_t job_id, const PlanProgress& progress) {
+  absl::StatusOr<LeasedCounts> leased = store_->CountLeasedCommands(job_id, UnixMillisNow());
+  if (!leased.ok()) return leased.status();
+  LeasedCounts clamped;
+  clamped.total = std::min(leased->total, progress.issued);
+  for (const LevelProgress& level : progress.levels) {
+    auto it = leased->by_level.find(level.level);
+    if (it != leased->by_level.end()) clamped.by_level[level.level] = std::min(it->second, level.issued);
+  }
+  return clamped;
 }
 
 absl::Status JobCoordinator::AddLeasedCount(JobSnapshot& snapshot) {
-  absl::StatusOr<int> leased = LeasedCommandCount(snapshot.record.id);
+  absl::StatusOr<LeasedCounts> leased = LeasedCommands(snapshot.record.id, snapshot.progress);
   if (!leased.ok()) return leased.status();
-  // Read after the plan's counts: a command whose trace is being written is
-  // still leased in the store while the plan already counts it measured.
-  snapshot.leased = std::min(*leased, snapshot.progress.issued);
+  snapshot.leased = std::move(*leased);
   return absl::OkStatus();
 }
 
@@ -322,7 +328,7 @@ absl::StatusOr<JobSnapshot> JobCoordinator::CreateJob(const JobParams& params) {
     std::lock_guard<std::mutex> lock(runtime->mu);
     snapshot = SnapshotLocked(*runtime, created->job);
   }
-  snapshot.leased = 0;  // nothing can have been leased yet
+  snapshot.leased = LeasedCounts{};  // nothing can have been leased yet
   return snapshot;
 }
 

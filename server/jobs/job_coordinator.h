@@ -44,7 +44,7 @@ struct JobSnapshot {
   PlanProgress progress;
   // Commands leased to a rig with an unexpired lease (at most progress.issued);
   // counted from the store only by CreateJob, GetJob, ListJobs, SetJobState.
-  std::optional<int> leased;
+  std::optional<LeasedCounts> leased;
   std::shared_ptr<const AcceptedSample> latest_sample;  // null before the first trace
 };
 
@@ -90,9 +90,12 @@ class JobCoordinator {
   absl::StatusOr<std::vector<JobSnapshot>> ListJobs(int64_t object_id);
   absl::StatusOr<JobSnapshot> SetJobState(int64_t job_id, JobState target);
   absl::StatusOr<std::vector<SiteRecord>> PlanSites(int64_t job_id, PlanProgress* progress);
-  // Commands of the job leased to a rig whose lease has not expired (one store
-  // read of the job's commands: not for the trace path).
-  absl::StatusOr<int> LeasedCommandCount(int64_t job_id);
+  // Commands of the job leased to a rig whose lease has not expired, in all
+  // and per level, each at most the `progress` snapshot's issued count (one
+  // store read: not for the trace path). Read it after taking `progress`: a
+  // command whose trace is being written is still leased in the store while
+  // the plan already counts it measured.
+  absl::StatusOr<LeasedCounts> LeasedCommands(int64_t job_id, const PlanProgress& progress);
 
   // Probing.
   using LeaseCallback = std::function<void(absl::StatusOr<LeaseOutcome>)>;

@@ -227,12 +227,12 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
     absl::StatusOr<std::vector<SiteRecord>> sites = s_.coordinator->PlanSites(request->job_id(), &progress);
     if (!sites.ok()) return sites.status();
     // Counted after the plan's snapshot; see JobCoordinator::AddLeasedCount.
-    absl::StatusOr<int> leased = s_.coordinator->LeasedCommandCount(request->job_id());
+    absl::StatusOr<LeasedCounts> leased = s_.coordinator->LeasedCommands(request->job_id(), progress);
     if (!leased.ok()) return leased.status();
     absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(request->job_id());
     const SurfaceLevel* finest = map.ok() ? &map->surface->finest() : nullptr;
     response->set_job_id(request->job_id());
-    *response->mutable_progress() = ProgressToProto(progress, std::min(*leased, progress.issued));
+    *response->mutable_progress() = ProgressToProto(progress, &*leased);
     for (const SiteRecord& site : *sites) {
       pb::PlanSite* out = response->add_sites();
       out->mutable_site()->set_level(site.site.level);

@@ -14,7 +14,7 @@
 
 namespace surfmap {
 
-pb::JobProgress ProgressToProto(const PlanProgress& p, std::optional<int> leased) {
+pb::JobProgress ProgressToProto(const PlanProgress& p, const LeasedCounts* leased) {
   pb::JobProgress out;
   out.set_measured(p.measured);
   out.set_pending(p.pending);
@@ -30,8 +30,12 @@ pb::JobProgress ProgressToProto(const PlanProgress& p, std::optional<int> leased
     level->set_pending(l.pending);
     level->set_issued(l.issued);
     level->set_failed(l.failed);
+    if (leased != nullptr) {
+      auto it = leased->by_level.find(l.level);
+      level->set_leased(it == leased->by_level.end() ? 0 : it->second);
+    }
   }
-  if (leased.has_value()) out.set_leased(*leased);
+  if (leased != nullptr) out.set_leased(leased->total);
   return out;
 }
 
@@ -40,7 +44,7 @@ pb::JobInfo JobInfoToProto(const JobSnapshot& job) {
   out.set_job_id(job.record.id);
   *out.mutable_spec() = JobParamsToProto(job.params);
   out.set_state(JobStateToProto(job.record.state));
-  *out.mutable_progress() = ProgressToProto(job.progress, job.leased);
+  *out.mutable_progress() = ProgressToProto(job.progress, job.leased ? &*job.leased : nullptr);
   *out.mutable_created() = TimestampFromUnixMs(job.record.created_unix_ms);
   *out.mutable_updated() = TimestampFromUnixMs(job.record.updated_unix_ms);
   return out;

@@ -14,7 +14,8 @@ namespace pb = ::surfmap::v1;
 
 // The plan's counts; `leased` (commands leased with an unexpired lease, from
 // the store) is set only when given: callers on the trace path leave it out.
-pb::JobProgress ProgressToProto(const PlanProgress& progress, std::optional<int> leased = std::nullopt);
+// `leased` (null: not counted) fills JobProgress.leased and each level's.
+pb::JobProgress ProgressToProto(const PlanProgress& progress, const LeasedCounts* leased = nullptr);
 // The job with its progress (and leased count when the snapshot has one).
 pb::JobInfo JobInfoToProto(const JobSnapshot& job);
 pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);

@@ -221,9 +221,17 @@ TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
   EXPECT_EQ(plan.progress().leased(), 3);
   ITEST_ASSERT_OK_AND_ASSIGN(update, FirstUpdate(stubs, job.job_id()));
   EXPECT_EQ(update.job().progress().leased(), 3) << "WatchJob";
+  // Per level too (this job has level 0 only), wherever the total is given.
+  for (const pb::JobProgress* progress : {&three.progress(), &listed.progress(), &plan.progress(),
+                                          &update.job().progress()}) {
+    ASSERT_EQ(progress->levels_size(), 1);
+    ASSERT_TRUE(progress->levels(0).has_leased());
+    EXPECT_EQ(progress->levels(0).leased(), 3);
+  }
 
   ITEST_ASSERT_OK_AND_ASSIGN(accepted, Submit(stubs, *setup.rig, a, "rig-a"));
   EXPECT_FALSE(accepted.progress().has_leased()) << "not counted on the trace path";
+  EXPECT_FALSE(accepted.progress().levels(0).has_leased());
   EXPECT_EQ(accepted.progress().measured(), 1);
   ITEST_ASSERT_OK_AND_ASSIGN(after_trace, GetJob(stubs, job.job_id()));
   EXPECT_EQ(after_trace.progress().measured(), 1);
@@ -240,6 +248,7 @@ TEST(JobStatus, LeasedCountsCommandsAtARigWhileIssuedCountsTheQueueToo) {
   ITEST_ASSERT_OK_AND_ASSIGN(after_failure, GetJob(stubs, job.job_id()));
   EXPECT_EQ(after_failure.progress().issued(), sites - 1) << "the retry is queued again";
   EXPECT_EQ(after_failure.progress().leased(), 1) << "only rig-c holds a command";
+  EXPECT_EQ(after_failure.progress().levels(0).leased(), 1);
 
   pb::SetJobStateRequest pause;
   pause.set_job_id(job.job_id());

@@ -12,7 +12,8 @@ const JOB = {
   spec: { object_id: 1, property: 'PROPERTY_FRICTION', mode: 'SAMPLING_MODE_ADAPTIVE', coarsest_level: 0, finest_level: 1,
     threshold: 2, budget: 0, probe: { segment_length_mm: 20, speed_mm_s: 10, normal_force_n: 5 }, seed: 9, max_retries: 2,
     lease: { seconds: 60, nanos: 500000000 } },
-  progress: { measured: 4, pending: 1, issued: 2, failed: 1, skipped: 0, budget_left: -1, complete: false, levels: [] },
+  progress: { measured: 4, pending: 1, issued: 2, failed: 1, skipped: 0, budget_left: -1, complete: false, leased: 1,
+    levels: [{ level: 0, measured: 4, pending: 1, issued: 2, failed: 1, leased: 1 }, { level: 1, measured: 0, pending: 0, issued: 0, failed: 0 }] },
   created: { seconds: 1700000000, nanos: 0 },
   updated: { seconds: 0, nanos: 0 },
 };
@@ -98,6 +99,8 @@ test('a job: enum prefixes off, durations in seconds, unset timestamps null, tot
   assert.equal(json.job.spec.lease_s, 60.5);
   assert.equal(json.job.updated, null);
   assert.equal(json.job.progress.total, 8);
+  assert.equal(json.job.progress.leased, 1);
+  assert.deepEqual(json.job.progress.levels.map((l) => l.leased), [1, null], 'an uncounted level is null, not 0');
 });
 
 test('gRPC errors keep their code name and message and get the matching HTTP status', async () => {

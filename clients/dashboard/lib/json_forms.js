@@ -48,10 +48,13 @@ function progressForm(p) {
     skipped: p.skipped,
     budget_left: p.budget_left,
     complete: p.complete,
+    // Of `issued`, leased to a rig now; null where the server did not count it.
+    leased: typeof p.leased === 'number' ? p.leased : null,
     // Every site the plan knows of so far (adaptive plans grow while running).
     total: p.measured + p.pending + p.issued + p.failed + p.skipped,
     levels: (p.levels || []).map((l) => ({
       level: l.level, measured: l.measured, pending: l.pending, issued: l.issued, failed: l.failed,
+      leased: typeof l.leased === 'number' ? l.leased : null,
     })),
   };
 }

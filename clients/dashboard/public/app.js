@@ -197,15 +197,17 @@ function renderJob() {
   progress.dataset.state = j.state;
   $('progress-fill').style.width = `${progressPercent(p)}%`;
   $('progress-text').textContent =
-    `${p.measured} / ${p.total} sites measured (${progressPercent(p)}%) · ${p.issued} issued, ${p.pending} pending, ` +
+    `${p.measured} / ${p.total} sites measured (${progressPercent(p)}%) · ` +
+    `${p.issued} issued${p.leased !== null && p.leased !== undefined ? ` (${p.leased} at a rig)` : ''}, ${p.pending} pending, ` +
     `${p.failed} failed, ${p.skipped} skipped${p.budget_left >= 0 ? ` · budget left ${p.budget_left}` : ''}`;
   const table = $('level-table');
   table.replaceChildren();
   const head = table.insertRow();
-  for (const h of ['level', 'measured', 'issued', 'pending', 'failed']) head.insertCell().textContent = h;
+  for (const h of ['level', 'measured', 'issued', 'at a rig', 'pending', 'failed']) head.insertCell().textContent = h;
   for (const l of p.levels) {
     const row = table.insertRow();
-    for (const v of [l.level, l.measured, l.issued, l.pending, l.failed]) row.insertCell().textContent = String(v);
+    const leased = l.leased === null || l.leased === undefined ? '-' : l.leased;
+    for (const v of [l.level, l.measured, l.issued, leased, l.pending, l.failed]) row.insertCell().textContent = String(v);
   }
   updateJobRow(j);
 }

@@ -61,7 +61,8 @@ def job_spec(m) -> r.JobSpec:
 
 
 def job_progress(m) -> r.JobProgress:
-    levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed) for l in m.levels)
+    levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed,
+                                   l.leased if l.HasField("leased") else None) for l in m.levels)
     leased = m.leased if m.HasField("leased") else None
     return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels,
                          leased)

@@ -125,6 +125,7 @@ class LevelProgress:
     pending: int
     issued: int
     failed: int
+    leased: Optional[int] = None  # of `issued`, held by a rig; None where not counted
 
 
 @dataclass(frozen=True)

@@ -35,6 +35,7 @@ def test_create_applies_settings_and_server_defaults(client, plate):
     assert spec.lease_s == pytest.approx(12.5)
     assert job.created is not None and job.updated is not None
     assert job.progress.leased == 0             # nothing leased to a rig yet
+    assert [level.leased for level in job.progress.levels] == [0] * len(job.progress.levels)
     assert job.progress.issued > 0              # but the plan's first sites are queued
     assert client.get_job(job.job_id).spec == spec
     assert job.job_id in [j.job_id for j in client.list_jobs(plate.object_id)]
