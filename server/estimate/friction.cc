@@ -56,9 +56,9 @@ absl::StatusOr<FrictionFit> FitFriction(std::span<const DragSample> forward,
   // Per pair everything is kept in terms of the raw forces f and r: with
   // F = |f| and R = |r|, fh + rh is parallel to u = R f + F r, fh - rh to
   // d = R f - F r, and tan(theta/2) = |fh x rh| / (1 + fh . rh)
-  // = |f x r| / (F R + f . r). The three square roots are independent and
-  // there is one division, instead of a chain of normalisations (this loop
-  // is a sixth of a whole fit).
+  // = |f x r| / (F R + f . r). F, R and |f x r| are independent square
+  // roots, and mu costs one division: no chain of normalisations waiting on
+  // each other (this loop is a sixth of a whole fit).
   const double min_force2 = min_force * min_force;
   for (int i = first; i < last; ++i) {
     const double s = fs[i];
