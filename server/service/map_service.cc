@@ -11,17 +11,16 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext*
   return HandleUnary(context, s_, Role::kRead, "GetSample", [&]() -> absl::Status {
     if (request->fit_version() < 0) return absl::InvalidArgumentError("fit_version must be >= 0 (0 = latest)");
     Store* store = s_.coordinator->store();
-    absl::StatusOr<TraceRecord> trace = store->GetTrace(request->trace_id(), false);
+    // The samples only when the series are asked for: one read of the trace
+    // and one of the fit either way.
+    absl::StatusOr<TraceRecord> trace = store->GetTrace(request->trace_id(), request->include_series());
     if (!trace.ok()) return trace.status();
     absl::StatusOr<CommandRecord> command = store->GetCommand(trace->command_id);
     if (!command.ok()) return command.status();
-    absl::StatusOr<pb::Sample> sample = BuildSample(store, *trace, *command, request->fit_version());
-    if (!sample.ok()) return sample.status();
-    *response->mutable_sample() = *sample;
-    if (request->include_series()) {
-      absl::Status added = AddRecomputedSeries(store, trace->id, request->fit_version(), response->mutable_sample());
-      if (!added.ok()) return added;
-    }
+    absl::StatusOr<FitRecord> fit = store->GetFit(trace->id, request->fit_version());
+    if (!fit.ok()) return fit.status();
+    *response->mutable_sample() = BuildSample(*trace, *command, *fit);
+    if (request->include_series()) return AddRecomputedSeries(*trace, *fit, response->mutable_sample());
     return absl::OkStatus();
   });
 }

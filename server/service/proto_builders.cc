@@ -90,35 +90,24 @@ pb::Sample BuildSample(const AcceptedSample& accepted) {
   return BuildSample(trace, accepted.command, accepted.fit);
 }
 
-absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
-                                       int32_t fit_version) {
-  absl::StatusOr<FitRecord> fit = store->GetFit(trace.id, fit_version);
-  if (!fit.ok()) return fit.status();
-  return BuildSample(trace, command, *fit);
-}
-
-absl::Status AddRecomputedSeries(Store* store, int64_t trace_id, int32_t fit_version, pb::Sample* sample) {
-  absl::StatusOr<FitRecord> record = store->GetFit(trace_id, fit_version);
-  if (!record.ok()) return record.status();
-  const nlohmann::json options_json = nlohmann::json::parse(record->options_json, nullptr, false);
+absl::Status AddRecomputedSeries(const TraceRecord& trace, const FitRecord& record, pb::Sample* sample) {
+  const nlohmann::json options_json = nlohmann::json::parse(record.options_json, nullptr, false);
   absl::StatusOr<FitOptions> options = options_json.is_discarded()
                                            ? absl::DataLossError("stored fit options are not JSON")
                                            : FitOptionsFromJson(options_json);
   if (!options.ok()) {
-    return absl::DataLossError(absl::StrCat("fit ", record->id, ": stored options: ", options.status().message()));
+    return absl::DataLossError(absl::StrCat("fit ", record.id, ": stored options: ", options.status().message()));
   }
-  absl::StatusOr<TraceRecord> trace = store->GetTrace(trace_id, /*include_samples=*/true);
-  if (!trace.ok()) return trace.status();
-  absl::StatusOr<TraceFit> fit = FitTrace(FromStoredSamples(trace->samples), *options);
+  absl::StatusOr<TraceFit> fit = FitTrace(FromStoredSamples(trace.samples), *options);
   if (!fit.ok()) {
-    return absl::DataLossError(absl::StrCat("trace ", trace_id, " no longer fits: ", fit.status().message()));
+    return absl::DataLossError(absl::StrCat("trace ", trace.id, " no longer fits: ", fit.status().message()));
   }
   // Bit-equal with the build that stored the fit; a later build may round
   // differently in the last digits, never more.
-  if (record->mu.has_value() && !(std::abs(fit->friction.mu - *record->mu) <= 1e-9)) {
-    return absl::DataLossError(absl::StrCat("trace ", trace_id, ": refit mu ", fit->friction.mu,
-                                            " differs from the stored ", *record->mu,
-                                            " (fit by estimator ", record->estimator_version, ")"));
+  if (record.mu.has_value() && !(std::abs(fit->friction.mu - *record.mu) <= 1e-9)) {
+    return absl::DataLossError(absl::StrCat("trace ", trace.id, ": refit mu ", fit->friction.mu,
+                                            " differs from the stored ", *record.mu,
+                                            " (fit by estimator ", record.estimator_version, ")"));
   }
   AddFitSeries(*fit, options->step_mm, sample->mutable_fit());
   return absl::OkStatus();

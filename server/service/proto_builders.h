@@ -20,19 +20,17 @@ pb::JobProgress ProgressToProto(const PlanProgress& progress, const LeasedCounts
 pb::JobInfo JobInfoToProto(const JobSnapshot& job);
 pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 
-// A sample: the command's site and drag with the trace's fit (version, 0 = latest).
-absl::StatusOr<pb::Sample> BuildSample(Store* store, const TraceRecord& trace, const CommandRecord& command,
-                                       int32_t fit_version);
-// `probe` and `decoded_fit`, when given, are command.command_json and
-// fit.result_json already decoded (the trace path has them).
+// A sample: the command's site and drag with the trace's fit. `probe` and
+// `decoded_fit`, when given, are command.command_json and fit.result_json
+// already decoded (the trace path has them).
 pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
                        const ProbeCommand* probe = nullptr, const TraceFit* decoded_fit = nullptr);
 // A sample of a trace the job accepted (its fit on arrival).
 pb::Sample BuildSample(const AcceptedSample& accepted);
-// Refits the stored trace with the options of its fit `fit_version` (0 =
-// latest) and adds the per-pair mu and the ACF to `sample`'s fit. DATA_LOSS if
-// the refit does not reproduce the stored mu (the estimator is deterministic).
-absl::Status AddRecomputedSeries(Store* store, int64_t trace_id, int32_t fit_version, pb::Sample* sample);
+// Refits `trace` (read with its samples) with the options of its stored `fit`
+// and adds the per-pair mu and the ACF to `sample`'s fit. DATA_LOSS if the
+// refit does not reproduce the stored mu (the estimator is deterministic).
+absl::Status AddRecomputedSeries(const TraceRecord& trace, const FitRecord& fit, pb::Sample* sample);
 
 // Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
 // vertices of `level`, by the numbering contract), and the measured samples.
