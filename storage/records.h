@@ -125,6 +125,13 @@ struct NewObject {
   int64_t control_faces = 0;
 };
 
+// The newest traces of a job and the time of its last change, for restoring a
+// job's runtime without reading every row.
+struct JobActivity {
+  std::optional<TraceRecord> latest_trace;       // highest id, without samples
+  std::optional<int64_t> last_event_unix_ms;     // newest event time (every change writes one)
+};
+
 // Commands leased to a rig with a lease still valid, in all and per site level
 // (levels without any are absent).
 struct LeasedCounts {

@@ -842,6 +842,31 @@ absl::StatusOr<std::vector<TraceRecord>> SqliteStore::ListTraces(int64_t job_id,
       stmt, [include_samples](const SqliteStatement& s) { return ReadTrace(s, include_samples); });
 }
 
+absl::StatusOr<JobActivity> SqliteStore::GetJobActivity(int64_t job_id) {
+  // traces_by_job and events_by_job (job_id, id) serve both lookups.
+  static const std::string latest_trace =
+      absl::StrCat("SELECT ", kTraceColumns, " FROM traces WHERE job_id = ?1 ORDER BY id DESC LIMIT 1");
+  SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
+  SURFMAP_RETURN_IF_ERROR(LoadJob(*db, job_id).status());
+  JobActivity activity;
+  {
+    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db->Prepare(latest_trace));
+    stmt.BindInt(1, job_id);
+    SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+    if (found) {
+      SURFMAP_ASSIGN_OR_RETURN(TraceRecord trace, ReadTrace(stmt, /*with_samples=*/false));
+      activity.latest_trace = std::move(trace);
+    }
+  }
+  {
+    SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db->Prepare("SELECT MAX(unix_ms) FROM events WHERE job_id = ?1"));
+    stmt.BindInt(1, job_id);
+    SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+    if (found && !stmt.ColumnIsNull(0)) activity.last_event_unix_ms = stmt.ColumnInt(0);
+  }
+  return activity;
+}
+
 // ---- Fits ----
 
 absl::StatusOr<FitRecord> SqliteStore::GetFit(int64_t trace_id, int32_t version) {

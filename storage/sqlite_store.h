@@ -68,6 +68,7 @@ class SqliteStore : public Store {
   absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id, bool include_samples) override;
   absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
                                                       bool include_samples) override;
+  absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) override;
 
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;

@@ -259,6 +259,36 @@ TEST_F(SqliteStoreTest, PlanJournalAppendsAndACheckpointClearsIt) {
   EXPECT_EQ(plan->revision, 5);
 }
 
+TEST_F(SqliteStoreTest, JobActivityIsTheNewestTraceAndTheNewestEventTime) {
+  CreatedJob job = Job(3);
+  absl::StatusOr<JobActivity> empty = store_->GetJobActivity(job.job.id);
+  ASSERT_TRUE(empty.ok()) << empty.status();
+  EXPECT_FALSE(empty->latest_trace.has_value());
+  ASSERT_TRUE(empty->last_event_unix_ms.has_value()) << "job_created is an event";
+  EXPECT_EQ(*empty->last_event_unix_ms, kStartMs);
+
+  CommandRecord a = Lease(job.job.id, "rig-a");
+  CommandRecord b = Lease(job.job.id, "rig-b");
+  now_ms_ = kStartMs + 100;
+  absl::StatusOr<AcceptTraceResult> first = store_->AcceptTrace(MakeTestAccept(a, 10));
+  ASSERT_TRUE(first.ok()) << first.status();
+  now_ms_ = kStartMs + 200;
+  AcceptTraceRequest second_request = MakeTestAccept(b, 10);
+  second_request.events.push_back(NewEvent{"trace_accepted", "{}"});
+  absl::StatusOr<AcceptTraceResult> second = store_->AcceptTrace(second_request);
+  ASSERT_TRUE(second.ok()) << second.status();
+
+  absl::StatusOr<JobActivity> activity = store_->GetJobActivity(job.job.id);
+  ASSERT_TRUE(activity.ok()) << activity.status();
+  ASSERT_TRUE(activity->latest_trace.has_value());
+  EXPECT_EQ(activity->latest_trace->id, second->trace_id);
+  EXPECT_EQ(activity->latest_trace->command_id, b.id);
+  EXPECT_EQ(activity->latest_trace->received_unix_ms, kStartMs + 200);
+  EXPECT_TRUE(activity->latest_trace->samples.empty()) << "read without its samples";
+  EXPECT_EQ(activity->last_event_unix_ms, kStartMs + 200);
+  EXPECT_EQ(store_->GetJobActivity(job.job.id + 7).status().code(), absl::StatusCode::kNotFound);
+}
+
 TEST_F(SqliteStoreTest, CountLeasedCommandsCountsOnlyUnexpiredLeases) {
   CreatedJob job = Job(5);
   EXPECT_EQ(store_->CountLeasedCommands(job.job.id, now_ms_)->total, 0);

@@ -87,6 +87,9 @@ class Store {
   // In id order (= order of acceptance).
   virtual absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
                                                               bool include_samples) = 0;
+  // The job's newest trace and newest event time (two indexed lookups).
+  // NotFound for an unknown job.
+  virtual absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) = 0;
 
   // ---- Fits ----
   // version 0: the latest version for the trace.

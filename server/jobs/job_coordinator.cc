@@ -109,36 +109,19 @@ absl::StatusOr<LeaseOutcome> LeaseOutcomeOf(std::optional<CommandRecord> leased)
   return outcome;
 }
 
-// The time of the job's newest event: every change of a job (creation, state
-// change, accepted trace, reported failure) writes one in the same
-// transaction. `fallback` when the job has no events.
-absl::StatusOr<int64_t> LastEventUnixMs(Store& store, int64_t job_id, int64_t fallback) {
-  constexpr int kPage = 4096;
-  int64_t after = 0, last = fallback;
-  while (true) {
-    absl::StatusOr<std::vector<EventRecord>> events = store.ListEvents(job_id, after, kPage);
-    if (!events.ok()) return events.status();
-    for (const EventRecord& e : *events) last = std::max(last, e.unix_ms);
-    if (static_cast<int>(events->size()) < kPage) return last;
-    after = events->back().id;
-  }
-}
-
 // The job's newest stored trace as a sample (null when it has none).
-absl::StatusOr<std::shared_ptr<const AcceptedSample>> LoadLatestSample(Store& store, int64_t job_id) {
-  absl::StatusOr<std::vector<TraceRecord>> traces = store.ListTraces(job_id, /*include_samples=*/false);
-  if (!traces.ok()) return traces.status();
-  if (traces->empty()) return std::shared_ptr<const AcceptedSample>();
-  const TraceRecord& trace = traces->back();
+absl::StatusOr<std::shared_ptr<const AcceptedSample>> LoadLatestSample(Store& store,
+                                                                       const std::optional<TraceRecord>& trace) {
+  if (!trace.has_value()) return std::shared_ptr<const AcceptedSample>();
   auto sample = std::make_shared<AcceptedSample>();
-  absl::StatusOr<CommandRecord> command = store.GetCommand(trace.command_id);
+  absl::StatusOr<CommandRecord> command = store.GetCommand(trace->command_id);
   if (!command.ok()) return command.status();
-  absl::StatusOr<FitRecord> fit = store.GetFit(trace.id, 1);
+  absl::StatusOr<FitRecord> fit = store.GetFit(trace->id, 1);
   if (!fit.ok()) return fit.status();
   sample->command = std::move(*command);
-  sample->trace_id = trace.id;
+  sample->trace_id = trace->id;
   sample->fit = std::move(*fit);
-  sample->received_unix_ms = trace.received_unix_ms;
+  sample->received_unix_ms = trace->received_unix_ms;
   return std::shared_ptr<const AcceptedSample>(std::move(sample));
 }
 
@@ -186,11 +169,11 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobCoordinator::LoadRuntime(const Jo
   runtime->measured_revision = runtime->plan.Progress().measured;
   runtime->created_unix_ms = record.created_unix_ms;
   // The job row's time changes only with its state; traces and failures since
-  // then are newer changes.
-  absl::StatusOr<int64_t> updated = LastEventUnixMs(*store_, record.id, record.updated_unix_ms);
-  if (!updated.ok()) return updated.status();
-  runtime->updated_unix_ms = std::max(record.updated_unix_ms, *updated);
-  absl::StatusOr<std::shared_ptr<const AcceptedSample>> latest = LoadLatestSample(*store_, record.id);
+  // then are newer changes, each with an event written in its transaction.
+  absl::StatusOr<JobActivity> activity = store_->GetJobActivity(record.id);
+  if (!activity.ok()) return activity.status();
+  runtime->updated_unix_ms = std::max(record.updated_unix_ms, activity->last_event_unix_ms.value_or(0));
+  absl::StatusOr<std::shared_ptr<const AcceptedSample>> latest = LoadLatestSample(*store_, activity->latest_trace);
   if (!latest.ok()) return latest.status();
   runtime->latest_sample = std::move(*latest);
   return runtime;
