@@ -119,7 +119,14 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     }
     update_.Clear();
     *update_.mutable_job() = JobInfoToProto(*job);
-    if (job->latest_sample) *update_.mutable_latest_sample() = BuildSample(*job->latest_sample);
+    if (job->latest_sample) {
+      absl::StatusOr<pb::Sample> latest = BuildSample(*job->latest_sample);
+      if (!latest.ok()) {
+        FinishLocked(ToGrpcStatus(latest.status()));
+        return;
+      }
+      *update_.mutable_latest_sample() = std::move(*latest);
+    }
     if (include_map_) {
       absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(job_id_);
       if (map.ok()) {

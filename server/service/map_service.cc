@@ -19,7 +19,9 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext*
     if (!command.ok()) return command.status();
     absl::StatusOr<FitRecord> fit = store->GetFit(trace->id, request->fit_version());
     if (!fit.ok()) return fit.status();
-    *response->mutable_sample() = BuildSample(*trace, *command, *fit);
+    absl::StatusOr<pb::Sample> sample = BuildSample(*trace, *command, *fit);
+    if (!sample.ok()) return sample.status();
+    *response->mutable_sample() = std::move(*sample);
     if (request->include_series()) return AddRecomputedSeries(*trace, *fit, response->mutable_sample());
     return absl::OkStatus();
   });
@@ -32,22 +34,7 @@ grpc::ServerUnaryReactor* MapServiceImpl::ListSamples(grpc::CallbackServerContex
     if (request->fit_version() < 0) return absl::InvalidArgumentError("fit_version must be >= 0 (0 = latest)");
     Store* store = s_.coordinator->store();
     if (absl::StatusOr<JobRecord> job = store->GetJob(request->job_id()); !job.ok()) return job.status();
-    absl::StatusOr<std::vector<CommandRecord>> commands = store->ListCommands(request->job_id());
-    if (!commands.ok()) return commands.status();
-    std::map<int64_t, const CommandRecord*> by_id;
-    for (const CommandRecord& c : *commands) by_id[c.id] = &c;
-    absl::StatusOr<std::vector<FitRecord>> fits = store->ListFits(request->job_id(), request->fit_version());
-    if (!fits.ok()) return fits.status();
-    std::map<int64_t, const FitRecord*> fit_by_trace;
-    for (const FitRecord& f : *fits) fit_by_trace[f.trace_id] = &f;
-    absl::StatusOr<std::vector<TraceRecord>> traces = store->ListTraces(request->job_id(), false);
-    if (!traces.ok()) return traces.status();
-    for (const TraceRecord& t : *traces) {
-      auto c = by_id.find(t.command_id);
-      auto f = fit_by_trace.find(t.id);
-      if (c != by_id.end() && f != fit_by_trace.end()) *response->add_samples() = BuildSample(t, *c->second, *f->second);
-    }
-    return absl::OkStatus();
+    return AppendJobSamples(store, request->job_id(), request->fit_version(), response->mutable_samples());
   });
 }
 

@@ -151,8 +151,13 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         // a retry's reply, which gets the original acceptance time).
         trace_record.received_unix_ms =
             outcome->fit.created_unix_ms != 0 ? outcome->fit.created_unix_ms : UnixMillisNow();
-        *response->mutable_sample() =
+        absl::StatusOr<pb::Sample> sample =
             BuildSample(trace_record, outcome->command, outcome->fit, &outcome->probe, outcome->decoded_fit.get());
+        if (!sample.ok()) {  // the trace is stored; a retry reads it back the same way
+          finish(sample.status());
+          return;
+        }
+        *response->mutable_sample() = std::move(*sample);
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);
         if (outcome->next) FillLeaseResponse(*outcome->next, response->mutable_next());

@@ -61,33 +61,68 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   return out;
 }
 
-pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
-                       const ProbeCommand* decoded_probe, const TraceFit* decoded_fit) {
+absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
+                                       const ProbeCommand* decoded_probe, const TraceFit* decoded_fit) {
+  ProbeCommand parsed_probe;
+  if (decoded_probe == nullptr) {
+    absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command.command_json);
+    if (!probe.ok()) {
+      return absl::DataLossError(absl::StrCat("stored command ", command.id, " of trace ", trace.id,
+                                              " cannot be read: ", probe.status().message()));
+    }
+    parsed_probe = std::move(*probe);
+    decoded_probe = &parsed_probe;
+  }
+  absl::StatusOr<pb::Fit> fit_proto = FitToProto(fit, decoded_fit);
+  if (!fit_proto.ok()) return fit_proto.status();
   pb::Sample s;
   s.set_trace_id(trace.id);
   s.set_command_id(command.id);
   s.set_job_id(command.job_id);
   s.mutable_site()->set_level(command.site_level);
   s.mutable_site()->set_vertex(static_cast<int32_t>(command.site_vertex));
-  absl::StatusOr<ProbeCommand> probe =
-      decoded_probe != nullptr ? absl::StatusOr<ProbeCommand>(*decoded_probe) : ProbeCommandFromJson(command.command_json);
-  if (probe.ok()) {
-    *s.mutable_position() = ToProto(probe->position);
-    *s.mutable_drag_direction() = ToProto(probe->drag_direction);
-    s.set_segment_length_mm(probe->probe.segment_length_mm);
-  }
-  *s.mutable_fit() = FitToProto(fit, decoded_fit);
+  *s.mutable_position() = ToProto(decoded_probe->position);
+  *s.mutable_drag_direction() = ToProto(decoded_probe->drag_direction);
+  s.set_segment_length_mm(decoded_probe->probe.segment_length_mm);
+  *s.mutable_fit() = std::move(*fit_proto);
   *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
   return s;
 }
 
-pb::Sample BuildSample(const AcceptedSample& accepted) {
+absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted) {
   TraceRecord trace;
   trace.id = accepted.trace_id;
   trace.command_id = accepted.command.id;
   trace.job_id = accepted.command.job_id;
   trace.received_unix_ms = accepted.received_unix_ms;
   return BuildSample(trace, accepted.command, accepted.fit);
+}
+
+absl::Status AppendJobSamples(Store* store, int64_t job_id, int32_t fit_version,
+                              google::protobuf::RepeatedPtrField<pb::Sample>* out) {
+  absl::StatusOr<std::vector<CommandRecord>> commands = store->ListCommands(job_id);
+  if (!commands.ok()) return commands.status();
+  std::map<int64_t, const CommandRecord*> by_id;
+  for (const CommandRecord& c : *commands) by_id[c.id] = &c;
+  absl::StatusOr<std::vector<FitRecord>> fits = store->ListFits(job_id, fit_version);
+  if (!fits.ok()) return fits.status();
+  std::map<int64_t, const FitRecord*> fit_by_trace;
+  for (const FitRecord& f : *fits) fit_by_trace[f.trace_id] = &f;
+  absl::StatusOr<std::vector<TraceRecord>> traces = store->ListTraces(job_id, /*include_samples=*/false);
+  if (!traces.ok()) return traces.status();
+  for (const TraceRecord& t : *traces) {
+    auto c = by_id.find(t.command_id);
+    if (c == by_id.end()) {  // the schema's foreign key makes this impossible short of corruption
+      return absl::DataLossError(absl::StrCat("trace ", t.id, " answers command ", t.command_id,
+                                              ", which the job does not have"));
+    }
+    auto f = fit_by_trace.find(t.id);
+    if (f == fit_by_trace.end()) continue;  // no fit of this version (a refit may cover only some traces)
+    absl::StatusOr<pb::Sample> sample = BuildSample(t, *c->second, *f->second);
+    if (!sample.ok()) return sample.status();
+    *out->Add() = std::move(*sample);
+  }
+  return absl::OkStatus();
 }
 
 absl::Status AddRecomputedSeries(const TraceRecord& trace, const FitRecord& record, pb::Sample* sample) {
@@ -139,23 +174,7 @@ absl::Status FillMapLevel(Store* store, int64_t job_id, const MapSnapshot& snaps
     }
   }
   // The measured samples (latest fits), with their sites and drags.
-  absl::StatusOr<std::vector<CommandRecord>> commands = store->ListCommands(job_id);
-  if (!commands.ok()) return commands.status();
-  std::map<int64_t, const CommandRecord*> by_id;
-  for (const CommandRecord& c : *commands) by_id[c.id] = &c;
-  absl::StatusOr<std::vector<TraceRecord>> traces = store->ListTraces(job_id, /*include_samples=*/false);
-  if (!traces.ok()) return traces.status();
-  absl::StatusOr<std::vector<FitRecord>> fits = store->ListFits(job_id, 0);
-  if (!fits.ok()) return fits.status();
-  std::map<int64_t, const FitRecord*> fit_by_trace;
-  for (const FitRecord& f : *fits) fit_by_trace[f.trace_id] = &f;
-  for (const TraceRecord& t : *traces) {
-    auto c = by_id.find(t.command_id);
-    auto f = fit_by_trace.find(t.id);
-    if (c == by_id.end() || f == fit_by_trace.end()) continue;
-    *out->add_samples() = BuildSample(t, *c->second, *f->second);
-  }
-  return absl::OkStatus();
+  return AppendJobSamples(store, job_id, /*fit_version=*/0, out->mutable_samples());
 }
 
 void FillMesh(const SurfaceLevel& level, int level_index, int64_t object_id, pb::GetMeshResponse* out) {

@@ -23,10 +23,15 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 // A sample: the command's site and drag with the trace's fit. `probe` and
 // `decoded_fit`, when given, are command.command_json and fit.result_json
 // already decoded (the trace path has them).
-pb::Sample BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
-                       const ProbeCommand* probe = nullptr, const TraceFit* decoded_fit = nullptr);
+// DATA_LOSS naming the record when the stored command or fit cannot be read.
+absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
+                                       const ProbeCommand* probe = nullptr, const TraceFit* decoded_fit = nullptr);
 // A sample of a trace the job accepted (its fit on arrival).
-pb::Sample BuildSample(const AcceptedSample& accepted);
+absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted);
+// The job's samples in trace order with their fit of `fit_version` (0 =
+// latest; traces without a fit of that version are left out), appended to `out`.
+absl::Status AppendJobSamples(Store* store, int64_t job_id, int32_t fit_version,
+                              google::protobuf::RepeatedPtrField<pb::Sample>* out);
 // Refits `trace` (read with its samples) with the options of its stored `fit`
 // and adds the per-pair mu and the ACF to `sample`'s fit. DATA_LOSS if the
 // refit does not reproduce the stored mu (the estimator is deterministic).

@@ -114,21 +114,26 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   return spec;
 }
 
-pb::Fit FitToProto(const FitRecord& record, const TraceFit* decoded) {
+absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* decoded) {
+  TraceFit parsed;
+  if (decoded == nullptr) {
+    nlohmann::json j = nlohmann::json::parse(record.result_json, nullptr, false);
+    absl::StatusOr<TraceFit> from_json =
+        j.is_discarded() ? absl::DataLossError("not JSON") : TraceFitFromJson(j);
+    if (!from_json.ok()) {
+      return absl::DataLossError(absl::StrCat("stored fit ", record.id, " of trace ", record.trace_id,
+                                              " cannot be read: ", from_json.status().message()));
+    }
+    parsed = std::move(*from_json);
+    decoded = &parsed;
+  }
+  const TraceFit* fit = decoded;
   pb::Fit out;
   out.set_fit_id(record.id);
   out.set_version(record.version);
   out.set_estimator(record.estimator_name);
   out.set_estimator_version(record.estimator_version);
   out.set_options_json(record.options_json);
-  absl::StatusOr<TraceFit> fit = absl::UnknownError("not decoded");
-  if (decoded != nullptr) {
-    fit = *decoded;
-  } else {
-    nlohmann::json j = nlohmann::json::parse(record.result_json, nullptr, false);
-    fit = j.is_discarded() ? absl::DataLossError("stored fit is not JSON") : TraceFitFromJson(j);
-  }
-  if (!fit.ok()) return out;  // the ids and provenance still identify it
   const FrictionFit& f = fit->friction;
   pb::FrictionEstimate* fe = out.mutable_friction();
   fe->set_mu(f.mu);

@@ -32,8 +32,9 @@ pb::JobSpec JobParamsToProto(const JobParams& params);
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 
 // result_json -> estimates; `decoded` (when given) is result_json already
-// decoded, which spares the JSON on the trace path.
-pb::Fit FitToProto(const FitRecord& record, const TraceFit* decoded = nullptr);
+// decoded, which spares the JSON on the trace path. DATA_LOSS naming the fit
+// when the stored result cannot be read.
+absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* decoded = nullptr);
 // The per-pair mu, its arc lengths, the ACF and the grid step of `fit` (a
 // TraceFit computed with the record's options) into `out`.
 void AddFitSeries(const TraceFit& fit, double grid_step_mm, pb::Fit* out);

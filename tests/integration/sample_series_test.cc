@@ -1,8 +1,11 @@
 // GetSample with include_series: the per-pair mu along the data window and
 // the ACF, recomputed from the stored trace with the fit's own options, for
 // the fit on arrival and for a refit with another grid step.
+#include <sqlite3.h>
+
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include "gtest/gtest.h"
 #include "tests/support/job_helpers.h"
@@ -74,6 +77,47 @@ TEST(SampleSeries, PerPairMuAndAcfBelongToTheStoredFit) {
   EXPECT_LT(v2.fit().roughness().acf_size(), r.acf_size()) << "half as many grid points, fewer lags";
   ITEST_ASSERT_OK_AND_ASSIGN(v1, GetSample(stubs, listed.trace_id(), 1, true));
   EXPECT_DOUBLE_EQ(v1.fit().roughness().grid_step_mm(), 0.1) << "the old version keeps its own options";
+}
+
+// Another connection to the server's database, as an operator's tool would
+// have: the server's WAL lets it write while the server runs.
+void ExecOnDatabase(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+  sqlite3_busy_timeout(db, 10000);
+  char* error = nullptr;
+  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error);
+  EXPECT_EQ(rc, SQLITE_OK) << (error ? error : "");
+  sqlite3_free(error);
+  sqlite3_close_v2(db);
+}
+
+TEST(SampleSeries, AStoredFitThatCannotBeReadIsDataLossNotAnEmptySample) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  Stubs& stubs = *setup.stubs;
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, /*budget=*/2)));
+  RigFleetOptions fleet_options;
+  fleet_options.rigs = 1;
+  fleet_options.job_id = job.job_id();
+  RigFleetRecord record = RigFleet(setup.server->address(), *setup.rig, fleet_options).Run();
+  for (const std::string& error : record.rpc_errors) ADD_FAILURE() << error;
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  ASSERT_EQ(samples.samples_size(), 2);
+  const int64_t broken = samples.samples(1).trace_id();
+  // Valid JSON (the schema checks that), but not a fit: mu is text.
+  ExecOnDatabase(setup.server->db_path(),
+                 "UPDATE fits SET result_json = '{\"mu\": \"abc\"}' WHERE trace_id = " + std::to_string(broken));
+
+  absl::StatusOr<pb::Sample> sample = GetSample(stubs, broken, 0, false);
+  ASSERT_FALSE(sample.ok()) << "answered a sample with no estimates";
+  EXPECT_EQ(sample.status().code(), absl::StatusCode::kDataLoss) << sample.status();
+  EXPECT_NE(sample.status().message().find("trace " + std::to_string(broken)), std::string::npos)
+      << sample.status();
+  absl::StatusOr<pb::ListSamplesResponse> listed = ListSamples(stubs, job.job_id());
+  ASSERT_FALSE(listed.ok());
+  EXPECT_EQ(listed.status().code(), absl::StatusCode::kDataLoss) << listed.status();
+  // The intact trace still reads.
+  ITEST_EXPECT_OK(GetSample(stubs, samples.samples(0).trace_id(), 0, false).status());
 }
 
 }  // namespace
