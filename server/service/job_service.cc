@@ -128,9 +128,15 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
       *update_.mutable_latest_sample() = std::move(*latest);
     }
     if (include_map_) {
+      // An update without the map that was asked for would look like a job
+      // with no samples: end the stream with the reason instead.
       absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(job_id_);
-      if (map.ok()) {
-        (void)FillMapLevel(s_.coordinator->store(), job_id_, *map, map->surface->max_level(), update_.mutable_map());
+      absl::Status filled = map.ok() ? FillMapLevel(s_.coordinator->store(), job_id_, *map,
+                                                    map->surface->max_level(), update_.mutable_map())
+                                     : map.status();
+      if (!filled.ok()) {
+        FinishLocked(ToGrpcStatus(filled));
+        return;
       }
     }
     final_sent_ = durable->state == JobState::kCompleted || durable->state == JobState::kCancelled;

@@ -116,6 +116,17 @@ TEST(SampleSeries, AStoredFitThatCannotBeReadIsDataLossNotAnEmptySample) {
   absl::StatusOr<pb::ListSamplesResponse> listed = ListSamples(stubs, job.job_id());
   ASSERT_FALSE(listed.ok());
   EXPECT_EQ(listed.status().code(), absl::StatusCode::kDataLoss) << listed.status();
+  // A watch that asked for the map ends with the reason rather than sending
+  // an update without it.
+  pb::WatchJobRequest watch;
+  watch.set_job_id(job.job_id());
+  watch.set_include_map(true);
+  auto context = Context(30);
+  auto reader = stubs.jobs->WatchJob(context.get(), watch);
+  pb::JobUpdate update;
+  EXPECT_FALSE(reader->Read(&update)) << "an update was sent";
+  const grpc::Status watch_status = reader->Finish();
+  EXPECT_EQ(watch_status.error_code(), grpc::StatusCode::DATA_LOSS) << watch_status.error_message();
   // The intact trace still reads.
   ITEST_EXPECT_OK(GetSample(stubs, samples.samples(0).trace_id(), 0, false).status());
 }
