@@ -212,6 +212,7 @@ struct AcceptTraceResult {
   // the ids are the stored ones (a rig's retry after a lost reply).
   bool already_accepted = false;
   std::optional<CommandRecord> next_command;  // lease_next: the command leased, if one was ready
+  std::optional<FitRecord> fit;     // the fit as stored (not when already_accepted)
   int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (0 when already_accepted)
 };
 

@@ -249,8 +249,10 @@ absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_
   return ids;
 }
 
-absl::StatusOr<int64_t> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version,
-                                  const NewFit& fit, int64_t now) {
+// Inserts the fit and returns it as the store now holds it, so writers answer
+// with exactly what a later read gives (a NaN headline number reads as empty).
+absl::StatusOr<FitRecord> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version,
+                                    const NewFit& fit, int64_t now) {
   SURFMAP_ASSIGN_OR_RETURN(
       SqliteStatement stmt,
       db.Prepare("INSERT INTO fits (trace_id, version, estimator_name, estimator_version, "
@@ -264,7 +266,23 @@ absl::StatusOr<int64_t> InsertFit(SqliteConnection& db, int64_t trace_id, int32_
   if (absl::Status s = stmt.Run(); !s.ok()) {
     return Annotate(s, absl::StrCat("fit version ", version, " of trace ", trace_id));
   }
-  return db.LastInsertRowId();
+  auto stored = [](const std::optional<double>& v) {
+    return v.has_value() && !std::isnan(*v) ? v : std::nullopt;  // as BindOptionalDouble wrote it
+  };
+  FitRecord r;
+  r.id = db.LastInsertRowId();
+  r.trace_id = trace_id;
+  r.version = version;
+  r.estimator_name = fit.estimator_name;
+  r.estimator_version = fit.estimator_version;
+  r.options_json = fit.options_json;
+  r.result_json = fit.result_json;
+  r.mu = stored(fit.mu);
+  r.a1 = stored(fit.a1);
+  r.a2 = stored(fit.a2);
+  r.sigma = stored(fit.sigma);
+  r.created_unix_ms = now;
+  return r;
 }
 
 absl::Status SetJobState(SqliteConnection& db, const JobRecord& job, JobState to, int64_t now) {
@@ -440,7 +458,9 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
   }
   SURFMAP_RETURN_IF_ERROR(SetCommandState(db, req.command_id, "done"));
   if (req.fit.has_value()) {
-    SURFMAP_ASSIGN_OR_RETURN(result.fit_id, InsertFit(db, result.trace_id, 1, *req.fit, now));
+    SURFMAP_ASSIGN_OR_RETURN(FitRecord fit, InsertFit(db, result.trace_id, 1, *req.fit, now));
+    result.fit_id = fit.id;
+    result.fit = std::move(fit);
   }
   SURFMAP_RETURN_IF_ERROR(ApplyPlanChange(db, job, change, now, &result.plan_revision, &result.new_command_ids));
   return result;
@@ -919,22 +939,9 @@ absl::StatusOr<std::vector<FitRecord>> SqliteStore::AddFits(const std::vector<Tr
         std::vector<FitRecord> records;
         for (size_t i = 0; i < fits.size(); ++i) {
           const NewFit& f = fits[i].fit;
-          absl::StatusOr<int64_t> id = InsertFit(db, fits[i].trace_id, version, f, now);
-          if (!id.ok()) return Annotate(id.status(), absl::StrCat("fits[", i, "]"));
-          FitRecord r;
-          r.id = *id;
-          r.trace_id = fits[i].trace_id;
-          r.version = version;
-          r.estimator_name = f.estimator_name;
-          r.estimator_version = f.estimator_version;
-          r.options_json = f.options_json;
-          r.result_json = f.result_json;
-          r.mu = f.mu;
-          r.a1 = f.a1;
-          r.a2 = f.a2;
-          r.sigma = f.sigma;
-          r.created_unix_ms = now;
-          records.push_back(std::move(r));
+          absl::StatusOr<FitRecord> r = InsertFit(db, fits[i].trace_id, version, f, now);
+          if (!r.ok()) return Annotate(r.status(), absl::StrCat("fits[", i, "]"));
+          records.push_back(std::move(*r));
         }
         return records;
       });

@@ -1,5 +1,6 @@
 #include "storage/sqlite_store.h"
 
+#include <cmath>
 #include <future>
 #include <atomic>
 #include <chrono>
@@ -257,6 +258,46 @@ TEST_F(SqliteStoreTest, PlanJournalAppendsAndACheckpointClearsIt) {
   plan = store_->GetPlan(job.job.id);
   EXPECT_EQ(plan->journal, std::vector<std::string>{R"({"op":"failure"})"});
   EXPECT_EQ(plan->revision, 5);
+}
+
+// What a write answers is what a later read gives, field for field, also for
+// a NaN headline number (stored as empty).
+void ExpectSameFit(const FitRecord& written, const FitRecord& read) {
+  EXPECT_EQ(written.id, read.id);
+  EXPECT_EQ(written.trace_id, read.trace_id);
+  EXPECT_EQ(written.version, read.version);
+  EXPECT_EQ(written.estimator_name, read.estimator_name);
+  EXPECT_EQ(written.estimator_version, read.estimator_version);
+  EXPECT_EQ(written.options_json, read.options_json);
+  EXPECT_EQ(written.result_json, read.result_json);
+  EXPECT_EQ(written.mu, read.mu);
+  EXPECT_EQ(written.a1, read.a1);
+  EXPECT_EQ(written.a2, read.a2);
+  EXPECT_EQ(written.sigma, read.sigma);
+  EXPECT_EQ(written.created_unix_ms, read.created_unix_ms);
+}
+
+TEST_F(SqliteStoreTest, WritesAnswerTheFitAsAReadGivesIt) {
+  CreatedJob job = Job(1);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 10);
+  request.fit->a2 = std::nan("");
+  absl::StatusOr<AcceptTraceResult> accepted = store_->AcceptTrace(request);
+  ASSERT_TRUE(accepted.ok()) << accepted.status();
+  ASSERT_TRUE(accepted->fit.has_value());
+  EXPECT_FALSE(accepted->fit->a2.has_value()) << "NaN is stored as empty";
+  absl::StatusOr<FitRecord> first = store_->GetFit(accepted->trace_id, 1);
+  ASSERT_TRUE(first.ok()) << first.status();
+  ExpectSameFit(*accepted->fit, *first);
+
+  NewFit refit = MakeTestFit(0.2);
+  refit.sigma = std::nan("");
+  absl::StatusOr<std::vector<FitRecord>> added = store_->AddFits({TraceRefit{accepted->trace_id, refit}});
+  ASSERT_TRUE(added.ok()) << added.status();
+  ASSERT_EQ(added->size(), 1u);
+  absl::StatusOr<FitRecord> second = store_->GetFit(accepted->trace_id, 2);
+  ASSERT_TRUE(second.ok()) << second.status();
+  ExpectSameFit((*added)[0], *second);
 }
 
 TEST_F(SqliteStoreTest, JobActivityIsTheNewestTraceAndTheNewestEventTime) {

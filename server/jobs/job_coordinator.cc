@@ -72,28 +72,6 @@ std::vector<NewCommand> DrainCommands(SamplingPlan& plan) {
 
 NewEvent Event(const std::string& kind, nlohmann::json detail) { return NewEvent{kind, detail.dump()}; }
 
-// What the store holds for the fit of a newly accepted trace (NaN headline
-// numbers are stored as empty, as SqliteStatement::BindOptionalDouble does).
-FitRecord FitRecordOf(const NewFit& fit, const AcceptTraceResult& result) {
-  auto stored = [](const std::optional<double>& v) {
-    return v.has_value() && !std::isnan(*v) ? v : std::nullopt;
-  };
-  FitRecord record;
-  record.id = result.fit_id;
-  record.trace_id = result.trace_id;
-  record.version = 1;
-  record.estimator_name = fit.estimator_name;
-  record.estimator_version = fit.estimator_version;
-  record.options_json = fit.options_json;
-  record.result_json = fit.result_json;
-  record.mu = stored(fit.mu);
-  record.a1 = stored(fit.a1);
-  record.a2 = stored(fit.a2);
-  record.sigma = stored(fit.sigma);
-  record.created_unix_ms = result.accepted_unix_ms;
-  return record;
-}
-
 // A leased command (or none: ask again after kRetryAfterMs) with its probe decoded.
 absl::StatusOr<LeaseOutcome> LeaseOutcomeOf(std::optional<CommandRecord> leased) {
   LeaseOutcome outcome;
@@ -487,9 +465,9 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
   request.lease_owner = rig_id;
   request.samples = {};
   request.fit = NewFitOf(*fit, options);
-  // The stored fit as the reply shows it, without reading it back (this
-  // callback runs on the store's writer thread, which every rig waits for).
-  auto new_fit = std::make_shared<const NewFit>(*request.fit);
+  // The reply shows the stored fit as the store returns it from the write
+  // (no read back: the callback runs on the store's writer thread, which
+  // every rig waits for) with the fit already decoded here.
   auto decoded_fit = std::make_shared<const TraceFit>(*fit);
   if (lease_next) {
     request.lease_next = LeaseRequest{command->job_id, rig_id, UnixMillisNow(), runtime->params.lease_ms};
@@ -528,7 +506,7 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
     const bool plan_changed = recorded.ok();
     store_->AcceptTraceAsync(
         std::move(request),
-        [this, runtime, plan_changed, lease_next, new_fit, decoded_fit, command = context->record,
+        [this, runtime, plan_changed, lease_next, decoded_fit, command = context->record,
          probe = context->probe, done = std::move(done)](
             absl::StatusOr<AcceptTraceResult> result) {
           if (!result.ok()) {
@@ -551,9 +529,12 @@ void JobCoordinator::SubmitTrace(int64_t command_id, const std::string& rig_id, 
               return;
             }
             outcome.fit = std::move(*stored);
-          } else {
-            outcome.fit = FitRecordOf(*new_fit, *result);
+          } else if (result->fit.has_value()) {
+            outcome.fit = std::move(*result->fit);
             outcome.decoded_fit = decoded_fit;
+          } else {
+            done(absl::InternalError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
+            return;
           }
           std::shared_ptr<const AcceptedSample> accepted;
           if (plan_changed && !result->already_accepted) {

@@ -149,8 +149,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         trace_record.job_id = outcome->command.job_id;
         // The trace and its first fit are stored at one time (also right for
         // a retry's reply, which gets the original acceptance time).
-        trace_record.received_unix_ms =
-            outcome->fit.created_unix_ms != 0 ? outcome->fit.created_unix_ms : UnixMillisNow();
+        trace_record.received_unix_ms = outcome->fit.created_unix_ms;
         absl::StatusOr<pb::Sample> sample =
             BuildSample(trace_record, outcome->command, outcome->fit, &outcome->probe, outcome->decoded_fit.get());
         if (!sample.ok()) {  // the trace is stored; a retry reads it back the same way
