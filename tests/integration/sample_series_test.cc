@@ -26,16 +26,24 @@ absl::StatusOr<pb::Sample> GetSample(Stubs& stubs, int64_t trace_id, int32_t ver
   return response.sample();
 }
 
+// A plate job of `budget` level-0 sites measured by one rig; its samples.
+absl::StatusOr<pb::ListSamplesResponse> MeasurePlate(SceneServer& setup, int budget, int64_t* job_id) {
+  absl::StatusOr<pb::JobInfo> job = CreateJob(*setup.stubs, UniformLevel0Spec(setup.object_id, budget));
+  if (!job.ok()) return job.status();
+  *job_id = job->job_id();
+  RigFleetOptions fleet_options;
+  fleet_options.rigs = 1;
+  fleet_options.job_id = job->job_id();
+  RigFleetRecord record = RigFleet(setup.server->address(), *setup.rig, fleet_options).Run();
+  if (!record.rpc_errors.empty()) return absl::InternalError("rig: " + record.rpc_errors.front());
+  return ListSamples(*setup.stubs, job->job_id());
+}
+
 TEST(SampleSeries, PerPairMuAndAcfBelongToTheStoredFit) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
   Stubs& stubs = *setup.stubs;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, /*budget=*/3)));
-  RigFleetOptions fleet_options;
-  fleet_options.rigs = 1;
-  fleet_options.job_id = job.job_id();
-  RigFleetRecord record = RigFleet(setup.server->address(), *setup.rig, fleet_options).Run();
-  for (const std::string& error : record.rpc_errors) ADD_FAILURE() << error;
-  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  int64_t job_id = 0;
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, MeasurePlate(setup, /*budget=*/3, &job_id));
   ASSERT_EQ(samples.samples_size(), 3);
   const pb::Sample& listed = samples.samples(0);
   EXPECT_EQ(listed.fit().friction().pair_mu_size(), 0) << "lists carry no series";
@@ -65,7 +73,7 @@ TEST(SampleSeries, PerPairMuAndAcfBelongToTheStoredFit) {
 
   // A refit on a 0.2 mm grid: version 2's series are on that grid.
   pb::RefitJobRequest refit;
-  refit.set_job_id(job.job_id());
+  refit.set_job_id(job_id);
   refit.mutable_settings()->set_step_mm(0.2);
   refit.mutable_settings()->set_ar_method(pb::AR_METHOD_BURG);
   pb::RefitJobResponse refitted;
@@ -95,13 +103,8 @@ void ExecOnDatabase(const std::string& path, const std::string& sql) {
 TEST(SampleSeries, AStoredFitThatCannotBeReadIsDataLossNotAnEmptySample) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
   Stubs& stubs = *setup.stubs;
-  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(stubs, UniformLevel0Spec(setup.object_id, /*budget=*/2)));
-  RigFleetOptions fleet_options;
-  fleet_options.rigs = 1;
-  fleet_options.job_id = job.job_id();
-  RigFleetRecord record = RigFleet(setup.server->address(), *setup.rig, fleet_options).Run();
-  for (const std::string& error : record.rpc_errors) ADD_FAILURE() << error;
-  ITEST_ASSERT_OK_AND_ASSIGN(samples, ListSamples(stubs, job.job_id()));
+  int64_t job_id = 0;
+  ITEST_ASSERT_OK_AND_ASSIGN(samples, MeasurePlate(setup, /*budget=*/2, &job_id));
   ASSERT_EQ(samples.samples_size(), 2);
   const int64_t broken = samples.samples(1).trace_id();
   // Valid JSON (the schema checks that), but not a fit: mu is text.
@@ -113,13 +116,13 @@ TEST(SampleSeries, AStoredFitThatCannotBeReadIsDataLossNotAnEmptySample) {
   EXPECT_EQ(sample.status().code(), absl::StatusCode::kDataLoss) << sample.status();
   EXPECT_NE(sample.status().message().find("trace " + std::to_string(broken)), std::string::npos)
       << sample.status();
-  absl::StatusOr<pb::ListSamplesResponse> listed = ListSamples(stubs, job.job_id());
+  absl::StatusOr<pb::ListSamplesResponse> listed = ListSamples(stubs, job_id);
   ASSERT_FALSE(listed.ok());
   EXPECT_EQ(listed.status().code(), absl::StatusCode::kDataLoss) << listed.status();
   // A watch that asked for the map ends with the reason rather than sending
   // an update without it.
   pb::WatchJobRequest watch;
-  watch.set_job_id(job.job_id());
+  watch.set_job_id(job_id);
   watch.set_include_map(true);
   auto context = Context(30);
   auto reader = stubs.jobs->WatchJob(context.get(), watch);
