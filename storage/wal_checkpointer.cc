@@ -33,15 +33,14 @@ WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, int wake_
 
 WalCheckpointer::~WalCheckpointer() {
   {
-    std::lock_guard<std::mutex> lock(mu_);
+    absl::MutexLock lock(&mu_);
     stopping_ = true;
   }
-  wake_.notify_all();
   thread_.join();
 }
 
 int64_t WalCheckpointer::checkpoints() const {
-  std::lock_guard<std::mutex> lock(mu_);
+  absl::MutexLock lock(&mu_);
   return checkpoints_;
 }
 
@@ -57,11 +56,8 @@ int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int 
   int backfilled = checkpointer->backfilled_.load(std::memory_order_relaxed);
   if (wal_pages < backfilled) backfilled = 0;  // the WAL restarted
   if (wal_pages - backfilled >= checkpointer->wake_pages_) {
-    {
-      std::lock_guard<std::mutex> lock(checkpointer->mu_);
-      checkpointer->requested_ = true;
-    }
-    checkpointer->wake_.notify_one();
+    absl::MutexLock lock(&checkpointer->mu_);
+    checkpointer->requested_ = true;
   }
   return SQLITE_OK;
 }
@@ -69,8 +65,8 @@ int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int 
 void WalCheckpointer::Loop() {
   while (true) {
     {
-      std::unique_lock<std::mutex> lock(mu_);
-      wake_.wait(lock, [this] { return requested_ || stopping_; });
+      absl::MutexLock lock(&mu_);
+      mu_.Await(absl::Condition(this, &WalCheckpointer::RequestedOrStopping));
       requested_ = false;
     }
     // Failures (e.g. busy) are harmless: the next request retries, and the
@@ -81,7 +77,7 @@ void WalCheckpointer::Loop() {
                                   &copied) == SQLITE_OK) {
       backfilled_.store(copied, std::memory_order_relaxed);
     }
-    std::lock_guard<std::mutex> lock(mu_);
+    absl::MutexLock lock(&mu_);
     ++checkpoints_;
     if (stopping_) return;
   }

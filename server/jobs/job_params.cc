@@ -40,6 +40,20 @@ bool JobParams::IsValid(std::string* why) const {
   return true;
 }
 
+SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
+  SamplingPlanOptions o;
+  o.mode = p.mode;
+  o.coarsest_level = p.coarsest_level;
+  o.max_level = p.finest_level;
+  o.threshold = p.threshold;
+  o.distance.property = p.property;
+  o.sample_budget = p.budget;
+  o.max_retries = p.max_retries;
+  o.probe = p.probe;
+  o.seed = p.seed;
+  return o;
+}
+
 nlohmann::json JobParamsToJson(const JobParams& p) {
   return {{"object_id", p.object_id},
           {"property", PropertyName(p.property)},

@@ -33,6 +33,8 @@ struct JobParams {
 };
 
 nlohmann::json JobParamsToJson(const JobParams& params);
+// The sampling plan's options for these job parameters.
+SamplingPlanOptions PlanOptionsFor(const JobParams& params);
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& json);
 
 }  // namespace surfmap

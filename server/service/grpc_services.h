@@ -66,8 +66,9 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
 
   // Shared by the unary and streamed submissions: validates, fits, stores,
   // then calls `finish` once the trace is durable (or was refused).
-  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples, bool lease_next,
-              pb::SubmitTraceResponse* response, std::function<void(absl::Status)> finish);
+  // `samples` must live until `finish` was called.
+  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples, bool lease_next,
+              pb::SubmitTraceResponse* response, FinishFn finish);
 
  private:
   ServiceContext s_;

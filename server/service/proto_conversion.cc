@@ -85,7 +85,22 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
   p.seed = spec.seed() != 0 ? spec.seed() : 1;
   p.max_retries = spec.max_retries() != 0 ? spec.max_retries() : p.max_retries;
   p.lease_ms = default_lease_ms;
-  if (spec.has_lease()) p.lease_ms = spec.lease().seconds() * 1000 + spec.lease().nanos() / 1'000'000;
+  if (spec.has_lease()) {
+    // Checked before any arithmetic: seconds * 1000 overflows int64 for a
+    // client's huge value, and a Duration's nanos must be within +-1e9 with
+    // the sign of its seconds.
+    const google::protobuf::Duration& lease = spec.lease();
+    const int64_t max_seconds = 86'400;
+    if (lease.seconds() < 0 || lease.seconds() > max_seconds) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("lease must be between 0.1 s and 24 h, got ", lease.seconds(), " s"));
+    }
+    if (lease.nanos() < 0 || lease.nanos() > 999'999'999) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("lease.nanos must be in 0..999999999 for a positive duration, got ", lease.nanos()));
+    }
+    p.lease_ms = lease.seconds() * 1000 + lease.nanos() / 1'000'000;
+  }
   std::string why;
   if (!p.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
   return p;

@@ -8,8 +8,9 @@ namespace surfmap {
 grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext* context,
                                                      const pb::GetTraceRequest* request,
                                                      pb::GetTraceResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetTrace", [&]() -> absl::Status {
-    absl::StatusOr<TraceRecord> trace = s_.coordinator->store()->GetTrace(request->trace_id(), true);
+  // Every sample of a trace: a bulk read and an O(samples) conversion, on the pool.
+  return HandleUnaryOnPool(context, s_, Role::kRead, "GetTrace", [this, request, response]() -> absl::Status {
+    absl::StatusOr<TraceRecord> trace = s_.coordinator->reads().GetTrace(request->trace_id());
     if (!trace.ok()) return trace.status();
     response->set_trace_id(trace->id);
     response->set_command_id(trace->command_id);
