@@ -279,27 +279,27 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
 // ---------------------------------------------------------------- failures
 
 void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
-                                  FailureCallback done) {
+                                  ProbeFailureKind kind, FailureCallback done) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (reason.empty() || reason.size() > 1000) {
     return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
   }
   auto shared_done = std::make_shared<FailureCallback>(std::move(done));
-  const bool queued = executors_.work->Submit([this, command_id, rig_id, reason, shared_done] {
+  const bool queued = executors_.work->Submit([this, command_id, rig_id, reason, kind, shared_done] {
     FailureCallback done = std::move(*shared_done);
     absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
     if (!context.ok()) return done(context.status());
     if (absl::Status held = CheckLeasedTo(context->record, rig_id, "nothing to report"); !held.ok()) {
       return done(held);
     }
-    absl::Status refused = QueueFailure(*context, rig_id, reason, done);
+    absl::Status refused = QueueFailure(*context, rig_id, reason, kind, done);
     if (!refused.ok()) done(refused);
   });
   if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the report later"));
 }
 
 absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const std::string& rig_id,
-                                         const std::string& reason, FailureCallback& done) {
+                                         const std::string& reason, ProbeFailureKind kind, FailureCallback& done) {
   JobRuntime& runtime = *context.runtime;
   absl::MutexLock lock(&runtime.mu);
   SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
@@ -327,6 +327,8 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
   std::move(write).MoveInto(request);
   request.events.push_back(Event("probe_failed", {{"command_id", context.record.id},
                                                   {"reason", reason},
+                                                  {"kind", kind == ProbeFailureKind::kUnreachable ? "unreachable"
+                                                                                                  : "transient"},
                                                   {"rig", rig_id},
                                                   {"will_retry", will_retry}}));
   std::shared_ptr<JobRuntime> runtime_ptr = context.runtime;

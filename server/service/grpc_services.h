@@ -43,6 +43,8 @@ class JobServiceImpl final : public pb::JobService::CallbackService {
                                       pb::SetJobStateResponse*) override;
   grpc::ServerUnaryReactor* GetPlan(grpc::CallbackServerContext*, const pb::GetPlanRequest*,
                                     pb::GetPlanResponse*) override;
+  grpc::ServerUnaryReactor* ListJobEvents(grpc::CallbackServerContext*, const pb::ListJobEventsRequest*,
+                                          pb::ListJobEventsResponse*) override;
   grpc::ServerWriteReactor<pb::JobUpdate>* WatchJob(grpc::CallbackServerContext*,
                                                     const pb::WatchJobRequest*) override;
 

@@ -130,6 +130,32 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
   });
 }
 
+grpc::ServerUnaryReactor* JobServiceImpl::ListJobEvents(grpc::CallbackServerContext* context,
+                                                        const pb::ListJobEventsRequest* request,
+                                                        pb::ListJobEventsResponse* response) {
+  return HandleUnary(context, s_, Role::kRead, "ListJobEvents", [this, request, response]() -> absl::Status {
+    if (request->job_id() <= 0) return absl::InvalidArgumentError("job_id must be a positive job id");
+    if (request->after_event_id() < 0) return absl::InvalidArgumentError("after_event_id must be >= 0");
+    if (request->limit() < 0 || request->limit() > 10'000) {
+      return absl::InvalidArgumentError(absl::StrCat("limit must be in 0..10000 (0 = 1000), got ", request->limit()));
+    }
+    const int limit = request->limit() == 0 ? 1000 : request->limit();
+    absl::StatusOr<std::vector<EventRecord>> events =
+        s_.coordinator->reads().ListEvents(request->job_id(), request->after_event_id(), limit);
+    if (!events.ok()) return events.status();
+    response->mutable_events()->Reserve(static_cast<int>(events->size()));
+    for (const EventRecord& e : *events) {
+      pb::JobEvent* out = response->add_events();
+      out->set_event_id(e.id);
+      out->set_job_id(e.job_id);
+      *out->mutable_time() = TimestampFromUnixMs(e.unix_ms);
+      out->set_kind(e.kind);
+      out->set_detail_json(e.detail_json);
+    }
+    return absl::OkStatus();
+  });
+}
+
 grpc::ServerWriteReactor<pb::JobUpdate>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
                                                                   const pb::WatchJobRequest* request) {
   absl::Status admitted = s_.gate->Admit(*context, Role::kRead, "WatchJob");

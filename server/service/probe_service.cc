@@ -175,8 +175,15 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::ReportFailure(grpc::CallbackServerCo
                                                           const pb::ReportFailureRequest* request,
                                                           pb::ReportFailureResponse* response) {
   return HandleUnaryAsync(context, s_, Role::kProbe, "ReportFailure", [this, request, response](FinishFn finish) {
+    ProbeFailureKind kind;
+    switch (request->kind()) {
+      case pb::FAILURE_KIND_UNSPECIFIED:  // rigs from before kinds existed
+      case pb::FAILURE_KIND_TRANSIENT: kind = ProbeFailureKind::kTransient; break;
+      case pb::FAILURE_KIND_UNREACHABLE: kind = ProbeFailureKind::kUnreachable; break;
+      default: return finish(absl::InvalidArgumentError(absl::StrCat("kind: unknown value ", request->kind())));
+    }
     s_.coordinator->probes().ReportFailure(
-        request->command_id(), request->rig_id(), request->reason(),
+        request->command_id(), request->rig_id(), request->reason(), kind,
         [response, finish = std::move(finish)](absl::StatusOr<bool> will_retry) {
           if (will_retry.ok()) response->set_will_retry(*will_retry);
           finish(will_retry.status());
