@@ -33,14 +33,14 @@ WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, int wake_
 
 WalCheckpointer::~WalCheckpointer() {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;
   }
   thread_.join();
 }
 
 int64_t WalCheckpointer::checkpoints() const {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   return checkpoints_;
 }
 
@@ -56,7 +56,7 @@ int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int 
   int backfilled = checkpointer->backfilled_.load(std::memory_order_relaxed);
   if (wal_pages < backfilled) backfilled = 0;  // the WAL restarted
   if (wal_pages - backfilled >= checkpointer->wake_pages_) {
-    absl::MutexLock lock(&checkpointer->mu_);
+    MutexLock lock(&checkpointer->mu_);
     checkpointer->requested_ = true;
   }
   return SQLITE_OK;
@@ -65,8 +65,8 @@ int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int 
 void WalCheckpointer::Loop() {
   while (true) {
     {
-      absl::MutexLock lock(&mu_);
-      mu_.Await(absl::Condition(this, &WalCheckpointer::RequestedOrStopping));
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return RequestedOrStopping(); });
       requested_ = false;
     }
     // Failures (e.g. busy) are harmless: the next request retries, and the
@@ -77,7 +77,7 @@ void WalCheckpointer::Loop() {
                                   &copied) == SQLITE_OK) {
       backfilled_.store(copied, std::memory_order_relaxed);
     }
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     ++checkpoints_;
     if (stopping_) return;
   }

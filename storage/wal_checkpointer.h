@@ -23,7 +23,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "storage/sqlite_connection.h"
 
 namespace surfmap {
@@ -56,7 +56,7 @@ class WalCheckpointer {
   const int inline_pages_;
   bool RequestedOrStopping() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return requested_ || stopping_; }
 
-  mutable absl::Mutex mu_;
+  mutable Mutex mu_;
   bool requested_ ABSL_GUARDED_BY(mu_) = false;
   bool stopping_ ABSL_GUARDED_BY(mu_) = false;
   int64_t checkpoints_ ABSL_GUARDED_BY(mu_) = 0;

@@ -135,7 +135,7 @@ TEST_F(JobCoordinatorTest, ListenersRunWithNoLockHeldAndMayCallBack) {
   std::atomic<int> calls{0};
   std::atomic<bool> failed{false};
   absl::StatusOr<JobCoordinator::WatchHandle> handle = coordinator_->Watch(job.record.id, [&] {
-    // Under a job lock this would deadlock (absl::Mutex is not re-entrant).
+    // Under a job lock this would deadlock (Mutex is not re-entrant).
     if (!coordinator_->GetJob(job.record.id).ok()) failed = true;
     calls.fetch_add(1);
   });

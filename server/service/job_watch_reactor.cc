@@ -8,7 +8,7 @@ namespace surfmap {
 JobWatchReactor* JobWatchReactor::Start(const ServiceContext& services, int64_t job_id, bool include_map) {
   auto stream = std::make_shared<Stream>(services, job_id, include_map);
   auto* reactor = new JobWatchReactor(stream);
-  absl::MutexLock lock(&stream->mu);
+  MutexLock lock(&stream->mu);
   stream->reactor = reactor;
   // Subscribing may load the job (long): on the pool.
   if (!services.pool->Submit([stream] { Subscribe(stream); })) {
@@ -24,7 +24,7 @@ void JobWatchReactor::Subscribe(const std::shared_ptr<Stream>& stream) {
         if (std::shared_ptr<Stream> alive = weak.lock()) OnChange(alive);
       });
   {
-    absl::MutexLock lock(&stream->mu);
+    MutexLock lock(&stream->mu);
     if (!handle.ok()) {
       if (stream->reactor != nullptr) stream->FinishLocked(ToGrpcStatus(handle.status()));
       return;
@@ -48,7 +48,7 @@ void JobWatchReactor::OnChange(const std::shared_ptr<Stream>& stream) {
 void JobWatchReactor::BuildLoop(const std::shared_ptr<Stream>& stream) {
   for (;;) {
     {
-      absl::MutexLock lock(&stream->mu);
+      MutexLock lock(&stream->mu);
       if (stream->reactor == nullptr || stream->finished || stream->final_sent ||
           (stream->writing && stream->next.has_value())) {
         // Gone, done, or a slow client with an update already waiting: keep
@@ -61,7 +61,7 @@ void JobWatchReactor::BuildLoop(const std::shared_ptr<Stream>& stream) {
     bool final = false;
     absl::StatusOr<pb::JobUpdate> update = BuildUpdate(*stream, &final);  // no lock held
     {
-      absl::MutexLock lock(&stream->mu);
+      MutexLock lock(&stream->mu);
       if (stream->reactor != nullptr) {
         if (update.ok()) {
           stream->OfferLocked(std::move(*update), final);
@@ -132,7 +132,7 @@ void JobWatchReactor::Stream::FinishLocked(const grpc::Status& status) {
 void JobWatchReactor::OnWriteDone(bool ok) {
   bool wake = false;
   {
-    absl::MutexLock lock(&stream_->mu);
+    MutexLock lock(&stream_->mu);
     stream_->writing = false;
     if (stream_->pending_finish) {
       Finish(*stream_->pending_finish);
@@ -153,14 +153,14 @@ void JobWatchReactor::OnWriteDone(bool ok) {
 }
 
 void JobWatchReactor::OnCancel() {
-  absl::MutexLock lock(&stream_->mu);
+  MutexLock lock(&stream_->mu);
   stream_->FinishLocked(grpc::Status::CANCELLED);
 }
 
 void JobWatchReactor::OnDone() {
   JobCoordinator::WatchHandle handle;
   {
-    absl::MutexLock lock(&stream_->mu);
+    MutexLock lock(&stream_->mu);
     handle = std::move(stream_->handle);
     stream_->reactor = nullptr;  // late listeners and pool tasks see it gone
   }

@@ -18,7 +18,7 @@
 #include <optional>
 
 #include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "server/service/grpc_services.h"
 
 namespace surfmap {
@@ -43,7 +43,7 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     std::atomic<bool> dirty{false};     // the job changed since the last build started
     std::atomic<bool> building{false};  // a BuildLoop is posted or running
 
-    absl::Mutex mu;
+    Mutex mu;
     JobWatchReactor* reactor ABSL_GUARDED_BY(mu) = nullptr;
     JobCoordinator::WatchHandle handle ABSL_GUARDED_BY(mu);
     pb::JobUpdate in_flight ABSL_GUARDED_BY(mu);  // the message gRPC is writing

@@ -10,7 +10,7 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <spdlog/spdlog.h>
 #include "absl/strings/str_cat.h"
-#include "absl/synchronization/notification.h"
+#include "server/base/mutex.h"
 #include "server/base/task_queue.h"
 #include "server/base/worker_pool.h"
 #include "server/jobs/job_coordinator.h"
@@ -97,7 +97,7 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   // being re-read, a watcher's last build) runs out in the order work flows:
   // pool -> store -> completions -> pool.
   pool.Drain();
-  absl::Notification synced;
+  Notification synced;
   (*store)->SyncAsync([&synced](absl::Status) { synced.Notify(); });
   synced.WaitForNotification();
   completions.Drain();
