@@ -757,7 +757,11 @@ TEST_F(SqliteStoreTest, ConcurrentLeasingNeverHandsACommandOutTwice) {
   }
   EXPECT_EQ(total, static_cast<size_t>(kCommands));
   EXPECT_EQ(distinct.size(), static_cast<size_t>(kCommands));
-  for (const CommandRecord& c : *store_->ListCommands(job.job.id)) {
+  // Held in a variable: `*store_->ListCommands(...)` in a range-for would
+  // iterate a temporary that is already destroyed (ThreadSanitizer found it).
+  absl::StatusOr<std::vector<CommandRecord>> commands = store_->ListCommands(job.job.id);
+  ASSERT_TRUE(commands.ok()) << commands.status();
+  for (const CommandRecord& c : *commands) {
     EXPECT_EQ(c.state, CommandState::kLeased);
     EXPECT_EQ(c.attempt, 1);
   }
