@@ -57,20 +57,25 @@ class CoordinatorFixture : public ::testing::Test {
     sqlite_ = std::move(*opened);
     faults_ = std::make_unique<FaultInjectingStore>(sqlite_.get());
     completions_ = std::make_unique<TaskQueue>();
+    probe_pool_ = std::make_unique<WorkerPool>(2, 1000);
     pool_ = std::make_unique<WorkerPool>(2, 1000);
-    coordinator_ = std::make_unique<JobCoordinator>(faults_.get(), JobExecutors{completions_.get(), pool_.get()});
+    coordinator_ = std::make_unique<JobCoordinator>(faults_.get(),
+                                                    JobExecutors{completions_.get(), probe_pool_.get(), pool_.get()});
     ASSERT_TRUE(coordinator_->LoadJobs().ok());
   }
 
   // Stops everything in the order work flows, as surfmapd does.
   void Close() {
     if (!coordinator_) return;
+    probe_pool_->Drain();
     pool_->Drain();
     completions_->Drain();
+    probe_pool_->Drain();
     pool_->Drain();
     coordinator_.reset();
     faults_.reset();  // delivers what is outstanding
     completions_->Drain();
+    probe_pool_.reset();
     pool_.reset();
     completions_.reset();
     sqlite_.reset();
@@ -182,6 +187,7 @@ class CoordinatorFixture : public ::testing::Test {
   std::unique_ptr<SqliteStore> sqlite_;
   std::unique_ptr<FaultInjectingStore> faults_;
   std::unique_ptr<TaskQueue> completions_;
+  std::unique_ptr<WorkerPool> probe_pool_;
   std::unique_ptr<WorkerPool> pool_;
   std::unique_ptr<JobCoordinator> coordinator_;
 };

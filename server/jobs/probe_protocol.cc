@@ -137,7 +137,7 @@ void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, T
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
   auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
-  const bool queued = executors_.work->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
                                                shared_done] {
     FitAndSubmit(command_id, rig_id, source, lease_next, std::move(*shared_done));
   });
@@ -285,7 +285,7 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
     return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
   }
   auto shared_done = std::make_shared<FailureCallback>(std::move(done));
-  const bool queued = executors_.work->Submit([this, command_id, rig_id, reason, kind, shared_done] {
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, reason, kind, shared_done] {
     FailureCallback done = std::move(*shared_done);
     absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
     if (!context.ok()) return done(context.status());
