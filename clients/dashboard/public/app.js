@@ -39,6 +39,8 @@ const state = {
   activity: null,    // JobActivity of the selected job (its event log)
   eventPoll: { running: false, again: false },
   planFailedCount: -1,  // progress.failed when the failure list was last read
+  failureSites: new Set(),  // 'level/vertex' of the sites in the failure list
+  lastJobState: null,
   events: null,
   selection: 0,      // bumps on every job change so late answers for an old job are dropped
   mapUpdates: 0,
@@ -226,15 +228,25 @@ function renderJob() {
   }
   updateJobRow(j);
   if (state.activity) renderRate(state.activity, j);
-  if (p.failed !== state.planFailedCount) refreshFailures(state.selection, p.failed);
+  // The failure list changes when a site fails or is given up (the failed
+  // count), when a re-queued site is measured (seen in the event log) and when
+  // the job ends.
+  const stateChanged = state.lastJobState !== null && state.lastJobState !== j.state;
+  state.lastJobState = j.state;
+  if (p.failed !== state.planFailedCount || stateChanged) refreshFailures(state.selection, p.failed);
 }
 
 // ------------------------------------------------------------------ operator panels
 
+// The event list is rebuilt only when events arrived: a rebuild under the
+// mouse would swallow a click.
 function renderOperations() {
-  if (!state.activity) return;
-  renderRate(state.activity, state.job);
-  renderEvents(state.activity, (commandId) => openCommandSample(commandId));
+  const activity = state.activity;
+  if (!activity) return;
+  renderRate(activity, state.job);
+  if (activity.renderedCursor === activity.cursor && activity.renderedCursor !== undefined) return;
+  activity.renderedCursor = activity.cursor;
+  renderEvents(activity, (commandId) => openCommandSample(commandId));
 }
 
 // Reads the event log after the cursor, page by page, then renders. One read
@@ -254,7 +266,8 @@ async function pollEventLog(selection) {
         const page = await api(`/api/jobs/${activity.jobId}/event-log?after=${activity.cursor}&limit=${EVENT_PAGE}`);
         if (selection !== state.selection) return;
         activity.add(page.events);
-        failuresSeen ||= page.events.some((e) => e.kind === 'probe_failed');
+        failuresSeen ||= page.events.some((e) => e.kind === 'probe_failed' ||
+          (e.kind === 'trace_accepted' && e.detail && state.failureSites.has(`${e.detail.level}/${e.detail.vertex}`)));
         if (page.events.length < EVENT_PAGE) break;
       }
       renderOperations();
@@ -274,7 +287,8 @@ async function refreshFailures(selection, failedCount) {
   try {
     const plan = await api(`/api/jobs/${state.jobId}/plan`);
     if (selection !== state.selection) return;
-    renderFailures(plan.sites, null);
+    state.failureSites = new Set(plan.sites.filter((x) => x.failure_reason).map((x) => `${x.level}/${x.vertex}`));
+    renderFailures(plan.sites, null, state.activity ? state.activity.failures.length : 0);
   } catch (err) {
     if (selection === state.selection) renderFailures(null, err.message);
   }
@@ -394,6 +408,8 @@ async function selectJob(jobId) {
   state.mapUpdates = 0;
   state.activity = new JobActivity(jobId);
   state.planFailedCount = -1;
+  state.failureSites = new Set();
+  state.lastJobState = null;
   clearPick();
   closeEvents();
   renderOperations();

@@ -52,7 +52,7 @@ export function renderRate(activity, job) {
  * one), with the reason the rig gave; `planError` when the plan could not be
  * read. Sites come from GET /api/jobs/:id/plan.
  */
-export function renderFailures(sites, planError) {
+export function renderFailures(sites, planError, failureEvents = 0) {
   const list = $('failure-list');
   list.replaceChildren();
   const failing = (sites || []).filter((s) => s.failure_reason);
@@ -65,7 +65,13 @@ export function renderFailures(sites, planError) {
     return;
   }
   if (failing.length === 0) {
-    list.innerHTML = '<li class="muted">no failures</li>';
+    // The plan forgets a reason once its site is measured; the log keeps it.
+    const li = document.createElement('li');
+    li.className = 'muted';
+    li.textContent = failureEvents > 0
+      ? `no site failing now (${failureEvents} probe failure${failureEvents === 1 ? '' : 's'} in the events, since retried)`
+      : 'no failures';
+    list.append(li);
     return;
   }
   for (const s of failing) {
@@ -73,9 +79,13 @@ export function renderFailures(sites, planError) {
     li.dataset.level = String(s.level);
     li.dataset.vertex = String(s.vertex);
     li.dataset.state = s.state;
-    const what = s.state === 'FAILED' ? 'given up' : s.state.toLowerCase();
+    // attempts counts every issue of the site, the current one included.
+    const plural = s.attempts === 1 ? '' : 's';
+    const what = s.state === 'FAILED'
+      ? `given up after ${s.attempts} attempt${plural}:`
+      : `${s.state.toLowerCase()}, ${s.attempts} attempt${plural} · last failure:`;
     li.innerHTML = '<span class="where"></span> <span class="reason"></span>';
-    li.querySelector('.where').textContent = `L${s.level} v${s.vertex} · ${what} after ${s.attempts} attempt${s.attempts === 1 ? '' : 's'}:`;
+    li.querySelector('.where').textContent = `L${s.level} v${s.vertex} · ${what}`;
     li.querySelector('.reason').textContent = s.failure_reason;
     list.append(li);
   }
