@@ -1,6 +1,6 @@
 // The JSON API the page uses: every route is a GET that makes read-only
 // unary calls to surfmapd (through surfmap_client.js) and returns a JSON form
-// (json_forms.js). The live channel (Server-Sent Events) is in event_stream.js.
+// (json_forms.js). The live channel (Server-Sent Events) is in dashboard_server.js.
 //
 // Contract: findRoute(pathname) -> { handler, params } or null;
 // handler({ params, query, client }) resolves to the response body or rejects
