@@ -325,6 +325,7 @@ async function main() {
     const rig = page.locator('#rig-table tr[data-rig="failing-rig"]');
     assert.equal(await rig.getAttribute('data-failed'), '2');
     assert.equal(await rig.getAttribute('data-accepted'), '0');
+    await page.screenshot({ path: path.join(outDir, 'dashboard_failures.png') });
   });
 
   // ---- the throttled rig, started now that the pages are open
