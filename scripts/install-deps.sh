@@ -13,6 +13,8 @@ PACKAGES=(
   clang-14
   # Python client (clients/python): Debian's runtime and test packages, no PyPI.
   python3 python3-grpcio python3-protobuf python3-numpy python3-matplotlib python3-pytest
+  # Its checks: lint and types, and `pip install -e` into a venv (tests/test_packaging.py).
+  flake8 mypy python3-venv python3-setuptools
   # Dashboard (clients/dashboard): Node.js runs its server; Chromium drives its browser test.
   nodejs chromium
 )
