@@ -225,6 +225,29 @@ struct AcceptTraceResult {
   int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (also for a retry)
 };
 
+// A trace refused as implausible for its command: kept, out of the map.
+struct RejectedTraceRecord {
+  int64_t id = 0;
+  int64_t command_id = 0;
+  int64_t job_id = 0;
+  std::string rig_id;
+  std::string check_name;     // which check refused it ("offset", "friction", ...)
+  std::string message;        // the refusal as the rig heard it
+  int64_t n_samples = 0;
+  std::vector<StoredSample> samples;  // empty when listed without samples
+  int64_t received_unix_ms = 0;
+};
+
+struct NewRejectedTrace {
+  int64_t command_id = 0;
+  int64_t job_id = 0;
+  std::string rig_id;
+  std::string check_name;
+  std::string message;
+  std::string encoded_samples;  // EncodeSamples
+  std::vector<NewEvent> events;
+};
+
 // A trace with the command it answers and one of its fits, read in one
 // snapshot (one read transaction): the three always belong together.
 struct SampleRecord {

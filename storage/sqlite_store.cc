@@ -610,6 +610,92 @@ absl::StatusOr<std::vector<SampleRecord>> SqliteStore::ReadJobSamples(int64_t jo
   return rows;
 }
 
+// ---- Rejected traces ----
+
+namespace {
+
+constexpr char kRejectedColumns[] =
+    "id, command_id, job_id, rig_id, check_name, message, n_samples, sample_encoding, received_unix_ms";
+
+absl::StatusOr<RejectedTraceRecord> ReadRejected(const SqliteStatement& s, bool with_samples) {
+  RejectedTraceRecord r;
+  r.id = s.ColumnInt(0);
+  r.command_id = s.ColumnInt(1);
+  r.job_id = s.ColumnInt(2);
+  r.rig_id = s.ColumnText(3);
+  r.check_name = s.ColumnText(4);
+  r.message = s.ColumnText(5);
+  r.n_samples = s.ColumnInt(6);
+  r.received_unix_ms = s.ColumnInt(8);
+  if (with_samples) {
+    if (s.ColumnInt(7) != kSampleEncodingPackedLE) {
+      return absl::DataLossError(absl::StrCat("rejected trace ", r.id, " has unknown sample encoding"));
+    }
+    SURFMAP_ASSIGN_OR_RETURN(r.samples, DecodeSamples(s.ColumnBlob(9)));
+  }
+  return r;
+}
+
+}  // namespace
+
+void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) {
+  if (trace.encoded_samples.empty() || trace.encoded_samples.size() % kEncodedSampleBytes != 0) {
+    done(absl::InvalidArgumentError("rejected trace: encoded samples are empty or not whole samples"));
+    return;
+  }
+  if (absl::Status s = ValidateEvents(trace.events); !s.ok()) {
+    done(std::move(s));
+    return;
+  }
+  auto shared = std::make_shared<NewRejectedTrace>(std::move(trace));
+  const int64_t now = Now();
+  writer_->SubmitForResult<int64_t>(
+      [shared, now](SqliteConnection& db) -> absl::StatusOr<int64_t> {
+        SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
+        if (command.job_id != shared->job_id) {
+          return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
+        }
+        SURFMAP_RETURN_IF_ERROR(InsertEvents(db, shared->job_id, shared->events, now));
+        SURFMAP_ASSIGN_OR_RETURN(SqliteStatement count,
+                                 db.Prepare("SELECT COUNT(*) FROM rejected_traces WHERE command_id = ?1"));
+        count.BindInt(1, shared->command_id);
+        SURFMAP_ASSIGN_OR_RETURN(bool row, count.Step());
+        if (row && count.ColumnInt(0) >= Store::kMaxRejectedPerCommand) return int64_t{0};
+        SURFMAP_ASSIGN_OR_RETURN(
+            SqliteStatement stmt,
+            db.Prepare("INSERT INTO rejected_traces (command_id, job_id, rig_id, check_name, message, n_samples, "
+                       "sample_encoding, received_unix_ms, samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)"));
+        stmt.BindInt(1, shared->command_id).BindInt(2, shared->job_id).BindText(3, shared->rig_id);
+        stmt.BindText(4, shared->check_name).BindText(5, shared->message);
+        stmt.BindInt(6, static_cast<int64_t>(shared->encoded_samples.size() / kEncodedSampleBytes));
+        stmt.BindInt(7, kSampleEncodingPackedLE).BindInt(8, now).BindBlob(9, shared->encoded_samples);
+        SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing the rejected trace"));
+        return db.LastInsertRowId();
+      },
+      std::move(done));
+}
+
+absl::StatusOr<std::vector<RejectedTraceRecord>> SqliteStore::ListRejectedTraces(int64_t job_id) {
+  static const std::string sql =
+      absl::StrCat("SELECT ", kRejectedColumns, " FROM rejected_traces WHERE job_id = ?1 ORDER BY id");
+  SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
+  SURFMAP_RETURN_IF_ERROR(LoadJob(*db, job_id).status());
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db->Prepare(sql));
+  stmt.BindInt(1, job_id);
+  return CollectRows<RejectedTraceRecord>(stmt, [](const SqliteStatement& s) { return ReadRejected(s, false); });
+}
+
+absl::StatusOr<RejectedTraceRecord> SqliteStore::GetRejectedTrace(int64_t id) {
+  static const std::string sql =
+      absl::StrCat("SELECT ", kRejectedColumns, ", samples FROM rejected_traces WHERE id = ?1");
+  SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow(ReadSize::kBulk));
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db->Prepare(sql));
+  stmt.BindInt(1, id);
+  SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+  if (!found) return absl::NotFoundError(absl::StrCat("rejected trace ", id, " does not exist"));
+  return ReadRejected(stmt, true);
+}
+
 // ---- Ordering ----
 
 void SqliteStore::SyncAsync(std::function<void(absl::Status)> done) {

@@ -78,6 +78,10 @@ class SqliteStore : public Store {
   absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) override;
   void SyncAsync(std::function<void(absl::Status)> done) override;
 
+  void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) override;
+  absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) override;
+  absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) override;
+
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;

@@ -123,6 +123,17 @@ class Store {
   // trace; in trace order.
   virtual absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) = 0;
 
+  // ---- Rejected traces ----
+  // Keeps a refused trace with its events, at most kMaxRejectedPerCommand per
+  // command (later ones are counted in the events only). The callback gets
+  // the id, or 0 when the command's quota was used up.
+  static constexpr int kMaxRejectedPerCommand = 3;
+  using RejectedCallback = std::function<void(absl::StatusOr<int64_t>)>;
+  virtual void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) = 0;
+  // Oldest first; NotFound for an unknown job.
+  virtual absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) = 0;
+  virtual absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) = 0;
+
   // ---- Samples: a trace, its command and a fit, from one snapshot ----
   // fit_version 0 = the latest fit. NotFound for an unknown trace or fit.
   virtual absl::StatusOr<SampleRecord> ReadSample(int64_t trace_id, int32_t fit_version, bool include_samples) = 0;

@@ -18,7 +18,45 @@ const char* PropertyName(TextureProperty p) {
 }
 
 
+// Field name, accessor: one list for both directions of the JSON form.
+template <typename Limits, typename Visit>
+void ForEachLimit(Limits& l, Visit visit) {
+  visit("max_offset_mm", l.max_offset_mm);
+  visit("min_length_fraction", l.min_length_fraction);
+  visit("max_length_fraction", l.max_length_fraction);
+  visit("max_direction_deg", l.max_direction_deg);
+  visit("max_normal_deg", l.max_normal_deg);
+  visit("normal_force_factor", l.normal_force_factor);
+  visit("max_mu", l.max_mu);
+  visit("max_duration_factor", l.max_duration_factor);
+  visit("min_rate_hz", l.min_rate_hz);
+  visit("max_rate_hz", l.max_rate_hz);
+}
+
 }  // namespace
+
+nlohmann::json TraceLimitsToJson(const TraceLimits& limits) {
+  nlohmann::json j = nlohmann::json::object();
+  ForEachLimit(limits, [&](const char* name, double value) { j[name] = value; });
+  return j;
+}
+
+absl::StatusOr<TraceLimits> TraceLimitsFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) return absl::InvalidArgumentError("job params: limits must be a JSON object");
+  TraceLimits limits;
+  absl::Status status;
+  ForEachLimit(limits, [&](const char* name, double& value) {
+    if (status.ok() && j.contains(name)) {
+      if (!j.at(name).is_number()) {
+        status = absl::InvalidArgumentError(absl::StrCat("job params: limits.", name, " must be a number"));
+      } else {
+        value = j.at(name).get<double>();
+      }
+    }
+  });
+  if (!status.ok()) return status;
+  return limits;
+}
 
 bool JobParams::IsValid(std::string* why) const {
   auto fail = [&](std::string text) {
@@ -37,6 +75,8 @@ bool JobParams::IsValid(std::string* why) const {
   if (lease_ms < 100 || lease_ms > 86'400'000) return fail("lease must be between 0.1 s and 24 h");
   std::string fit_why;
   if (!fit.IsValid(&fit_why)) return fail("estimator settings: " + fit_why);
+  std::string limits_why;
+  if (!limits.IsValid(&limits_why)) return fail("trace limits: " + limits_why);
   return true;
 }
 
@@ -69,7 +109,8 @@ nlohmann::json JobParamsToJson(const JobParams& p) {
           {"seed", p.seed},
           {"max_retries", p.max_retries},
           {"lease_ms", p.lease_ms},
-          {"fit", FitOptionsToJson(p.fit)}};
+          {"fit", FitOptionsToJson(p.fit)},
+          {"limits", TraceLimitsToJson(p.limits)}};
 }
 
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
@@ -98,6 +139,11 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
     absl::StatusOr<FitOptions> fit = FitOptionsFromJson(j.at("fit"));
     if (!fit.ok()) return fit.status();
     p.fit = *fit;
+    if (j.contains("limits")) {  // jobs stored before limits existed take the defaults
+      absl::StatusOr<TraceLimits> limits = TraceLimitsFromJson(j.at("limits"));
+      if (!limits.ok()) return limits.status();
+      p.limits = *limits;
+    }
   } catch (const nlohmann::json::exception& e) {
     return absl::InvalidArgumentError(absl::StrCat("job params: ", e.what()));
   }

@@ -10,6 +10,7 @@
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/texture.h"
 #include "server/plan/probe_command.h"
+#include "server/jobs/trace_plausibility.h"
 #include "server/plan/sampling_plan_options.h"
 
 namespace surfmap {
@@ -27,12 +28,15 @@ struct JobParams {
   int max_retries = 2;
   int64_t lease_ms = 60'000;
   FitOptions fit;                // estimator settings for fits on arrival
+  TraceLimits limits;            // plausibility of submitted traces
 
   // Names the first invalid field.
   bool IsValid(std::string* why) const;
 };
 
 nlohmann::json JobParamsToJson(const JobParams& params);
+nlohmann::json TraceLimitsToJson(const TraceLimits& limits);
+absl::StatusOr<TraceLimits> TraceLimitsFromJson(const nlohmann::json& json);
 // The sampling plan's options for these job parameters.
 SamplingPlanOptions PlanOptionsFor(const JobParams& params);
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& json);

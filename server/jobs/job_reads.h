@@ -28,6 +28,10 @@ class JobReads {
     return store_->ReadJobSamples(job_id, fit_version);
   }
   absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id) { return store_->GetTrace(trace_id, true); }
+  absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) {
+    return store_->ListRejectedTraces(job_id);
+  }
+  absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) { return store_->GetRejectedTrace(id); }
   // The job's events with id > after_id, oldest first, at most `limit`.
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id, int limit) {
     return store_->ListEvents(job_id, after_id, limit);

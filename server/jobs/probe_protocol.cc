@@ -10,6 +10,7 @@
 #include "server/jobs/job_watchers.h"
 #include "server/jobs/stored_plan.h"
 #include "server/jobs/stored_trace.h"
+#include "server/jobs/trace_plausibility.h"
 #include "server/plan/plan_journal.h"
 
 namespace surfmap {
@@ -159,17 +160,58 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
     if (absl::Status held = CheckLeasedTo(context->record, rig_id, "lease it before submitting a trace"); !held.ok()) {
       return done(held);
     }
+    // Plausibility first: one cheap pass, before any work that grows with
+    // what the trace claims (a fit's grids follow its path length).
+    const TraceLimits& limits = context->runtime->params.limits;
+    if (absl::Status plausible = CheckTraceAgainstCommand(trace, context->probe, limits); !plausible.ok()) {
+      if (PlausibilityCheckName(plausible).empty()) {  // malformed: nothing worth keeping
+        return done(absl::Status(plausible.code(), absl::StrCat("trace for command ", command_id, ": ",
+                                                                plausible.message())));
+      }
+      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+    }
     // The fit is pure computation: on this pool thread, outside any lock.
     absl::StatusOr<TraceFit> fitted = FitTrace(trace, context->runtime->params.fit);
     if (!fitted.ok()) {
       return done(absl::Status(fitted.status().code(),
                                absl::StrCat("trace for command ", command_id, ": ", fitted.status().message())));
     }
+    if (absl::Status plausible = CheckFitAgainstCommand(trace, *fitted, context->probe, limits); !plausible.ok()) {
+      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+    }
     fit = std::move(*fitted);
   }
   absl::Status refused = QueueTrace(*context, rig_id, repeated ? TraceFit{} : fit, ToStoredSamples(trace), lease_next,
                                     done);
   if (!refused.ok()) done(refused);  // after the job's lock is released
+}
+
+void ProbeProtocol::KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
+                                 const absl::Status& refusal, SubmitCallback done) {
+  NewRejectedTrace rejected;
+  rejected.command_id = context.record.id;
+  rejected.job_id = context.record.job_id;
+  rejected.rig_id = rig_id;
+  rejected.check_name = PlausibilityCheckName(refusal);
+  rejected.message = std::string(refusal.message());
+  rejected.encoded_samples = EncodeSamples(ToStoredSamples(trace));
+  rejected.events.push_back(Event("trace_rejected", {{"command_id", context.record.id},
+                                                     {"rig", rig_id},
+                                                     {"check", rejected.check_name},
+                                                     {"message", rejected.message}}));
+  const absl::Status answer(refusal.code(),
+                            absl::StrCat("trace for command ", context.record.id, " refused (kept for inspection, "
+                                         "not in the map): ", refusal.message()));
+  std::shared_ptr<JobRuntime> runtime = context.runtime;
+  store_->RecordRejectedTraceAsync(std::move(rejected), [this, runtime, answer, done = std::move(done)](
+                                                           absl::StatusOr<int64_t> kept) mutable {
+    executors_.completions->Post([runtime, answer, kept, done = std::move(done)]() mutable {
+      // The refusal stands whether or not keeping the trace worked.
+      NotifyListeners(*runtime);
+      done(kept.ok() ? answer : absl::Status(answer.code(), absl::StrCat(answer.message(), " (keeping it failed: ",
+                                                                          kept.status().message(), ")")));
+    });
+  });
 }
 
 absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,

@@ -77,6 +77,10 @@ class ProbeProtocol {
   absl::StatusOr<CommandContext> LoadCommandContext(int64_t command_id);
   void FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source, bool lease_next,
                     SubmitCallback done);
+  // Keeps a trace refused as implausible (out of the map, with an event) and
+  // answers the refusal.
+  void KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
+                    const absl::Status& refusal, SubmitCallback done);
   // Under the job's lock: the checks, the plan change and the queued write.
   absl::Status QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
                           std::vector<StoredSample> samples, bool lease_next, SubmitCallback& done);

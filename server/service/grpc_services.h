@@ -99,6 +99,10 @@ class TraceServiceImpl final : public pb::TraceService::CallbackService {
                                      pb::GetTraceResponse*) override;
   grpc::ServerUnaryReactor* RefitJob(grpc::CallbackServerContext*, const pb::RefitJobRequest*,
                                      pb::RefitJobResponse*) override;
+  grpc::ServerUnaryReactor* ListRejectedTraces(grpc::CallbackServerContext*, const pb::ListRejectedTracesRequest*,
+                                               pb::ListRejectedTracesResponse*) override;
+  grpc::ServerUnaryReactor* GetRejectedTrace(grpc::CallbackServerContext*, const pb::GetRejectedTraceRequest*,
+                                             pb::GetRejectedTraceResponse*) override;
 
  private:
   ServiceContext s_;

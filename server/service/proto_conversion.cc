@@ -101,9 +101,55 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     }
     p.lease_ms = lease.seconds() * 1000 + lease.nanos() / 1'000'000;
   }
+  if (spec.has_trace_limits()) {
+    absl::StatusOr<TraceLimits> limits = TraceLimitsFromProto(spec.trace_limits());
+    if (!limits.ok()) return limits.status();
+    p.limits = *limits;
+  }
   std::string why;
   if (!p.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
   return p;
+}
+
+namespace {
+
+// Proto field, domain field: one list for both directions.
+template <typename Proto, typename Visit>
+void ForEachProtoLimit(Proto& proto, TraceLimits& l, Visit visit) {
+  visit("max_offset_mm", proto.has_max_offset_mm(), proto.max_offset_mm(), l.max_offset_mm);
+  visit("min_length_fraction", proto.has_min_length_fraction(), proto.min_length_fraction(), l.min_length_fraction);
+  visit("max_length_fraction", proto.has_max_length_fraction(), proto.max_length_fraction(), l.max_length_fraction);
+  visit("max_direction_deg", proto.has_max_direction_deg(), proto.max_direction_deg(), l.max_direction_deg);
+  visit("max_normal_deg", proto.has_max_normal_deg(), proto.max_normal_deg(), l.max_normal_deg);
+  visit("normal_force_factor", proto.has_normal_force_factor(), proto.normal_force_factor(), l.normal_force_factor);
+  visit("max_mu", proto.has_max_mu(), proto.max_mu(), l.max_mu);
+  visit("max_duration_factor", proto.has_max_duration_factor(), proto.max_duration_factor(), l.max_duration_factor);
+}
+
+}  // namespace
+
+absl::StatusOr<TraceLimits> TraceLimitsFromProto(const pb::TraceLimits& proto) {
+  TraceLimits limits;
+  ForEachProtoLimit(proto, limits, [](const char*, bool has, double value, double& field) {
+    if (has) field = value;
+  });
+  std::string why;
+  if (!limits.IsValid(&why)) return absl::InvalidArgumentError("spec.trace_limits: " + why);
+  return limits;
+}
+
+pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits) {
+  pb::TraceLimits proto;
+  TraceLimits copy = limits;
+  proto.set_max_offset_mm(copy.max_offset_mm);
+  proto.set_min_length_fraction(copy.min_length_fraction);
+  proto.set_max_length_fraction(copy.max_length_fraction);
+  proto.set_max_direction_deg(copy.max_direction_deg);
+  proto.set_max_normal_deg(copy.max_normal_deg);
+  proto.set_normal_force_factor(copy.normal_force_factor);
+  proto.set_max_mu(copy.max_mu);
+  proto.set_max_duration_factor(copy.max_duration_factor);
+  return proto;
 }
 
 pb::JobSpec JobParamsToProto(const JobParams& p) {
@@ -126,6 +172,7 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   spec.set_max_retries(p.max_retries);
   spec.mutable_lease()->set_seconds(p.lease_ms / 1000);
   spec.mutable_lease()->set_nanos(static_cast<int32_t>((p.lease_ms % 1000) * 1'000'000));
+  *spec.mutable_trace_limits() = TraceLimitsToProto(p.limits);
   return spec;
 }
 

@@ -245,7 +245,23 @@ void FaultInjectingStore::SyncAsync(std::function<void(absl::Status)> done) {
       [done = std::move(done)](absl::StatusOr<bool> r) { done(r.status()); });
 }
 
+void FaultInjectingStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) {
+  auto shared = std::make_shared<NewRejectedTrace>(std::move(trace));
+  SubmitWrite<int64_t>(
+      [this, shared](RejectedCallback forward_done) {
+        wrapped_->RecordRejectedTraceAsync(std::move(*shared), std::move(forward_done));
+      },
+      std::move(done));
+}
+
 // ---- Reads: straight through ----
+
+absl::StatusOr<std::vector<RejectedTraceRecord>> FaultInjectingStore::ListRejectedTraces(int64_t job_id) {
+  return wrapped_->ListRejectedTraces(job_id);
+}
+absl::StatusOr<RejectedTraceRecord> FaultInjectingStore::GetRejectedTrace(int64_t id) {
+  return wrapped_->GetRejectedTrace(id);
+}
 
 absl::StatusOr<ObjectRecord> FaultInjectingStore::GetObject(int64_t id, bool include_mesh) {
   return wrapped_->GetObject(id, include_mesh);

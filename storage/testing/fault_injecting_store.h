@@ -86,6 +86,9 @@ class FaultInjectingStore : public Store {
   absl::StatusOr<SampleRecord> ReadSample(int64_t trace_id, int32_t fit_version, bool include_samples) override;
   absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) override;
   void SyncAsync(std::function<void(absl::Status)> done) override;
+  void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) override;
+  absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) override;
+  absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) override;
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id, int limit) override;
 
  private:
