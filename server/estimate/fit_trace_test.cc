@@ -110,6 +110,26 @@ TEST(FitTraceTest, RejectsNonFiniteAndDisorderedSamples) {
   EXPECT_NE(ErrorOf(late).find("sample 3: time"), std::string::npos);
 }
 
+// Found by fuzzing (tests/fuzz): one coordinate of -1e200 mm made the forward
+// path length overflow to inf, and one force of 1e200 N made mu NaN, both with
+// an OK status (the fit would have been stored and mapped). Magnitudes beyond
+// 1e9 are rejected before any arithmetic; up to it a trace still fits.
+TEST(FitTraceTest, RejectsValuesWhoseArithmeticWouldOverflow) {
+  const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), kGlass, 2);
+  DragTrace far = sim.trace;
+  far.samples[5].position.y() = -1e200;
+  EXPECT_EQ(ErrorOf(far), "sample 5: position coordinate -1e+200 mm is outside -1e9..1e9 mm");
+  DragTrace strong = sim.trace;
+  strong.samples[200].force.z() = 1e200;
+  EXPECT_EQ(ErrorOf(strong), "sample 200: force component 1e+200 N is outside -1e9..1e9 N");
+
+  DragTrace shifted = sim.trace;  // the same drag 1e9 - 100 mm away: still fits
+  for (DragSample& sample : shifted.samples) sample.position.x() += 1e9 - 100.0;
+  const absl::StatusOr<TraceFit> fit = FitTrace(shifted, FitOptions{});
+  ASSERT_TRUE(fit.ok()) << fit.status();
+  EXPECT_NEAR(fit->friction.mu, FitTrace(sim.trace, FitOptions{})->friction.mu, 0.01);
+}
+
 // Per-point mu along a curved path (the normal turns 28.6 deg on the
 // cylinder) shows no trend: the slope of mu over the window is far below
 // what a fixed-frame |f_t|/|f_n| would show.
