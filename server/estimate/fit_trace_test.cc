@@ -130,6 +130,31 @@ TEST(FitTraceTest, RejectsValuesWhoseArithmeticWouldOverflow) {
   EXPECT_NEAR(fit->friction.mu, FitTrace(sim.trace, FitOptions{})->friction.mu, 0.01);
 }
 
+// Found while fuzzing (read in ForceVariationSeries after the fix above, then
+// confirmed by UBSan in the fuzz build on a hand-made trace): a 1.8e9 mm drag,
+// or a 1e-12 mm grid step on an ordinary one, asked for ~1e10 roughness grid
+// points; the count overflowed int (undefined behaviour), and a count just
+// within int would have allocated gigabytes. Now a clear error.
+TEST(FitTraceTest, RejectsARoughnessGridBeyondTheLimit) {
+  DragTrace huge;
+  double t = 0.0;
+  auto add = [&](double x, double fx, DragPhase phase) {
+    huge.samples.push_back({t, {x, 0.0, 0.0}, {fx, 0.0, 5.0}, phase});
+    t += 0.01;
+  };
+  constexpr int kPerPass = 30;
+  const auto x_at = [](int i) { return -9e8 + i * (1.8e9 / (kPerPass - 1)); };
+  for (int i = 0; i < kPerPass; ++i) add(x_at(i), -0.5, DragPhase::kForward);
+  for (int i = kPerPass - 1; i >= 0; --i) add(x_at(i), 0.5, DragPhase::kReverse);
+  EXPECT_NE(ErrorOf(huge).find("points of the 0.1 mm roughness grid; the limit is 4194304"), std::string::npos)
+      << ErrorOf(huge);
+
+  const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), kGlass, 2);
+  FitOptions fine;
+  fine.step_mm = 1e-12;
+  EXPECT_NE(ErrorOf(sim.trace, fine).find("the limit is 4194304"), std::string::npos) << ErrorOf(sim.trace, fine);
+}
+
 // Per-point mu along a curved path (the normal turns 28.6 deg on the
 // cylinder) shows no trend: the slope of mu over the window is far below
 // what a fixed-frame |f_t|/|f_n| would show.
