@@ -1,19 +1,20 @@
 // surfmap-rig: a lab rig as a client of surfmapd.
 //
 //   surfmap-rig --server ADDR --sim SCENE [--job ID] [--rig-id NAME] [--token T]
-//               [--max-commands N] [--quiet]
+//               [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
 //   surfmap-rig score --sim SCENE --map MAP.json [--json OUT.json|-]
 //
-// The rig leases probe commands, executes them on a RigDriver and returns the
-// traces (RigLoop). `--sim SCENE` drives the simulated rig on a scene; a real
-// robot plugs in as another RigDriver (clients/rig/rig_driver.h): construct
-// it where MakeDriver builds the SimulatedRig, and the loop, retries and
-// signal handling below work unchanged.
+// The rig leases probe commands, executes them on a RigDriver, spools each
+// trace and returns it (RigLoop). `--sim SCENE` drives the simulated rig on a
+// scene; a real robot plugs in as another RigDriver (clients/rig/rig_driver.h):
+// construct it where MakeDriver builds the SimulatedRig, and the loop, spool,
+// retries and signal handling below work unchanged.
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <memory>
@@ -27,9 +28,11 @@
 #include "clients/cli/remote_call.h"
 #include "clients/rig/scene.h"
 #include "clients/rig/simulated_rig.h"
+#include "clients/rig_client/duration_text.h"
 #include "clients/rig_client/map_score.h"
 #include "clients/rig_client/probe_endpoint.h"
 #include "clients/rig_client/rig_loop.h"
+#include "clients/rig_client/trace_spool.h"
 
 namespace {
 
@@ -63,6 +66,8 @@ struct RunArgs {
   uint64_t sim_seed = 0;
   int64_t job_id = 0;
   std::string rig_id;
+  std::string spool;            // empty: DefaultSpoolDir(rig id)
+  std::string retry_for = "5min";
   int max_commands = 0;
   bool quiet = false;
 };
@@ -92,9 +97,26 @@ int RunRig(const RunArgs& args) {
   options.rig_id = args.rig_id.empty() ? absl::StrCat("sim-", args.sim, "-", ::getpid()) : args.rig_id;
   options.job_id = args.job_id;
   options.max_commands = args.max_commands;
+  absl::StatusOr<double> retry_for = surfmap::rig::ParseDurationSeconds(args.retry_for);
+  if (!retry_for.ok()) {
+    std::cerr << "surfmap-rig: --retry-for: " << retry_for.status().message() << "\n";
+    return 2;
+  }
+  options.retry_for_s = *retry_for;
   std::string why;
   if (!options.IsValid(&why)) {
     std::cerr << "surfmap-rig: " << why << "\n";
+    return 2;
+  }
+  absl::StatusOr<std::filesystem::path> spool_dir =
+      args.spool.empty() ? surfmap::rig::DefaultSpoolDir(options.rig_id) : std::filesystem::path(args.spool);
+  if (!spool_dir.ok()) {
+    std::cerr << "surfmap-rig: " << spool_dir.status().message() << "\n";
+    return 2;
+  }
+  absl::StatusOr<std::unique_ptr<surfmap::rig::TraceSpool>> spool = surfmap::rig::TraceSpool::Open(*spool_dir);
+  if (!spool.ok()) {
+    std::cerr << "surfmap-rig: --spool: " << spool.status().message() << "\n";
     return 2;
   }
 
@@ -112,12 +134,33 @@ int RunRig(const RunArgs& args) {
     std::fflush(stdout);
     std::fprintf(stderr, "%s\n", line.c_str());
   };
+  // On a terminal the wait is shown on the progress line (redrawn each retry);
+  // in a log, one line per retry.
+  hooks.on_retry = [&](const surfmap::rig::RetryNotice& notice) {
+    const std::string line = options.rig_id + ": " + surfmap::rig::FormatRetryNotice(notice);
+    if (tty && !args.quiet) {
+      display.Show(line);
+    } else {
+      hooks.on_event(line);
+    }
+  };
   InstallStopHandlers();
-  surfmap::rig::RigLoop loop(endpoint, **driver, options, &g_stop, hooks);
+  surfmap::rig::RigLoop loop(endpoint, **driver, **spool, options, &g_stop, hooks);
   surfmap::rig::RigLoopSummary summary = loop.Run();
   display.Finish();
   std::printf("%s\n", summary.Format(options.rig_id).c_str());
   std::fflush(stdout);
+  if (summary.rejected > 0) {
+    std::fprintf(stderr, "surfmap-rig: %d refused trace(s) kept in %s (each with a .reason file)\n", summary.rejected,
+                 (*spool)->rejected_dir().c_str());
+  }
+  if (summary.spooled_left > 0) {
+    std::fprintf(stderr,
+                 "surfmap-rig: %d trace(s) not yet acknowledged are kept in %s; they are resubmitted when "
+                 "surfmap-rig starts again with this spool (--rig-id %s or --spool DIR)\n",
+                 summary.spooled_left, (*spool)->dir().c_str(), options.rig_id.c_str());
+  }
+  (*spool)->RemoveDirectoriesIfEmpty();
   if (!summary.error.ok()) {
     std::fprintf(stderr, "%s\n",
                  surfmap::cli::FormatRpcError(summary.error_rpc, summary.error, "surfmap-rig").c_str());
@@ -194,6 +237,12 @@ int main(int argc, char** argv) {
   app.add_option("--sim-seed", run.sim_seed, "Seed mixed into the simulated rig's noise");
   app.add_option("--job", run.job_id, "Only this job's commands (default: any running job)");
   app.add_option("--rig-id", run.rig_id, "Rig name in the server's leases and logs (default sim-SCENE-PID)");
+  app.add_option("--spool", run.spool,
+                 "Directory keeping each trace until the server acknowledged it "
+                 "(default $XDG_STATE_HOME/surfmap/spool/RIG-ID, else ~/.local/state/...)");
+  app.add_option("--retry-for", run.retry_for,
+                 "How long a call is retried while the server is unavailable (e.g. 300, 90s, 5min, 1h)")
+      ->capture_default_str();
   app.add_option("--max-commands", run.max_commands, "Stop after this many commands (0 = until the job ends)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet", run.quiet, "No progress line (the summary line is still printed)");
