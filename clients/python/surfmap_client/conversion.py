@@ -96,7 +96,7 @@ def fit(m) -> r.Fit:
 def sample(m) -> r.Sample:
     return r.Sample(m.trace_id, m.command_id, m.job_id, m.site.level, m.site.vertex, _vec(m.position),
                     _vec(m.drag_direction), m.segment_length_mm, fit(m.fit) if m.HasField("fit") else None,
-                    _time(m, "received"))
+                    _time(m, "received"), m.rig_id)
 
 
 def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:

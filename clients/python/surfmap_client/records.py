@@ -236,6 +236,7 @@ class Sample:
     segment_length_mm: float
     fit: Optional[Fit]
     received: Optional[datetime]
+    rig_id: str = ""              # the rig that measured it (held the command's lease)
 
 
 @dataclass(frozen=True)
