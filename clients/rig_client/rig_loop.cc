@@ -303,9 +303,8 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
   }
   absl::StatusOr<DragTrace> trace = driver_.Execute(*request);
   if (!trace.ok()) {
-    const Step step = ReportFailure(command.command_id(), where,
-                                    absl::StrCat("rig: ", absl::StatusCodeToString(trace.status().code()), ": ",
-                                                 trace.status().message()),
+    // The kind says what the code meant; the reason is the driver's own words.
+    const Step step = ReportFailure(command.command_id(), where, absl::StrCat("rig: ", trace.status().message()),
                                     FailureKindOf(trace.status()));
     // INTERNAL: the driver itself is broken; ABORTED: its operator stopped it.
     if (trace.status().code() == absl::StatusCode::kInternal || trace.status().code() == absl::StatusCode::kAborted) {

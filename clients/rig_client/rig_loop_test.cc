@@ -418,7 +418,7 @@ TEST(RigLoopTest, DriverFailureIsReported) {
   EXPECT_EQ(s.accepted, 2);
   EXPECT_EQ(s.failures, 1);
   ASSERT_EQ(h.endpoint.failure_reasons.size(), 1u);
-  EXPECT_EQ(h.endpoint.failure_reasons[0], "rig: FAILED_PRECONDITION: cannot reach the site");
+  EXPECT_EQ(h.endpoint.failure_reasons[0], "rig: cannot reach the site");
   EXPECT_EQ(h.endpoint.failure_kinds, (std::vector<pb::FailureKind>{pb::FAILURE_KIND_UNREACHABLE}));
   EXPECT_EQ(h.endpoint.submitted_ids, (std::vector<int64_t>{1, 3}));
   EXPECT_TRUE(h.Pending().empty() && h.Rejected().empty()) << "nothing measured, nothing spooled";

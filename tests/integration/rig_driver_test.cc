@@ -3,7 +3,9 @@
 // with `--sim` on a twin server must give bit-identical traces (the JSON
 // lines lose nothing).
 #include <map>
+#include <vector>
 
+#include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
 #include "tests/support/child_process.h"
@@ -103,6 +105,41 @@ TEST(RigDriver, ADriverThatBreaksTheProtocolStopsTheRigAndTheSiteGoesBack) {
   EXPECT_EQ(measured, 0);
   EXPECT_EQ(failed_with_reason, 1) << "the rig reported the command it could not measure";
   EXPECT_EQ(plan.progress().leased(), 0) << "the failed command was given back, not left leased";
+}
+
+// What the driver says it could not do reaches the server with its kind and
+// in its own words (the job's events record both).
+TEST(RigDriver, TheDriversFailureKindsAndReasonsReachTheServer) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformLevel0Spec(setup.object_id)));
+  const std::string driver = R"(echo '{"type":"ready","protocol":1}'
+read -r first; id=$(printf '%s' "$first" | sed 's/.*"command_id":\([0-9]*\).*/\1/')
+echo "{\"type\":\"failure\",\"command_id\":$id,\"kind\":\"unreachable\",\"reason\":\"outside the workspace box\"}"
+read -r second; id=$(printf '%s' "$second" | sed 's/.*"command_id":\([0-9]*\).*/\1/')
+echo "{\"type\":\"failure\",\"command_id\":$id,\"kind\":\"transient\",\"reason\":\"force ceiling 15 N exceeded\"}"
+cat > /dev/null)";
+  ITEST_ASSERT_OK_AND_ASSIGN(
+      rig, ChildProcess::Start({SURFMAP_RIG_PATH, "--server", setup.server->address(), "--job",
+                                absl::StrCat(job.job_id()), "--rig-id", "kinds", "--spool",
+                                setup.server->dir() + "/spool", "--quiet", "--max-commands", "2", "--driver", driver},
+                               setup.server->dir() + "/rig.log"));
+  ITEST_ASSERT_OK_AND_ASSIGN(exit_code, rig->Wait(seconds(60)));
+  const std::string output = rig->Output();
+  ASSERT_EQ(exit_code, 0) << output;
+  EXPECT_NE(output.find("kinds: 0 commands done, 2 failures"), std::string::npos) << output;
+  pb::ListJobEventsRequest request;
+  request.set_job_id(job.job_id());
+  pb::ListJobEventsResponse events;
+  GRPC_ASSERT_OK(setup.stubs->jobs->ListJobEvents(Context().get(), request, &events));
+  std::vector<std::string> failures;
+  for (const pb::JobEvent& event : events.events()) {
+    if (event.kind() != "probe_failed") continue;
+    const nlohmann::json detail = nlohmann::json::parse(event.detail_json());
+    failures.push_back(absl::StrCat(detail.at("kind").get<std::string>(), " / ",
+                                    detail.at("reason").get<std::string>(), " / ", detail.at("rig").get<std::string>()));
+  }
+  EXPECT_EQ(failures, (std::vector<std::string>{"unreachable / rig: outside the workspace box / kinds",
+                                                "transient / rig: force ceiling 15 N exceeded / kinds"}));
 }
 
 }  // namespace

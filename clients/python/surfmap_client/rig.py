@@ -254,6 +254,13 @@ class Rig:
                 self._reconnect = True
             raise error from None
 
+    def _wait(self, seconds: float, stop: Optional[threading.Event]) -> None:
+        """Sleeps, waking at once when ``stop`` is set."""
+        if stop is not None:
+            stop.wait(seconds)
+        else:
+            self._sleep(seconds)
+
     def _call(self, method: str, request, stop: Optional[threading.Event] = None):
         """Calls until OK, a non-retryable error, ``retry_for_s`` after the
         first failure, or (for LeaseCommand) ``stop``. Raises the last error."""
@@ -275,7 +282,7 @@ class Rig:
                 wait = min(backoff, left)
                 self._summary.retries += 1
                 self._event(f"{self.rig_id}: {format_retry_notice(error, left)}")
-                self._sleep(wait)
+                self._wait(wait, stop if method == "LeaseCommand" else None)
                 if stop is not None and stop.is_set() and method == "LeaseCommand":
                     raise
                 backoff = min(backoff * 2.0, self.max_backoff_s)
@@ -376,10 +383,9 @@ class Rig:
                         summary.job_finished = True
                         break
                     if current.command is None:
-                        self._sleep(min(current.retry_after_s or 1.0, self.max_retry_after_s))
+                        self._wait(min(current.retry_after_s or 1.0, self.max_retry_after_s), stop)
                         continue
-                    last = (stop is not None and stop.is_set()) or (max_commands and summary.executed + 1 >= max_commands)
-                    outcome = self._run_command(measure, current.command, not last, on_progress)
+                    outcome = self._run_command(measure, current.command, stop, max_commands, on_progress)
                     if outcome is False:
                         break
                     next_lease = outcome if isinstance(outcome, Lease) else None
@@ -460,8 +466,8 @@ class Rig:
                 return False
         return True
 
-    def _run_command(self, measure: Measure, command: ProbeCommand, lease_next: bool,
-                     on_progress: Optional[Callable[[r.JobProgress], None]]) -> Union[bool, Lease]:
+    def _run_command(self, measure: Measure, command: ProbeCommand, stop: Optional[threading.Event],
+                     max_commands: int, on_progress: Optional[Callable[[r.JobProgress], None]]) -> Union[bool, Lease]:
         """Measures and submits one command. False: the run ends; a Lease: the next command."""
         summary = self._summary
         where = self._where(command)
@@ -478,8 +484,12 @@ class Rig:
             self._report(command.command_id, where, f"rig: driver raised {type(bug).__name__}: {bug}",
                          FailureKind.TRANSIENT)
             raise
+        # Ask for the next command with this answer unless this is the last one
+        # (decided after measuring: a stop during the probe counts): a lease
+        # nobody executes holds its site until the lease expires.
+        last = (stop is not None and stop.is_set()) or (max_commands > 0 and summary.executed + 1 >= max_commands)
         try:
-            result = self.submit(command, trace, lease_next=lease_next)
+            result = self.submit(command, trace, lease_next=not last)
         except TraceRejected as refused:
             if refused.code in UNUSABLE:
                 return self._report(command.command_id, where, f"trace rejected: {refused.code.name}: {refused.reason}",

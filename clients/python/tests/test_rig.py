@@ -177,6 +177,34 @@ def test_run_reports_driver_failures_with_their_kind_and_stops_on_a_bug(client, 
     assert any("failed (unreachable" in line for line in events), events
 
 
+def test_a_stop_event_finishes_the_probe_and_leaves_no_lease_behind(client, plate, simulator, tmp_path):
+    job = uniform_job(client, plate, budget=6)
+    stop = threading.Event()
+    measured: List[int] = []
+
+    def measure(command: sc.ProbeCommand) -> sc.Trace:
+        measured.append(command.command_id)
+        if len(measured) == 2:
+            stop.set()  # e.g. SIGINT while the second probe runs
+        return simulator.measure(command)
+
+    summary = sc.run_rig(client, measure, "py-rig-stop", job.job_id, spool_dir=tmp_path / "spool", stop=stop,
+                         on_event=lambda line: None)
+    assert summary.stopped and summary.error is None
+    assert summary.accepted == 2 == len(measured), "the probe under way was finished and delivered"
+    progress = client.get_job(job.job_id).progress
+    assert (progress.measured, progress.leased) == (2, 0)
+
+
+def test_max_commands_asks_for_no_lease_it_will_not_use(client, plate, simulator, tmp_path):
+    job = uniform_job(client, plate, budget=6)
+    summary = sc.run_rig(client, simulator.measure, "py-rig-max", job.job_id, spool_dir=tmp_path / "spool",
+                         max_commands=3, on_event=lambda line: None)
+    assert summary.reached_max_commands and summary.accepted == 3
+    progress = client.get_job(job.job_id).progress
+    assert (progress.measured, progress.leased) == (3, 0)
+
+
 def test_a_stop_failure_ends_the_run(client, plate, tmp_path):
     job = uniform_job(client, plate, budget=3)
 
