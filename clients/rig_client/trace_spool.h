@@ -55,7 +55,8 @@ class TraceSpool {
   // Reads a spooled file (ParseSpoolFile's errors; NOT_FOUND when gone).
   absl::StatusOr<SpooledTrace> Read(const std::filesystem::path& file) const;
 
-  // After an OK answer.
+  // After an OK answer. Not made durable: a file a crash brings back is
+  // resubmitted and answered already_accepted.
   absl::Status Remove(const std::filesystem::path& file);
 
   // Moves `file` to rejected/ after writing `reason` beside it; returns the

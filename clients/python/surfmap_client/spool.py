@@ -288,10 +288,10 @@ class TraceSpool:
         return SpooledTrace(header, trace, Path(path))
 
     def remove(self, path: Path) -> None:
-        """After an OK answer."""
+        """After an OK answer. Not made durable (no directory fsync): a file a
+        crash brings back is resubmitted and answered already_accepted."""
         self._check_in_spool(path)
         Path(path).unlink()
-        _sync_directory(self.directory)
 
     def reject(self, path: Path, reason: str) -> Path:
         """Moves a spooled file to rejected/, writing the reason beside it first; returns the new path."""
