@@ -1,21 +1,16 @@
 #include "clients/rig_client/probe_endpoint.h"
 
-#include <chrono>
-
 namespace surfmap::rig {
 
 namespace pb = ::surfmap::v1;
 
 namespace {
 
-// How long a fresh channel may take to connect before its first call (the
-// rest of the wait is the rig loop's backoff).
-constexpr auto kReconnectWait = std::chrono::milliseconds(1000);
-
+// No wait for the connection: the next call connects at once, and if the
+// server is still down it fails fast and the rig loop's backoff decides when
+// to try again.
 std::shared_ptr<grpc::Channel> FreshChannel(const cli::RemoteOptions& options) {
-  std::shared_ptr<grpc::Channel> channel = cli::MakeChannel(options, /*own_subchannel=*/true);
-  channel->WaitForConnected(std::chrono::system_clock::now() + kReconnectWait);
-  return channel;
+  return cli::MakeChannel(options, /*own_subchannel=*/true);
 }
 
 }  // namespace
