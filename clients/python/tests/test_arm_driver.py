@@ -129,9 +129,10 @@ def check_map(client, lab, job_id: int, rig_id: str, tmp_path: Path) -> dict:
     map_path = tmp_path / "map.json"
     sc.write_map_file(client.get_map(job_id), str(map_path))
     score = score_map(lab.rig, SCENE, str(map_path))
-    # The same accuracy as `surfmap-rig --sim plate` (RMSE ~0.027, 92 %).
-    assert score["mu_rmse"] < 0.04, score
-    assert score["classification_accuracy"] > 0.88, score
+    # The accuracy of `surfmap-rig --sim plate` (RMSE 0.025-0.027, 90-95 % over
+    # different seeds); a wrong frame or sign would be far off.
+    assert score["mu_rmse"] < 0.045, score
+    assert score["classification_accuracy"] > 0.85, score
     return score
 
 
