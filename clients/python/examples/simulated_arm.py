@@ -6,8 +6,9 @@ On ``prepare(command)`` it asks ``surfmap-rig simulate-drag --sim SCENE``
 then, as the driver moves, touches down, drags and holds, it plays that trace
 back as the hardware would report it: flange poses in the robot's base frame
 and sensor readings in the sensor frame (the tool's weight included until the
-sensor is biased). The driver's frame conversions therefore run for real: a
-wrong transform shows in the map.
+sensor is biased). The driver's frame conversions therefore run for real
+(tests/test_arm_driver.py checks that they give back the simulated rig's own
+trace).
 """
 
 from __future__ import annotations
