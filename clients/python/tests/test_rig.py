@@ -8,7 +8,6 @@ import json
 import struct
 import subprocess
 import threading
-import time
 from pathlib import Path
 from typing import List
 
