@@ -14,7 +14,7 @@ GroupCommitWriter::GroupCommitWriter(std::unique_ptr<SqliteConnection> db,
 
 GroupCommitWriter::~GroupCommitWriter() {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;
   }
   thread_.join();
@@ -22,7 +22,7 @@ GroupCommitWriter::~GroupCommitWriter() {
 
 void GroupCommitWriter::Submit(Work work, Done done) {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     if (!stopping_) {
       queue_.push_back(Pending{std::move(work), std::move(done), absl::OkStatus()});
       return;
@@ -32,7 +32,7 @@ void GroupCommitWriter::Submit(Work work, Done done) {
 }
 
 GroupCommitStats GroupCommitWriter::stats() const {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   return stats_;
 }
 
@@ -42,8 +42,8 @@ void GroupCommitWriter::Loop() {
   while (true) {
     std::deque<Pending> batch;
     {
-      absl::MutexLock lock(&mu_);
-      mu_.Await(absl::Condition(this, &GroupCommitWriter::HasWorkOrStopping));
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return HasWorkOrStopping(); });
       if (queue_.empty()) return;  // stopping and drained
       while (!queue_.empty() && batch.size() < max_batch) {
         batch.push_back(std::move(queue_.front()));
@@ -54,7 +54,7 @@ void GroupCommitWriter::Loop() {
     int64_t failed = 0;
     for (const Pending& p : batch) failed += p.status.ok() ? 0 : 1;
     {
-      absl::MutexLock lock(&mu_);
+      MutexLock lock(&mu_);
       stats_.transactions += 1;
       stats_.writes += static_cast<int64_t>(batch.size());
       stats_.failed_writes += failed;

@@ -27,7 +27,7 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "storage/sqlite_connection.h"
 
 namespace surfmap {
@@ -110,7 +110,7 @@ class GroupCommitWriter {
   std::unique_ptr<SqliteConnection> db_;
   const GroupCommitOptions options_;
 
-  mutable absl::Mutex mu_;
+  mutable Mutex mu_;
   std::deque<Pending> queue_ ABSL_GUARDED_BY(mu_);
   bool stopping_ ABSL_GUARDED_BY(mu_) = false;
   GroupCommitStats stats_ ABSL_GUARDED_BY(mu_);

@@ -17,9 +17,9 @@ ReadConnectionPool::ReadConnectionPool(std::string path, int max_connections, in
 
 absl::StatusOr<ReadConnectionPool::Loan> ReadConnectionPool::Borrow(ReadSize size) {
   {
-    absl::MutexLock lock(&mu_);
-    mu_.Await(size == ReadSize::kBulk ? absl::Condition(this, &ReadConnectionPool::CanLendBulk)
-                                      : absl::Condition(this, &ReadConnectionPool::CanLend));
+    MutexLock lock(&mu_);
+    const bool bulk = size == ReadSize::kBulk;
+    mu_.Await([this, bulk]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return bulk ? CanLendBulk() : CanLend(); });
     if (size == ReadSize::kBulk) ++bulk_on_loan_;
     if (!idle_.empty()) {
       std::unique_ptr<SqliteConnection> connection = std::move(idle_.back());
@@ -34,7 +34,7 @@ absl::StatusOr<ReadConnectionPool::Loan> ReadConnectionPool::Borrow(ReadSize siz
   options.busy_timeout_ms = busy_timeout_ms_;
   absl::StatusOr<std::unique_ptr<SqliteConnection>> connection = SqliteConnection::Open(path_, options);
   if (!connection.ok()) {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     --open_;
     if (size == ReadSize::kBulk) --bulk_on_loan_;
     return connection.status();
@@ -43,7 +43,7 @@ absl::StatusOr<ReadConnectionPool::Loan> ReadConnectionPool::Borrow(ReadSize siz
 }
 
 void ReadConnectionPool::Return(std::unique_ptr<SqliteConnection> connection, ReadSize size) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   if (size == ReadSize::kBulk) --bulk_on_loan_;
   idle_.push_back(std::move(connection));
 }

@@ -14,7 +14,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "storage/sqlite_connection.h"
 
 namespace surfmap {
@@ -58,7 +58,7 @@ class ReadConnectionPool {
   const int max_connections_;
   const int max_bulk_;
   const int busy_timeout_ms_;
-  absl::Mutex mu_;
+  Mutex mu_;
   std::vector<std::unique_ptr<SqliteConnection>> idle_ ABSL_GUARDED_BY(mu_);
   int open_ ABSL_GUARDED_BY(mu_) = 0;
   int bulk_on_loan_ ABSL_GUARDED_BY(mu_) = 0;

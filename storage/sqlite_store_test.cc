@@ -757,7 +757,11 @@ TEST_F(SqliteStoreTest, ConcurrentLeasingNeverHandsACommandOutTwice) {
   }
   EXPECT_EQ(total, static_cast<size_t>(kCommands));
   EXPECT_EQ(distinct.size(), static_cast<size_t>(kCommands));
-  for (const CommandRecord& c : *store_->ListCommands(job.job.id)) {
+  // Held in a variable: `*store_->ListCommands(...)` in a range-for would
+  // iterate a temporary that is already destroyed (ThreadSanitizer found it).
+  absl::StatusOr<std::vector<CommandRecord>> commands = store_->ListCommands(job.job.id);
+  ASSERT_TRUE(commands.ok()) << commands.status();
+  for (const CommandRecord& c : *commands) {
     EXPECT_EQ(c.state, CommandState::kLeased);
     EXPECT_EQ(c.attempt, 1);
   }
@@ -953,9 +957,11 @@ TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
   }
   EXPECT_GE(store_->background_checkpoints(), 2);
   // The WAL file keeps its high-water size; without restarts it would hold
-  // all 8.6 MB.
+  // all 8.6 MB. The bound is the inline threshold plus one batch (here one
+  // ~70 KB trace) and some pages of slack; before the writer took its turn
+  // from a running background pass, a loaded machine went past 4 MB.
   const auto wal_bytes = std::filesystem::file_size(path_ + "-wal");
-  EXPECT_LT(wal_bytes, 3u << 20) << "WAL not restarted after checkpoints";
+  EXPECT_LT(wal_bytes, (1600u << 10) + (512u << 10)) << "WAL grew past inline_bytes + one batch";
   std::cerr << "[ info ] WAL " << wal_bytes << " bytes, DB "
             << std::filesystem::file_size(path_) << " bytes, "
             << store_->background_checkpoints() << " background checkpoints\n";

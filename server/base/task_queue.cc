@@ -6,7 +6,7 @@ TaskQueue::TaskQueue() : thread_([this] { Run(); }) {}
 
 TaskQueue::~TaskQueue() {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;
   }
   thread_.join();
@@ -14,7 +14,7 @@ TaskQueue::~TaskQueue() {
 
 void TaskQueue::Post(std::function<void()> task) {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     if (!stopping_) {
       queue_.push_back(std::move(task));
       ++posted_;
@@ -25,14 +25,14 @@ void TaskQueue::Post(std::function<void()> task) {
 }
 
 void TaskQueue::Drain() {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   const int64_t target = posted_;
   auto caught_up = [this, target]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return completed_ >= target; };
-  mu_.Await(absl::Condition(&caught_up));
+  mu_.Await(caught_up);
 }
 
 int64_t TaskQueue::completed() const {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   return completed_;
 }
 
@@ -40,14 +40,14 @@ void TaskQueue::Run() {
   for (;;) {
     std::function<void()> task;
     {
-      absl::MutexLock lock(&mu_);
-      mu_.Await(absl::Condition(this, &TaskQueue::HasTaskOrStopping));
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return HasTaskOrStopping(); });
       if (queue_.empty()) return;  // stopping and drained
       task = std::move(queue_.front());
       queue_.pop_front();
     }
     task();
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     ++completed_;
   }
 }

@@ -3,7 +3,7 @@
 #include <atomic>
 #include <vector>
 
-#include "absl/synchronization/notification.h"
+#include "server/base/mutex.h"
 #include "gtest/gtest.h"
 
 namespace surfmap {
@@ -33,7 +33,7 @@ TEST(TaskQueue, RunsTasksInPostOrderOnOneThread) {
 
 TEST(TaskQueue, PostNeverWaitsForARunningTask) {
   TaskQueue queue;
-  absl::Notification release;
+  Notification release;
   queue.Post([&] { release.WaitForNotification(); });
   std::atomic<int> ran{0};
   for (int i = 0; i < 100; ++i) queue.Post([&] { ran.fetch_add(1); });  // returns while the first blocks

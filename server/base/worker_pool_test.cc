@@ -2,7 +2,7 @@
 
 #include <atomic>
 
-#include "absl/synchronization/notification.h"
+#include "server/base/mutex.h"
 #include "gtest/gtest.h"
 
 namespace surfmap {
@@ -10,7 +10,7 @@ namespace {
 
 TEST(WorkerPool, SubmitRefusesWhenTheQueueIsFullButPostAlwaysQueues) {
   WorkerPool pool(1, /*max_queued=*/2);
-  absl::Notification started, release;
+  Notification started, release;
   ASSERT_TRUE(pool.Submit([&] {
     started.Notify();
     release.WaitForNotification();

@@ -56,6 +56,11 @@ absl::StatusOr<JobCoordinator::WatchHandle> JobCoordinator::Watch(int64_t job_id
   return WatchHandle{std::move(runtime), id};
 }
 
+absl::StatusOr<int64_t> JobCoordinator::UpdateRevision(int64_t job_id) {
+  SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<JobRuntime> runtime, registry_.Get(job_id));
+  return surfmap::UpdateRevision(*runtime);
+}
+
 void JobCoordinator::Unwatch(const WatchHandle& handle) {
   if (handle.runtime) RemoveListener(*handle.runtime, handle.listener);
 }

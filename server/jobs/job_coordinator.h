@@ -116,6 +116,9 @@ class JobCoordinator {
   };
   absl::StatusOr<WatchHandle> Watch(int64_t job_id, std::function<void()> listener);
   static void Unwatch(const WatchHandle& handle);
+  // The job's update revision (bumped with every change watchers see). The
+  // job must be in memory (it is while watched).
+  absl::StatusOr<int64_t> UpdateRevision(int64_t job_id);
 
   // ---- Reads ----
   JobReads& reads() { return reads_; }

@@ -11,7 +11,10 @@ struct JobExecutors {
   // here and does nothing else on the store's thread. Tasks are short (apply
   // a committed write to memory, notify watchers, answer the caller).
   TaskQueue* completions = nullptr;
-  // Long work: fits, map builds, refits, job loads, recomputed series.
+  // The rigs' work: fitting submitted traces. A pool of its own, so a trace
+  // never waits behind a map build or a refit (every trace is short).
+  WorkerPool* probes = nullptr;
+  // Long work: map builds, refits, job loads, recomputed series, watchers.
   WorkerPool* work = nullptr;
 };
 

@@ -5,11 +5,11 @@
 namespace surfmap {
 
 absl::StatusOr<MapSnapshot> CurrentMap(JobRuntime& runtime) {
-  absl::MutexLock map_lock(&runtime.map_mu);
+  MutexLock map_lock(&runtime.map_mu);
   int64_t revision;
   std::vector<MapSample> samples;
   {
-    absl::MutexLock lock(&runtime.mu);
+    MutexLock lock(&runtime.mu);
     revision = runtime.measured_revision;
     if (runtime.map_snapshot.surface && runtime.map_snapshot.measured_revision == revision) {
       return runtime.map_snapshot;

@@ -43,14 +43,14 @@ absl::Status JobRegistry::LoadActiveJobs() {
       return absl::Status(runtime.status().code(),
                           absl::StrCat("job ", record.id, " cannot be restored: ", runtime.status().message()));
     }
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     jobs_[record.id] = *runtime;
   }
   return absl::OkStatus();
 }
 
 std::shared_ptr<JobRuntime> JobRegistry::Find(int64_t job_id) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   auto it = jobs_.find(job_id);
   if (it == jobs_.end()) return nullptr;
   TouchFinishedLocked(job_id);
@@ -62,7 +62,7 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Get(int64_t job_id) {
   if (job_id <= 0) return absl::InvalidArgumentError(absl::StrCat("job_id must be positive, got ", job_id));
   SURFMAP_ASSIGN_OR_RETURN(JobRecord record, store_->GetJob(job_id));
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<JobRuntime> runtime, Load(record));
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   auto [it, inserted] = jobs_.emplace(job_id, runtime);  // another caller may have loaded it meanwhile
   if (inserted && IsFinalJobState(record.state)) {
     finished_.push_front(job_id);
@@ -75,12 +75,12 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Get(int64_t job_id) {
 }
 
 void JobRegistry::Add(std::shared_ptr<JobRuntime> runtime) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   jobs_[runtime->job_id] = std::move(runtime);
 }
 
 void JobRegistry::NoteFinished(int64_t job_id) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   if (std::find(finished_.begin(), finished_.end(), job_id) == finished_.end()) finished_.push_front(job_id);
   while (finished_.size() > retained_finished_) {
     jobs_.erase(finished_.back());
@@ -94,7 +94,7 @@ void JobRegistry::TouchFinishedLocked(int64_t job_id) {
 }
 
 size_t JobRegistry::loaded_jobs() {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   return jobs_.size();
 }
 
@@ -112,7 +112,7 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& r
                            LatestSample(*store_, record.id, activity.latest_trace));
   auto runtime = std::make_shared<JobRuntime>(record.id, record.object_id, std::move(params), std::move(surface),
                                               std::move(plan), record.created_unix_ms);
-  absl::MutexLock lock(&runtime->mu);
+  MutexLock lock(&runtime->mu);
   runtime->state = runtime->durable_state = record.state;
   runtime->plan_revision = plan_record.revision;
   runtime->journal_entries = static_cast<int>(plan_record.journal.size());
@@ -123,7 +123,7 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& r
 }
 
 void JobRegistry::MarkWriteFailed(JobRuntime& runtime) {
-  absl::MutexLock lock(&runtime.mu);
+  MutexLock lock(&runtime.mu);
   runtime.needs_reload = true;
   StartReloadLocked(runtime);
 }
@@ -155,7 +155,7 @@ void JobRegistry::Reload(const std::shared_ptr<JobRuntime>& runtime) {
                                           ? RestoreStoredPlan(*plan_record, PlanLevels(*runtime->surface))
                                           : absl::StatusOr<SamplingPlan>(plan_record.status());
   {
-    absl::MutexLock lock(&runtime->mu);
+    MutexLock lock(&runtime->mu);
     runtime->reloading = false;
     if (!plan.ok()) return;  // still needs_reload: the next request tries again
     runtime->plan = std::move(*plan);

@@ -16,7 +16,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "server/jobs/job_executors.h"
 #include "server/jobs/job_runtime.h"
 #include "server/jobs/surface_cache.h"
@@ -60,7 +60,7 @@ class JobRegistry {
   const JobExecutors executors_;
   const size_t retained_finished_;
   SurfaceCache surfaces_;
-  absl::Mutex mu_;
+  Mutex mu_;
   std::map<int64_t, std::shared_ptr<JobRuntime>> jobs_ ABSL_GUARDED_BY(mu_);
   std::list<int64_t> finished_ ABSL_GUARDED_BY(mu_);  // loaded finished jobs, most recently used first
 };

@@ -17,7 +17,7 @@
 #include <optional>
 
 #include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "server/jobs/job_params.h"
 #include "server/map/friction_map.h"
 #include "server/mesh/loop_surface.h"
@@ -58,8 +58,8 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   const std::shared_ptr<const LoopSurface> surface;
   const int64_t created_unix_ms;
 
-  absl::Mutex map_mu ABSL_ACQUIRED_BEFORE(mu);
-  absl::Mutex mu;
+  Mutex map_mu ABSL_ACQUIRED_BEFORE(mu);
+  Mutex mu;
   SamplingPlan plan ABSL_GUARDED_BY(mu);
   // The state the queued writes leave the job in (ahead of the database while
   // a write is in flight): what the next request is checked against.
@@ -82,7 +82,7 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   std::optional<FrictionMap> map_builder ABSL_GUARDED_BY(map_mu);  // holds the surface's Laplacian
   MapSnapshot map_snapshot ABSL_GUARDED_BY(map_mu);
 
-  absl::Mutex watchers_mu ABSL_ACQUIRED_AFTER(mu);
+  Mutex watchers_mu ABSL_ACQUIRED_AFTER(mu);
   int64_t update_revision ABSL_GUARDED_BY(watchers_mu) = 0;  // bumped on every change a watcher should see
   std::map<int64_t, std::function<void()>> listeners ABSL_GUARDED_BY(watchers_mu);
   int64_t next_listener_id ABSL_GUARDED_BY(watchers_mu) = 1;

@@ -61,7 +61,7 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& params) {
                                               std::move(plan), created.job.created_unix_ms);
   JobSnapshot snapshot;
   {
-    absl::MutexLock lock(&runtime->mu);
+    MutexLock lock(&runtime->mu);
     runtime->updated_unix_ms = created.job.updated_unix_ms;
     snapshot = SnapshotLocked(*runtime);
   }
@@ -74,7 +74,7 @@ absl::StatusOr<JobSnapshot> JobSteering::GetJob(int64_t job_id) {
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<JobRuntime> runtime, registry_->Get(job_id));
   JobSnapshot snapshot;
   {
-    absl::MutexLock lock(&runtime->mu);
+    MutexLock lock(&runtime->mu);
     snapshot = SnapshotLocked(*runtime);
   }
   return WithLeasedCount(std::move(snapshot));
@@ -107,7 +107,7 @@ void JobSteering::SetJobState(int64_t job_id, JobState target, SnapshotCallback 
 
 absl::Status JobSteering::QueueStateChange(const std::shared_ptr<JobRuntime>& runtime, JobState target,
                                            SnapshotCallback& done) {
-  absl::MutexLock lock(&runtime->mu);
+  MutexLock lock(&runtime->mu);
   SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(*runtime));
   const JobState from = runtime->state;
   if (!IsJobTransitionAllowed(from, target)) {
@@ -139,7 +139,7 @@ void JobSteering::ApplyStoredState(const std::shared_ptr<JobRuntime>& runtime, a
   }
   JobSnapshot snapshot;
   {
-    absl::MutexLock lock(&runtime->mu);
+    MutexLock lock(&runtime->mu);
     runtime->durable_state = stored->state;
     runtime->updated_unix_ms = std::max(runtime->updated_unix_ms, stored->updated_unix_ms);
     snapshot = SnapshotLocked(*runtime);
@@ -154,7 +154,7 @@ void JobSteering::ApplyStoredState(const std::shared_ptr<JobRuntime>& runtime, a
 
 absl::StatusOr<std::vector<SiteRecord>> JobSteering::PlanSites(int64_t job_id, PlanProgress* progress) {
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<JobRuntime> runtime, registry_->Get(job_id));
-  absl::MutexLock lock(&runtime->mu);
+  MutexLock lock(&runtime->mu);
   *progress = runtime->plan.Progress();
   return runtime->plan.Sites();
 }

@@ -5,21 +5,21 @@
 namespace surfmap {
 
 int64_t AddListener(JobRuntime& runtime, std::function<void()> listener) {
-  absl::MutexLock lock(&runtime.watchers_mu);
+  MutexLock lock(&runtime.watchers_mu);
   const int64_t id = runtime.next_listener_id++;
   runtime.listeners[id] = std::move(listener);
   return id;
 }
 
 void RemoveListener(JobRuntime& runtime, int64_t handle) {
-  absl::MutexLock lock(&runtime.watchers_mu);
+  MutexLock lock(&runtime.watchers_mu);
   runtime.listeners.erase(handle);
 }
 
 void NotifyListeners(JobRuntime& runtime) {
   std::vector<std::function<void()>> listeners;
   {
-    absl::MutexLock lock(&runtime.watchers_mu);
+    MutexLock lock(&runtime.watchers_mu);
     ++runtime.update_revision;
     listeners.reserve(runtime.listeners.size());
     for (const auto& [id, listener] : runtime.listeners) listeners.push_back(listener);
@@ -28,7 +28,7 @@ void NotifyListeners(JobRuntime& runtime) {
 }
 
 int64_t UpdateRevision(JobRuntime& runtime) {
-  absl::MutexLock lock(&runtime.watchers_mu);
+  MutexLock lock(&runtime.watchers_mu);
   return runtime.update_revision;
 }
 

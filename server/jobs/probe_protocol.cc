@@ -94,7 +94,7 @@ void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, Leas
   if (job_id != 0) {
     bool finished = false;
     if (std::shared_ptr<JobRuntime> runtime = registry_->Find(job_id)) {
-      absl::MutexLock lock(&runtime->mu);
+      MutexLock lock(&runtime->mu);
       finished = IsFinalJobState(runtime->state);
       lease_ms = runtime->params.lease_ms;
     } else {
@@ -137,7 +137,7 @@ void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, T
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
   auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
-  const bool queued = executors_.work->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
                                                shared_done] {
     FitAndSubmit(command_id, rig_id, source, lease_next, std::move(*shared_done));
   });
@@ -185,7 +185,7 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
     request.lease_next = LeaseRequest{context.record.job_id, rig_id, UnixMillisNow(), runtime.params.lease_ms};
   }
   TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr};
-  absl::MutexLock lock(&runtime.mu);
+  MutexLock lock(&runtime.mu);
   if (!repeated) {
     SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
     if (IsFinalJobState(runtime.state)) {
@@ -250,7 +250,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
   if (!result->already_accepted) outcome.decoded_fit = pending.decoded_fit;
   bool finished = false;
   {
-    absl::MutexLock lock(&runtime.mu);
+    MutexLock lock(&runtime.mu);
     outcome.progress = runtime.plan.Progress();
     if (pending.plan_changed && !result->already_accepted) {
       auto sample = std::make_shared<AcceptedSample>();
@@ -285,7 +285,7 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
     return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
   }
   auto shared_done = std::make_shared<FailureCallback>(std::move(done));
-  const bool queued = executors_.work->Submit([this, command_id, rig_id, reason, kind, shared_done] {
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, reason, kind, shared_done] {
     FailureCallback done = std::move(*shared_done);
     absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
     if (!context.ok()) return done(context.status());
@@ -301,7 +301,7 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
 absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const std::string& rig_id,
                                          const std::string& reason, ProbeFailureKind kind, FailureCallback& done) {
   JobRuntime& runtime = *context.runtime;
-  absl::MutexLock lock(&runtime.mu);
+  MutexLock lock(&runtime.mu);
   SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
   if (IsFinalJobState(runtime.state)) {
     return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
@@ -341,7 +341,7 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
         return done(result.status());
       }
       {
-        absl::MutexLock lock(&runtime_ptr->mu);
+        MutexLock lock(&runtime_ptr->mu);
         runtime_ptr->updated_unix_ms = std::max(runtime_ptr->updated_unix_ms, UnixMillisNow());
         if (completes_job) runtime_ptr->durable_state = JobState::kCompleted;
       }

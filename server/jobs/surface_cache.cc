@@ -8,10 +8,10 @@ namespace surfmap {
 absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Get(int64_t object_id, int level) {
   const Key key{object_id, level};
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     // Another caller may be building it: wait for that build, then look again.
     auto not_building = [this, &key]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return building_.count(key) == 0; };
-    mu_.Await(absl::Condition(&not_building));
+    mu_.Await(not_building);
     if (auto it = surfaces_.find(key); it != surfaces_.end()) {
       if (std::shared_ptr<const LoopSurface> surface = it->second.lock()) {
         KeepLocked(key, surface);
@@ -21,7 +21,7 @@ absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Get(int64_t obj
     building_[key] = 1;
   }
   absl::StatusOr<std::shared_ptr<const LoopSurface>> built = Build(object_id, level);
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   building_.erase(key);
   if (built.ok()) {
     surfaces_[key] = *built;

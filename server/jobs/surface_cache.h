@@ -17,7 +17,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "server/mesh/loop_surface.h"
 #include "storage/store.h"
 
@@ -38,7 +38,7 @@ class SurfaceCache {
 
   Store* store_;
   const size_t keep_;
-  absl::Mutex mu_;
+  Mutex mu_;
   std::map<Key, std::weak_ptr<const LoopSurface>> surfaces_ ABSL_GUARDED_BY(mu_);
   std::map<Key, int> building_ ABSL_GUARDED_BY(mu_);  // key -> waiting callers + 1
   std::list<std::pair<Key, std::shared_ptr<const LoopSurface>>> recent_ ABSL_GUARDED_BY(mu_);

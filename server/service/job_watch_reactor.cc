@@ -4,11 +4,24 @@
 #include "server/service/proto_conversion.h"
 
 namespace surfmap {
+namespace {
+
+// A dashboard redraws a few times a second at most; a plain progress stream
+// may tick faster. See the header.
+constexpr std::chrono::milliseconds kMapUpdateInterval{250};
+constexpr std::chrono::milliseconds kUpdateInterval{50};
+
+int64_t SteadyNowNs() {
+  return std::chrono::duration_cast<std::chrono::nanoseconds>(std::chrono::steady_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
 
 JobWatchReactor* JobWatchReactor::Start(const ServiceContext& services, int64_t job_id, bool include_map) {
   auto stream = std::make_shared<Stream>(services, job_id, include_map);
   auto* reactor = new JobWatchReactor(stream);
-  absl::MutexLock lock(&stream->mu);
+  MutexLock lock(&stream->mu);
   stream->reactor = reactor;
   // Subscribing may load the job (long): on the pool.
   if (!services.pool->Submit([stream] { Subscribe(stream); })) {
@@ -24,7 +37,7 @@ void JobWatchReactor::Subscribe(const std::shared_ptr<Stream>& stream) {
         if (std::shared_ptr<Stream> alive = weak.lock()) OnChange(alive);
       });
   {
-    absl::MutexLock lock(&stream->mu);
+    MutexLock lock(&stream->mu);
     if (!handle.ok()) {
       if (stream->reactor != nullptr) stream->FinishLocked(ToGrpcStatus(handle.status()));
       return;
@@ -40,69 +53,52 @@ void JobWatchReactor::Subscribe(const std::shared_ptr<Stream>& stream) {
 
 void JobWatchReactor::OnChange(const std::shared_ptr<Stream>& stream) {
   stream->dirty.store(true);
-  if (stream->building.exchange(true)) return;  // the running build will see `dirty`
-  // A continuation of an admitted stream: never refused.
-  stream->services.pool->Post([stream] { BuildLoop(stream); });
+  if (stream->building.exchange(true)) return;  // the scheduled build will see `dirty`
+  ScheduleBuild(stream);
 }
 
-void JobWatchReactor::BuildLoop(const std::shared_ptr<Stream>& stream) {
-  for (;;) {
-    {
-      absl::MutexLock lock(&stream->mu);
-      if (stream->reactor == nullptr || stream->finished || stream->final_sent ||
-          (stream->writing && stream->next.has_value())) {
-        // Gone, done, or a slow client with an update already waiting: keep
-        // `dirty`; OnWriteDone wakes the stream again.
-        stream->building.store(false);
-        return;
+void JobWatchReactor::ScheduleBuild(const std::shared_ptr<Stream>& stream) {
+  // A continuation of an admitted stream: never refused by the pool.
+  auto post = [stream] { stream->services.pool->Post([stream] { Build(stream); }); };
+  const int64_t due_ns = stream->next_build_ns.load();
+  if (due_ns <= SteadyNowNs()) {
+    post();
+  } else {
+    stream->services.timers->RunAt(TimerQueue::Clock::time_point(std::chrono::nanoseconds(due_ns)), post);
+  }
+}
+
+void JobWatchReactor::Build(const std::shared_ptr<Stream>& stream) {
+  {
+    MutexLock lock(&stream->mu);
+    if (stream->reactor == nullptr || stream->finished || stream->final_sent ||
+        (stream->writing && stream->next != nullptr)) {
+      // Gone, done, or a slow client with an update already waiting: keep
+      // `dirty`; OnWriteDone wakes the stream again.
+      stream->building.store(false);
+      return;
+    }
+  }
+  const auto interval = stream->include_map ? kMapUpdateInterval : kUpdateInterval;
+  stream->next_build_ns.store(SteadyNowNs() + std::chrono::duration_cast<std::chrono::nanoseconds>(interval).count());
+  stream->dirty.store(false);
+  absl::StatusOr<SharedUpdate> update =
+      stream->services.watch_updates->Get(stream->job_id, stream->include_map);  // no lock held
+  {
+    MutexLock lock(&stream->mu);
+    if (stream->reactor != nullptr) {
+      if (update.ok()) {
+        stream->OfferLocked(std::move(update->update), update->final);
+      } else {
+        stream->FinishLocked(ToGrpcStatus(update.status()));
       }
     }
-    stream->dirty.store(false);
-    bool final = false;
-    absl::StatusOr<pb::JobUpdate> update = BuildUpdate(*stream, &final);  // no lock held
-    {
-      absl::MutexLock lock(&stream->mu);
-      if (stream->reactor != nullptr) {
-        if (update.ok()) {
-          stream->OfferLocked(std::move(*update), final);
-        } else {
-          stream->FinishLocked(ToGrpcStatus(update.status()));
-        }
-      }
-    }
-    stream->building.store(false);
-    if (!stream->dirty.load() || stream->building.exchange(true)) return;
   }
+  stream->building.store(false);
+  if (stream->dirty.load() && !stream->building.exchange(true)) ScheduleBuild(stream);
 }
 
-absl::StatusOr<pb::JobUpdate> JobWatchReactor::BuildUpdate(const Stream& stream, bool* final) {
-  JobCoordinator& coordinator = *stream.services.coordinator;
-  absl::StatusOr<JobSnapshot> job = coordinator.GetJob(stream.job_id);
-  if (!job.ok()) return job.status();
-  pb::JobUpdate update;
-  // The state is the durable one: the final update is built after the job's
-  // last write committed, so the samples read below include all of it.
-  *update.mutable_job() = JobInfoToProto(*job);
-  *final = IsFinalJobState(job->record.state);
-  if (job->latest_sample) {
-    absl::StatusOr<pb::Sample> latest = BuildSample(*job->latest_sample);
-    if (!latest.ok()) return latest.status();
-    *update.mutable_latest_sample() = std::move(*latest);
-  }
-  if (stream.include_map) {
-    // An update without the map that was asked for would look like a job
-    // with no samples: end the stream with the reason instead.
-    absl::StatusOr<MapSnapshot> map = coordinator.Map(stream.job_id);
-    if (!map.ok()) return map.status();
-    absl::StatusOr<std::vector<SampleRecord>> samples = coordinator.reads().ListSamples(stream.job_id, 0);
-    if (!samples.ok()) return samples.status();
-    absl::Status filled = FillMapLevel(*map, map->surface->max_level(), *samples, stream.job_id, update.mutable_map());
-    if (!filled.ok()) return filled;
-  }
-  return update;
-}
-
-void JobWatchReactor::Stream::OfferLocked(pb::JobUpdate update, bool final) {
+void JobWatchReactor::Stream::OfferLocked(std::shared_ptr<const pb::JobUpdate> update, bool final) {
   if (finished || final_sent) return;
   if (writing) {
     next = std::move(update);  // replaces an older waiting update
@@ -112,11 +108,11 @@ void JobWatchReactor::Stream::OfferLocked(pb::JobUpdate update, bool final) {
   SendLocked(std::move(update), final);
 }
 
-void JobWatchReactor::Stream::SendLocked(pb::JobUpdate update, bool final) {
-  in_flight = std::move(update);
+void JobWatchReactor::Stream::SendLocked(std::shared_ptr<const pb::JobUpdate> update, bool final) {
+  in_flight = std::move(update);  // kept alive until OnWriteDone
   writing = true;
   final_sent = final;
-  reactor->StartWrite(&in_flight);
+  reactor->StartWrite(in_flight.get());
 }
 
 void JobWatchReactor::Stream::FinishLocked(const grpc::Status& status) {
@@ -132,7 +128,7 @@ void JobWatchReactor::Stream::FinishLocked(const grpc::Status& status) {
 void JobWatchReactor::OnWriteDone(bool ok) {
   bool wake = false;
   {
-    absl::MutexLock lock(&stream_->mu);
+    MutexLock lock(&stream_->mu);
     stream_->writing = false;
     if (stream_->pending_finish) {
       Finish(*stream_->pending_finish);
@@ -142,9 +138,9 @@ void JobWatchReactor::OnWriteDone(bool ok) {
       stream_->FinishLocked(grpc::Status::OK);  // the client went away, or the job ended
       return;
     }
-    if (stream_->next.has_value()) {
-      pb::JobUpdate next = std::move(*stream_->next);
-      stream_->next.reset();
+    if (stream_->next != nullptr) {
+      std::shared_ptr<const pb::JobUpdate> next = std::move(stream_->next);
+      stream_->next = nullptr;
       stream_->SendLocked(std::move(next), stream_->next_final);
     }
     wake = stream_->dirty.load();
@@ -153,14 +149,14 @@ void JobWatchReactor::OnWriteDone(bool ok) {
 }
 
 void JobWatchReactor::OnCancel() {
-  absl::MutexLock lock(&stream_->mu);
+  MutexLock lock(&stream_->mu);
   stream_->FinishLocked(grpc::Status::CANCELLED);
 }
 
 void JobWatchReactor::OnDone() {
   JobCoordinator::WatchHandle handle;
   {
-    absl::MutexLock lock(&stream_->mu);
+    MutexLock lock(&stream_->mu);
     handle = std::move(stream_->handle);
     stream_->reactor = nullptr;  // late listeners and pool tasks see it gone
   }

@@ -10,6 +10,12 @@
 // One write is in flight at a time, and at most one built update waits behind
 // it; changes meanwhile are coalesced into the next build, so a slow client
 // costs one pending message and no CPU, never a growing queue.
+//
+// Builds are paced: a stream gets at most one update per kMapUpdateInterval
+// when it carries the map (a rebuild and the whole map serialized: tens of
+// ms on a large object) and per kUpdateInterval otherwise, whatever the rate
+// of traces, so dashboards cost the rigs a bounded share of the machine. A
+// change during the pause is delivered when it ends.
 #pragma once
 
 #include <atomic>
@@ -18,8 +24,9 @@
 #include <optional>
 
 #include "absl/base/thread_annotations.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "server/service/grpc_services.h"
+#include "server/service/watch_update_cache.h"
 
 namespace surfmap {
 
@@ -41,13 +48,16 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     const int64_t job_id;
     const bool include_map;
     std::atomic<bool> dirty{false};     // the job changed since the last build started
-    std::atomic<bool> building{false};  // a BuildLoop is posted or running
+    std::atomic<bool> building{false};  // a build is scheduled, posted or running
+    std::atomic<int64_t> next_build_ns{0};  // steady clock: no build before this
 
-    absl::Mutex mu;
+    Mutex mu;
     JobWatchReactor* reactor ABSL_GUARDED_BY(mu) = nullptr;
     JobCoordinator::WatchHandle handle ABSL_GUARDED_BY(mu);
-    pb::JobUpdate in_flight ABSL_GUARDED_BY(mu);  // the message gRPC is writing
-    std::optional<pb::JobUpdate> next ABSL_GUARDED_BY(mu);
+    // The message gRPC is writing (shared with other streams of the job: see
+    // WatchUpdateCache), and the one waiting behind it.
+    std::shared_ptr<const pb::JobUpdate> in_flight ABSL_GUARDED_BY(mu);
+    std::shared_ptr<const pb::JobUpdate> next ABSL_GUARDED_BY(mu);
     bool next_final ABSL_GUARDED_BY(mu) = false;
     bool writing ABSL_GUARDED_BY(mu) = false;
     bool finished ABSL_GUARDED_BY(mu) = false;
@@ -55,8 +65,8 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
     std::optional<grpc::Status> pending_finish ABSL_GUARDED_BY(mu);
 
     // Sends `update` now, or keeps it for after the write in flight.
-    void OfferLocked(pb::JobUpdate update, bool final) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu);
-    void SendLocked(pb::JobUpdate update, bool final) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu);
+    void OfferLocked(std::shared_ptr<const pb::JobUpdate> update, bool final) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu);
+    void SendLocked(std::shared_ptr<const pb::JobUpdate> update, bool final) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu);
     void FinishLocked(const grpc::Status& status) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu);
   };
 
@@ -64,11 +74,12 @@ class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
   static void Subscribe(const std::shared_ptr<Stream>& stream);
   // Wakes the stream: set dirty, post a build unless one is under way.
   static void OnChange(const std::shared_ptr<Stream>& stream);
-  // On the pool: builds updates while the job keeps changing.
-  static void BuildLoop(const std::shared_ptr<Stream>& stream);
-  // The next update, or the status to end the stream with. `final` is set
-  // when the job has ended (the update is the last one).
-  static absl::StatusOr<pb::JobUpdate> BuildUpdate(const Stream& stream, bool* final);
+  // With `building` owned: posts the build to the pool now, or when the
+  // stream's pause after its last build is over.
+  static void ScheduleBuild(const std::shared_ptr<Stream>& stream);
+  // On the pool: builds and offers one update, then schedules the next if
+  // the job changed meanwhile.
+  static void Build(const std::shared_ptr<Stream>& stream);
 
   const std::shared_ptr<Stream> stream_;
 };

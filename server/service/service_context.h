@@ -10,6 +10,7 @@
 #include <grpcpp/grpcpp.h>
 #include <spdlog/spdlog.h>
 #include "absl/status/status.h"
+#include "server/base/timer_queue.h"
 #include "server/base/worker_pool.h"
 #include "server/jobs/job_coordinator.h"
 #include "server/service/request_gate.h"
@@ -22,7 +23,9 @@ struct ServiceContext {
   JobCoordinator* coordinator = nullptr;
   const RequestGate* gate = nullptr;
   const ServerConfig* config = nullptr;
-  WorkerPool* pool = nullptr;
+  WorkerPool* pool = nullptr;    // long work
+  TimerQueue* timers = nullptr;  // delayed posts (watch streams' update pacing)
+  class WatchUpdateCache* watch_updates = nullptr;  // updates shared by the streams of a job
 };
 
 // Finishes `reactor` with `status`, logging failures (client errors at debug,

@@ -2,7 +2,7 @@
 
 #include <optional>
 
-#include "absl/synchronization/notification.h"
+#include "server/base/mutex.h"
 
 namespace surfmap {
 
@@ -10,63 +10,63 @@ FaultInjectingStore::FaultInjectingStore(Store* wrapped) : wrapped_(wrapped), di
 
 FaultInjectingStore::~FaultInjectingStore() {
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;  // releases holds; the dispatcher forwards what is queued
   }
   dispatcher_.join();
   // Every forwarded write's callback has been called (or posted) once the
   // wrapped store passes this barrier.
-  absl::Notification synced;
+  Notification synced;
   wrapped_->SyncAsync([&synced](absl::Status) { synced.Notify(); });
   synced.WaitForNotification();
   late_callbacks_.Drain();
 }
 
 void FaultInjectingStore::FailWrite(int64_t n, absl::Status status) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   fail_[n] = std::move(status);
 }
 
 void FaultInjectingStore::FailWritesFrom(int64_t n, absl::Status status) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   fail_from_ = n;
   fail_from_status_ = std::move(status);
 }
 
 void FaultInjectingStore::HealWrites() {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   fail_from_ = 0;
 }
 
 void FaultInjectingStore::DelayWrite(int64_t n, absl::Duration delay) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   delay_[n] = delay;
 }
 
 void FaultInjectingStore::HoldWrite(int64_t n) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   hold_[n] = false;
 }
 
 void FaultInjectingStore::ReleaseWrite(int64_t n) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   hold_[n] = true;
 }
 
 bool FaultInjectingStore::WaitUntilHeld(int64_t n, absl::Duration timeout) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   auto held = [this, n]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return holding_ == n; };
-  return mu_.AwaitWithTimeout(absl::Condition(&held), timeout);
+  return mu_.AwaitWithTimeout(held, absl::ToChronoMilliseconds(timeout));
 }
 
 void FaultInjectingStore::SetCallbackDelivery(CallbackDelivery delivery, absl::Duration late_by) {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   delivery_ = delivery;
   late_by_ = late_by;
 }
 
 int64_t FaultInjectingStore::writes_submitted() const {
-  absl::MutexLock lock(&mu_);
+  MutexLock lock(&mu_);
   return submitted_;
 }
 
@@ -76,12 +76,12 @@ void FaultInjectingStore::SubmitWrite(std::function<void(std::function<void(absl
   CallbackDelivery delivery;
   absl::Duration late_by;
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     delivery = delivery_;
     late_by = late_by_;
   }
   struct InlineSlot {
-    absl::Notification delivered;
+    Notification delivered;
     std::optional<absl::StatusOr<T>> result;
   };
   std::shared_ptr<InlineSlot> slot;
@@ -112,7 +112,7 @@ void FaultInjectingStore::SubmitWrite(std::function<void(std::function<void(absl
   write.fail = [deliver](absl::Status status) { deliver(std::move(status)); };
   bool refused = false;
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     if (stopping_) {
       refused = true;
     } else {
@@ -130,7 +130,7 @@ void FaultInjectingStore::SubmitWrite(std::function<void(std::function<void(absl
 
 template <typename T>
 absl::StatusOr<T> FaultInjectingStore::RunWrite(std::function<void(std::function<void(absl::StatusOr<T>)>)> forward) {
-  auto slot = std::make_shared<std::pair<absl::Notification, std::optional<absl::StatusOr<T>>>>();
+  auto slot = std::make_shared<std::pair<Notification, std::optional<absl::StatusOr<T>>>>();
   PendingWrite write;
   auto deliver = [slot](absl::StatusOr<T> result) {
     slot->second = std::move(result);
@@ -139,7 +139,7 @@ absl::StatusOr<T> FaultInjectingStore::RunWrite(std::function<void(std::function
   write.forward = [forward = std::move(forward), deliver] { forward(deliver); };
   write.fail = [deliver](absl::Status status) { deliver(std::move(status)); };
   {
-    absl::MutexLock lock(&mu_);
+    MutexLock lock(&mu_);
     if (stopping_) return absl::UnavailableError("fault-injecting store is shutting down");
     write.number = ++submitted_;
     write.submitted = absl::Now();
@@ -155,8 +155,8 @@ void FaultInjectingStore::Dispatch() {
     std::optional<absl::Status> injected;
     absl::Duration delay = absl::ZeroDuration();
     {
-      absl::MutexLock lock(&mu_);
-      mu_.Await(absl::Condition(this, &FaultInjectingStore::HasWorkOrStopping));
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return HasWorkOrStopping(); });
       if (queue_.empty()) return;  // stopping and drained
       write = std::move(queue_.front());
       queue_.pop_front();
@@ -164,7 +164,7 @@ void FaultInjectingStore::Dispatch() {
       if (hold_.count(n)) {
         holding_ = n;
         auto released = [this, n]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return hold_[n] || stopping_; };
-        mu_.Await(absl::Condition(&released));
+        mu_.Await(released);
         holding_ = 0;
       }
       if (auto it = delay_.find(n); it != delay_.end()) delay = it->second;

@@ -21,7 +21,7 @@
 
 #include "absl/base/thread_annotations.h"
 #include "absl/status/status.h"
-#include "absl/synchronization/mutex.h"
+#include "server/base/mutex.h"
 #include "absl/time/time.h"
 #include "server/base/task_queue.h"
 #include "storage/store.h"
@@ -109,7 +109,7 @@ class FaultInjectingStore : public Store {
   bool HasWorkOrStopping() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return stopping_ || !queue_.empty(); }
 
   Store* const wrapped_;
-  mutable absl::Mutex mu_;
+  mutable Mutex mu_;
   std::deque<PendingWrite> queue_ ABSL_GUARDED_BY(mu_);
   int64_t submitted_ ABSL_GUARDED_BY(mu_) = 0;
   std::map<int64_t, absl::Status> fail_ ABSL_GUARDED_BY(mu_);

@@ -270,6 +270,7 @@ def main(argv: Optional[List[str]] = None) -> int:
         print(f"arm_driver: {line}", file=sys.stderr, flush=True)
 
     limits = SafetyLimits(max_force_n=args.max_force)
+    hardware: ArmHardware
     if args.simulate:
         from simulated_arm import SimulatedArm
         hardware = SimulatedArm(args.simulate, CALIBRATION, rig_binary=args.rig)
@@ -304,7 +305,7 @@ def main(argv: Optional[List[str]] = None) -> int:
             return 1
         return 0
     finally:
-        close = getattr(hardware, "close", None)
+        close = getattr(hardware, "close", None)  # SimulatedArm stops its simulator
         if close is not None:
             close()
 

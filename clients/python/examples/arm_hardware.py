@@ -59,7 +59,8 @@ class HardwareFault(RuntimeError):
 
 
 class ArmHardware(Protocol):
-    """What the driver needs from the arm and the sensor. Every motion blocks
+    """What the driver needs from the arm and the sensor (YourArm below is the
+    skeleton to fill in, SimulatedArm the simulated one). Every motion blocks
     until done. `record` callbacks are called at the sensor's rate during a
     motion; if one raises, the motion must stop and the exception propagate."""
 
@@ -92,21 +93,54 @@ class ArmHardware(Protocol):
 
 
 class YourArm:
-    """Your robot: implement each method with your arm's and sensor's API.
+    """Your robot: implement each method with your arm's and sensor's API,
+    then delete the NotImplementedError of __init__.
 
-    For example with a Universal Robots e-series arm through ur_rtde and a
-    wrist sensor streaming over UDP/EtherCAT:
-      move_to      RTDEControlInterface.moveL(pose, speed) (pose: mm -> m, rotation -> rotation vector)
-      bias_sensor  the sensor's bias/tare command (or average 0.2 s of readings and subtract)
-      touch_down   forceMode along -normal with a small speed limit, stop when |F . n| >= force_n
-      drag         keep forceMode on the normal axis and servo the tangential axis
-                   (speedL / servoL), reading getActualTCPPose and the sensor at >= 100 Hz
-                   and calling record(RawSample(...)) for each reading
-      hold         the same with zero tangential speed for `seconds`
-      retract      forceModeStop, then moveL up
-      stop         forceModeStop + stopL (and your own protective stop)
+    The notes name the calls for a Universal Robots e-series arm through
+    ur_rtde (RTDEControlInterface `control`, RTDEReceiveInterface `receive`)
+    and a wrist sensor streaming its wrench; other arms have the same pieces.
+    Poses: mm and rotation matrices here, metres and rotation vectors in
+    ur_rtde (convert at the call).
     """
 
     def __init__(self) -> None:
         raise NotImplementedError("YourArm is a skeleton: implement its methods for your robot (see the comments "
-                                  "in arm_driver.py), or run with --simulate SCENE")
+                                  "in arm_hardware.py), or run with --simulate SCENE")
+
+    def prepare(self, command: sc.ProbeCommand) -> None:
+        """Log the command (site, attempt) with your robot's own logs."""
+        raise NotImplementedError
+
+    def move_to(self, flange_position: np.ndarray, flange_rotation: np.ndarray, speed_mm_s: float) -> None:
+        """control.moveL(pose, speed / 1000): a blocking linear move in free air."""
+        raise NotImplementedError
+
+    def bias_sensor(self) -> None:
+        """The sensor's bias/tare command, or: average 0.2 s of readings and subtract them from now on."""
+        raise NotImplementedError
+
+    def touch_down(self, direction: np.ndarray, force_n: float, max_travel_mm: float) -> None:
+        """control.forceMode(task frame, selection [0, 0, 1, 0, 0, 0] along `direction`, wrench force_n,
+        limits): the arm moves along `direction` until it presses with force_n; watch receive's TCP
+        pose and raise HardwareFault when it has travelled max_travel_mm without contact."""
+        raise NotImplementedError
+
+    def drag(self, direction: np.ndarray, length_mm: float, speed_mm_s: float, phase: sc.Phase,
+             record: Recorder) -> None:
+        """Keep forceMode on the normal axis; servo the tangential axis (control.speedL or servoL) at
+        speed_mm_s for length_mm. Meanwhile, at >= 100 Hz (the RTDE loop runs at 500 Hz): read
+        receive.getActualTCPPose() (flange pose) and the sensor's wrench with one timestamp and call
+        record(RawSample(...)). Let an exception from record stop the motion and propagate."""
+        raise NotImplementedError
+
+    def hold(self, seconds: float, record: Recorder) -> None:
+        """As drag with zero tangential speed for `seconds` (the pause), recording."""
+        raise NotImplementedError
+
+    def retract(self, direction: np.ndarray, distance_mm: float, speed_mm_s: float) -> None:
+        """control.forceModeStop(), then a moveL of distance_mm along `direction`."""
+        raise NotImplementedError
+
+    def stop(self) -> None:
+        """control.forceModeStop() and control.stopL(); trigger your protective stop if the arm does not obey."""
+        raise NotImplementedError

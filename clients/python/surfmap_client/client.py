@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Callable, Iterator, List, Optional, Sequence, Union
+from typing import Callable, Generator, List, Optional, Sequence, Union
 
 import grpc
 import numpy as np
@@ -57,7 +57,7 @@ def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[st
             try:
                 roots = Path(roots).read_bytes()
             except OSError as error:
-                raise invalid_argument("connect", f"cannot read root certificates '{root_certificates}': {error}")
+                raise invalid_argument("connect", f"cannot read root certificates '{root_certificates!s}': {error}")
         credentials = grpc.ssl_channel_credentials(root_certificates=roots)
 
     def make_channel(own_connection: bool = False) -> grpc.Channel:
@@ -102,7 +102,7 @@ class SurfmapClient:
         self._channel = channel
         self._channel_factory = channel_factory
         self.timeout = timeout          # default deadline of every call, s
-        self.address = address          # as given to connect(), for messages and helpers
+        self.address: str = address or ""  # as given to connect(), for messages and helpers
         self.token = token
         self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
         self._objects = pb_grpc.ObjectServiceStub(channel)
@@ -240,8 +240,27 @@ class SurfmapClient:
         """Every site of the job's plan and its state."""
         return conv.plan(self._call("GetPlan", self._jobs.GetPlan, pb.GetPlanRequest(job_id=job_id), timeout))
 
+    def list_job_events(self, job_id: int, after_event_id: int = 0, limit: Optional[int] = None,
+                        timeout: Optional[float] = None) -> List[r.JobEvent]:
+        """The job's events after ``after_event_id`` (0 = from the first), oldest
+        first, at most ``limit`` (1..10000; None = the server's 1000). Pass the
+        last event's ``event_id`` to read on::
+
+            events, cursor = [], 0
+            while batch := client.list_job_events(job_id, cursor):
+                events += batch
+                cursor = batch[-1].event_id
+        """
+        if after_event_id < 0:
+            raise invalid_argument("ListJobEvents", f"after_event_id must be >= 0, got {after_event_id}")
+        if limit is not None and not 1 <= limit <= 10000:
+            raise invalid_argument("ListJobEvents", f"limit must be 1..10000 (or None), got {limit}")
+        request = pb.ListJobEventsRequest(job_id=job_id, after_event_id=after_event_id, limit=limit or 0)
+        response = self._call("ListJobEvents", self._jobs.ListJobEvents, request, timeout)
+        return [conv.job_event(e) for e in response.events]
+
     def watch_job(self, job_id: int, include_map: bool = False,
-                  timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Iterator[r.JobUpdate]:
+                  timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Generator[r.JobUpdate, None, None]:
         """Iterates over the job's progress updates until the job ends.
 
         The first update is the current state; the last one is the update in
@@ -260,7 +279,7 @@ class SurfmapClient:
         return self._watch_updates(call)
 
     @staticmethod
-    def _watch_updates(call) -> Iterator[r.JobUpdate]:
+    def _watch_updates(call) -> Generator[r.JobUpdate, None, None]:
         try:
             for message in call:
                 yield conv.job_update(message)
@@ -288,11 +307,11 @@ class SurfmapClient:
     def get_fits(self, trace_id: int, timeout: Optional[float] = None) -> List[r.Fit]:
         """Every fit version of one trace, oldest first (refits keep the old ones)."""
         fits: List[r.Fit] = []
-        latest = self.get_sample(trace_id, 0, timeout).fit
+        latest = self.get_sample(trace_id, 0, timeout=timeout).fit
         if latest is None:
             return fits
         for version in range(1, latest.version):
-            sample = self.get_sample(trace_id, version, timeout)
+            sample = self.get_sample(trace_id, version, timeout=timeout)
             if sample.fit is not None:
                 fits.append(sample.fit)
         fits.append(latest)

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import json
 from datetime import datetime, timezone
-from typing import Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
 
@@ -57,12 +58,13 @@ def job_spec(m) -> r.JobSpec:
     probe = r.ProbeParameters(m.probe.segment_length_mm, m.probe.speed_mm_s, m.probe.normal_force_n)
     lease_s = m.lease.seconds + m.lease.nanos * 1e-9
     return r.JobSpec(m.object_id, _PROPERTY.get(m.property, r.Property.FRICTION),
-                     _MODE.get(m.mode, r.SamplingMode.ADAPTIVE), m.coarsest_level, m.finest_level, m.threshold, m.budget, probe, m.seed, m.max_retries, lease_s)
+                     _MODE.get(m.mode, r.SamplingMode.ADAPTIVE), m.coarsest_level, m.finest_level, m.threshold,
+                     m.budget, probe, m.seed, m.max_retries, lease_s)
 
 
 def job_progress(m) -> r.JobProgress:
-    levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed,
-                                   l.leased if l.HasField("leased") else None) for l in m.levels)
+    levels = tuple(r.LevelProgress(lv.level, lv.measured, lv.pending, lv.issued, lv.failed,
+                                   lv.leased if lv.HasField("leased") else None) for lv in m.levels)
     leased = m.leased if m.HasField("leased") else None
     return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels,
                          leased)
@@ -97,6 +99,21 @@ def sample(m) -> r.Sample:
     return r.Sample(m.trace_id, m.command_id, m.job_id, m.site.level, m.site.vertex, _vec(m.position),
                     _vec(m.drag_direction), m.segment_length_mm, fit(m.fit) if m.HasField("fit") else None,
                     _time(m, "received"), m.rig_id)
+
+
+def job_event(m) -> r.JobEvent:
+    detail: Optional[Dict[str, Any]] = None
+    problem = ""
+    try:
+        parsed = json.loads(m.detail_json or "{}")
+    except ValueError as error:
+        problem = f"event {m.event_id}: detail_json is not JSON ({error}): {m.detail_json[:200]}"
+    else:
+        if isinstance(parsed, dict):
+            detail = parsed
+        else:
+            problem = f"event {m.event_id}: detail_json is not a JSON object: {m.detail_json[:200]}"
+    return r.JobEvent(m.event_id, m.job_id, _time(m, "time"), m.kind, detail, m.detail_json, problem)
 
 
 def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:

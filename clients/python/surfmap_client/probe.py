@@ -206,4 +206,3 @@ def finite_positive(value: float, name: str, method: str) -> float:
     if value is None or not math.isfinite(value) or value <= 0:
         raise invalid_argument(method, f"{name} must be a positive number, got {value!r}")
     return float(value)
-

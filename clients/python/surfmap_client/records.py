@@ -11,7 +11,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -236,7 +236,28 @@ class Sample:
     segment_length_mm: float
     fit: Optional[Fit]
     received: Optional[datetime]
-    rig_id: str = ""              # the rig that measured it (held the command's lease)
+    rig_id: str = ""              # the rig that measured it ("" from servers before the field)
+
+
+@dataclass(frozen=True)
+class JobEvent:
+    """One entry of a job's event log (``list_job_events``), oldest first.
+
+    ``kind``: ``job_created``, ``job_state`` (``from``, ``to``),
+    ``trace_accepted`` (``command_id``, ``level``, ``vertex``, ``mu``,
+    ``rig``) or ``probe_failed`` (``command_id``, ``reason``, ``kind``
+    transient/unreachable, ``rig``, ``will_retry``); ``detail`` holds those
+    fields, parsed from ``detail_json``. A detail that is not a JSON object
+    leaves ``detail`` None and says why in ``detail_error``.
+    """
+
+    event_id: int                 # increases with every event: the cursor for the next call
+    job_id: int
+    time: Optional[datetime]
+    kind: str
+    detail: Optional[Dict[str, Any]]
+    detail_json: str
+    detail_error: str = ""
 
 
 @dataclass(frozen=True)
@@ -341,7 +362,8 @@ class JobUpdate:
     """One message of the WatchJob stream."""
 
     job: JobInfo
-    latest_sample: Optional[Sample]   # the newest accepted sample as of this update (updates are coalesced: list_samples has them all)
+    # The newest accepted sample as of this update (updates are coalesced: list_samples has them all).
+    latest_sample: Optional[Sample]
     map: Optional[SurfaceMap]         # finest level, when watched with include_map
 
 

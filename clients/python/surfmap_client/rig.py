@@ -167,7 +167,8 @@ def format_wait_duration(seconds: float) -> str:
 def format_retry_notice(error: SurfmapError, remaining_s: float) -> str:
     """"server unavailable, retrying for 4 min 50 s (SubmitTrace: UNAVAILABLE: ...)"."""
     what = "server not answering" if error.code == grpc.StatusCode.DEADLINE_EXCEEDED else "server unavailable"
-    return f"{what}, retrying for {format_wait_duration(remaining_s)} ({error.method}: {error.code.name}: {error.message})"
+    return (f"{what}, retrying for {format_wait_duration(remaining_s)} "
+            f"({error.method}: {error.code.name}: {error.message})")
 
 
 class Rig:

@@ -138,7 +138,8 @@ def parse_spool_file(text: str, source: str) -> tuple[SpoolHeader, r.Trace]:
     lines = text.split("\n")
     if lines[0].rstrip("\r") != VERSION_LINE:
         raise error(1, f"not a spool file: the first line must be '{VERSION_LINE}'")
-    values = {}
+    numbers: dict[str, int] = {}
+    rig_id = ""
     for k, key in enumerate(HEADER_KEYS):
         number = k + 2
         if number > len(lines):
@@ -149,13 +150,14 @@ def parse_spool_file(text: str, source: str) -> tuple[SpoolHeader, r.Trace]:
             raise error(number, f"expected '{prefix}<value>', found '{line[:60]}'")
         value = line[len(prefix):]
         if key == "rig_id":
-            values[key] = value
+            rig_id = value
             continue
         try:
-            values[key] = int(value)
+            numbers[key] = int(value)
         except ValueError:
             raise error(number, f"{key} '{value}' is not an integer") from None
-    header = SpoolHeader(**values)
+    header = SpoolHeader(numbers["command_id"], numbers["job_id"], numbers["attempt"], rig_id,
+                         numbers["measured_unix_ms"])
     try:
         check_header(header)
     except SurfmapError as bad:
@@ -174,12 +176,12 @@ def parse_spool_file(text: str, source: str) -> tuple[SpoolHeader, r.Trace]:
         if len(fields) != 8:
             raise error(number, f"expected 8 fields, found {len(fields)}")
         try:
-            numbers = [float(x) for x in fields[:7]]
+            values = [float(x) for x in fields[:7]]
         except ValueError:
             raise error(number, f"a value of '{line[:60]}' is not a number") from None
         if fields[7] not in probe.PHASE_FROM_NAME:
             raise error(number, f"unknown phase '{fields[7]}'")
-        rows.append((*numbers, int(probe.PHASE_FROM_NAME[fields[7]])))
+        rows.append((*values, int(probe.PHASE_FROM_NAME[fields[7]])))
     if not rows:
         raise error(len(lines), "no samples")
     table = np.array([row[:7] for row in rows], dtype=float)

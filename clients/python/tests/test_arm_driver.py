@@ -9,6 +9,7 @@ import dataclasses
 import subprocess
 import sys
 from pathlib import Path
+from typing import List
 
 import numpy as np
 import pytest
@@ -97,7 +98,7 @@ def test_what_the_arm_can_never_do_is_unreachable_before_it_moves(arm, command, 
 
 def test_the_force_ceiling_takes_the_abort_path(arm):
     # The touch-down overshoots the commanded 5 N by up to 30 %: a 5.5 N ceiling trips.
-    log = []
+    log: List[str] = []
     driver = arm_driver.ArmDriver(arm, limits=arm_driver.SafetyLimits(max_force_n=5.5), log=log.append)
     with pytest.raises(sc.RigFailure) as failure:
         driver.measure(plate_command(command_id=4243))

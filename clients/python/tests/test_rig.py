@@ -4,7 +4,6 @@ simulated rig as the "hardware", and a server killed under a waiting rig."""
 
 from __future__ import annotations
 
-import json
 import struct
 import subprocess
 import threading
@@ -16,7 +15,6 @@ import numpy as np
 import pytest
 
 import surfmap_client as sc
-from surfmap_client._stubs import pb, pb_grpc
 from surfmap_client.driver_protocol import DriverProcess
 from surfmap_client.local_processes import LocalServer
 
@@ -37,6 +35,13 @@ def plate(client, lab) -> sc.ObjectInfo:
 
 def uniform_job(client, plate, budget: int = 0, lease_s: float = 60.0) -> sc.JobInfo:
     return client.create_job(plate.object_id, "friction", "uniform", finest_level=0, budget=budget, lease_s=lease_s)
+
+
+def lease_command(rig: sc.Rig, job_id: int) -> sc.ProbeCommand:
+    """The next command of the job (one must be ready)."""
+    lease = rig.lease(job_id)
+    assert lease.command is not None, lease
+    return lease.command
 
 
 def bits(values) -> List[bytes]:
@@ -71,7 +76,7 @@ def test_lease_submit_and_an_identical_retry(client, plate, simulator, tmp_path)
         assert again.already_accepted
         assert again.sample.trace_id == result.sample.trace_id
         stored = client.get_trace(result.sample.trace_id)
-        assert bits(stored.t) == bits(trace.t) and bits(stored.f) == bits(trace.f) and bits(stored.xyz) == bits(trace.xyz)
+        assert (bits(stored.t), bits(stored.xyz), bits(stored.f)) == (bits(trace.t), bits(trace.xyz), bits(trace.f))
         assert rig.spool.pending() == [] and files(rig.spool.rejected_dir) == []
     assert not (tmp_path / "spool").exists(), "an empty spool is removed when the rig closes"
 
@@ -79,7 +84,7 @@ def test_lease_submit_and_an_identical_retry(client, plate, simulator, tmp_path)
 def test_refusals_are_kept_with_their_reason_and_never_sent_when_invalid(client, plate, simulator, tmp_path):
     job = uniform_job(client, plate, budget=3)
     with sc.Rig(client, "py-rig-refusals", tmp_path / "spool", on_event=lambda line: None) as rig:
-        command = rig.lease(job.job_id).command
+        command = lease_command(rig, job.job_id)
         trace = simulator.measure(command)
         rig.submit(command, trace)
         # Other samples for the answered command.
@@ -87,13 +92,13 @@ def test_refusals_are_kept_with_their_reason_and_never_sent_when_invalid(client,
         with pytest.raises(sc.TraceRejected) as refused:
             rig.submit(command, other)
         assert refused.value.code == grpc.StatusCode.ALREADY_EXISTS
-        assert refused.value.path.parent == rig.spool.rejected_dir
+        assert refused.value.path is not None and refused.value.path.parent == rig.spool.rejected_dir
         reason = Path(str(refused.value.path) + ".reason").read_text()
         assert reason.startswith("SubmitTrace: ALREADY_EXISTS: ")
         assert "already has trace" in reason
         assert "py-rig-refusals" in reason
         # A trace with a NaN force is never sent; it is kept with the problem.
-        second = rig.lease(job.job_id).command
+        second = lease_command(rig, job.job_id)
         broken = simulator.measure(second)
         broken.f[5, 2] = float("nan")
         with pytest.raises(sc.TraceRejected) as invalid:
@@ -107,18 +112,16 @@ def test_refusals_are_kept_with_their_reason_and_never_sent_when_invalid(client,
 
 
 def failure_events(client: sc.SurfmapClient, job_id: int) -> List[dict]:
-    """The job's probe_failed events (ListJobEvents: the reason, kind and rig the server recorded)."""
-    stub = pb_grpc.JobServiceStub(client.new_channel())
-    response = stub.ListJobEvents(pb.ListJobEventsRequest(job_id=job_id), timeout=20, metadata=client.metadata)
-    return [json.loads(e.detail_json) for e in response.events if e.kind == "probe_failed"]
+    """The job's probe_failed events (the reason, kind and rig the server recorded)."""
+    return [e.detail or {} for e in client.list_job_events(job_id) if e.kind == "probe_failed"]
 
 
 def test_report_failure_kinds(client, plate, tmp_path):
     job = client.create_job(plate.object_id, "friction", "uniform", finest_level=0, budget=4, max_retries=2)
     with sc.Rig(client, "py-rig-failures", tmp_path / "spool", on_event=lambda line: None) as rig:
-        transient = rig.lease(job.job_id).command
+        transient = lease_command(rig, job.job_id)
         assert rig.report_failure(transient, "force ceiling 15 N exceeded", kind="transient") is True
-        unreachable = rig.lease(job.job_id).command
+        unreachable = lease_command(rig, job.job_id)
         rig.report_failure(unreachable, "outside the workspace box", sc.FailureKind.UNREACHABLE)
         recorded = [(e["command_id"], e["kind"], e["reason"], e["rig"]) for e in failure_events(client, job.job_id)]
         assert recorded == [(transient.command_id, "transient", "force ceiling 15 N exceeded", "py-rig-failures"),
@@ -223,7 +226,7 @@ def test_a_python_spool_file_is_resubmitted_by_surfmap_rig(client, plate, simula
     job = uniform_job(client, plate, budget=2)
     spool_dir = tmp_path / "shared-spool"
     with sc.Rig(client, "shared-rig", spool_dir, on_event=lambda line: None) as rig:
-        command = rig.lease(job.job_id).command
+        command = lease_command(rig, job.job_id)
         trace = simulator.measure(command)
         header = sc.spool.SpoolHeader(command.command_id, command.job_id, command.attempt, "shared-rig", 1000)
         rig.spool.add(header, trace)  # as if the Python rig crashed before submitting
@@ -234,7 +237,7 @@ def test_a_python_spool_file_is_resubmitted_by_surfmap_rig(client, plate, simula
     assert "1 spooled trace resubmitted" in result.stdout
     sample = next(s for s in client.list_samples(job.job_id) if s.command_id == command.command_id)
     stored = client.get_trace(sample.trace_id)
-    assert bits(stored.t) == bits(trace.t) and bits(stored.f) == bits(trace.f) and bits(stored.xyz) == bits(trace.xyz)
+    assert (bits(stored.t), bits(stored.xyz), bits(stored.f)) == (bits(trace.t), bits(trace.xyz), bits(trace.f))
     assert not spool_dir.exists()
 
 
@@ -253,7 +256,7 @@ def test_a_rig_waits_out_a_restart_and_keeps_what_it_could_not_deliver(lab, own_
         events: List[str] = []
         with sc.Rig(client, "py-rig-restart", tmp_path / "spool", retry_for_s=30.0, on_event=events.append) as rig:
             # 1. The server is killed and back within the retry time: the submission goes through.
-            first = rig.lease(job.job_id).command
+            first = lease_command(rig, job.job_id)
             first_trace = simulator.measure(first)
             own_server.kill()
             restarter = threading.Timer(1.0, own_server.restart)
@@ -266,7 +269,7 @@ def test_a_rig_waits_out_a_restart_and_keeps_what_it_could_not_deliver(lab, own_
 
             # 2. Down for longer than the retry time: the trace stays in the spool ...
             rig.retry_for_s = 1.0
-            second = rig.lease(job.job_id).command
+            second = lease_command(rig, job.job_id)
             second_trace = simulator.measure(second)
             own_server.kill()
             with pytest.raises(sc.TracePending) as pending:

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import os
 import struct
+from typing import Any, Dict
 
 import grpc
 import numpy as np
@@ -89,8 +90,8 @@ def test_parse_errors_name_the_line(edit, message):
     (dict(phase=["fwd", "pause", "pause"]), "trace: no reverse sample"),
 ])
 def test_check_trace_names_what_is_wrong(change, message):
-    columns = dict(t=[0.0, 0.1, 0.2], xyz=[[0, 0, 0], [1, 0, 0], [0, 0, 0]], f=[[-1, 0, 5], [0, 0, 5], [1, 0, 5]],
-                   phase=["fwd", "pause", "rev"])
+    columns: Dict[str, Any] = dict(t=[0.0, 0.1, 0.2], xyz=[[0, 0, 0], [1, 0, 0], [0, 0, 0]],
+                                   f=[[-1, 0, 5], [0, 0, 5], [1, 0, 5]], phase=["fwd", "pause", "rev"])
     columns.update(change)
     trace = sc.measured_trace(command(), **columns)
     with pytest.raises(sc.SurfmapError) as error:
