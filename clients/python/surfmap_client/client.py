@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Generator, List, Optional, Sequence, Union
+from typing import Callable, Generator, List, Optional, Sequence, Union
 
 import grpc
 import numpy as np
@@ -50,6 +50,7 @@ def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[st
         raise invalid_argument("connect", f"timeout must be a positive number of seconds, got {timeout!r}")
     options = [("grpc.max_receive_message_length", DEFAULT_MAX_MESSAGE_BYTES),
                ("grpc.max_send_message_length", DEFAULT_MAX_MESSAGE_BYTES)]
+    credentials = None
     if root_certificates is not None or tls:
         roots = root_certificates
         if isinstance(roots, (str, os.PathLike)):
@@ -57,10 +58,17 @@ def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[st
                 roots = Path(roots).read_bytes()
             except OSError as error:
                 raise invalid_argument("connect", f"cannot read root certificates '{root_certificates!s}': {error}")
-        channel = grpc.secure_channel(address, grpc.ssl_channel_credentials(root_certificates=roots), options)
-    else:
-        channel = grpc.insecure_channel(address, options)
-    client = SurfmapClient(channel, timeout=timeout, token=token, address=address)
+        credentials = grpc.ssl_channel_credentials(root_certificates=roots)
+
+    def make_channel(own_connection: bool = False) -> grpc.Channel:
+        channel_options = options + ([("grpc.use_local_subchannel_pool", 1)] if own_connection else [])
+        if credentials is not None:
+            return grpc.secure_channel(address, credentials, channel_options)
+        return grpc.insecure_channel(address, channel_options)
+
+    channel = make_channel()
+    client = SurfmapClient(channel, timeout=timeout, token=token, address=address,
+                           channel_factory=lambda: make_channel(own_connection=True))
     if wait_ready:
         try:
             grpc.channel_ready_future(channel).result(timeout=timeout)
@@ -89,8 +97,10 @@ class SurfmapClient:
     """A connection to surfmapd. Thread-safe (gRPC channels are); a context manager."""
 
     def __init__(self, channel: grpc.Channel, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[str] = None,
-                 address: Optional[str] = None) -> None:
+                 address: Optional[str] = None,
+                 channel_factory: Optional[Callable[[], grpc.Channel]] = None) -> None:
         self._channel = channel
+        self._channel_factory = channel_factory
         self.timeout = timeout          # default deadline of every call, s
         self.address: str = address or ""  # as given to connect(), for messages and helpers
         self.token = token
@@ -104,6 +114,19 @@ class SurfmapClient:
 
     def close(self) -> None:
         self._channel.close()
+
+    def new_channel(self) -> grpc.Channel:
+        """A new channel to the same server, with the same credentials and a
+        connection of its own (the caller closes it). A rig (``surfmap_client.Rig``)
+        takes a fresh one after UNAVAILABLE: gRPC's channel stays in
+        TRANSIENT_FAILURE for seconds after a restarted server is back. Falls
+        back to this client's channel when it was not made by ``connect``."""
+        return self._channel_factory() if self._channel_factory is not None else self._channel
+
+    @property
+    def metadata(self) -> tuple:
+        """The metadata every call carries (the bearer token, when set)."""
+        return self._metadata
 
     def __enter__(self) -> "SurfmapClient":
         return self
