@@ -120,6 +120,35 @@ LineSample LineSampleOf(const TraceFit& fit) {
   return line;
 }
 
+TextureParams SummaryTexture(const LineSample& line) {
+  TextureParams out;
+  double total = 0.0;
+  for (const LinePiece& p : line.pieces) total += p.end_mm - p.start_mm;
+  const bool equal = !(total > 0.0);
+  double weights = 0.0, mu = 0.0, var = 0.0;
+  int roughest = -1;
+  for (std::size_t i = 0; i < line.pieces.size(); ++i) {
+    const LinePiece& p = line.pieces[i];
+    const double w = equal ? 1.0 : p.end_mm - p.start_mm;
+    weights += w;
+    mu += w * p.texture.mu;
+    var += w * p.texture.mu_std * p.texture.mu_std;
+    if (p.has_roughness() &&
+        (roughest < 0 || p.end_mm - p.start_mm > line.pieces[roughest].end_mm - line.pieces[roughest].start_mm)) {
+      roughest = static_cast<int>(i);
+    }
+  }
+  if (weights > 0.0) {
+    out.mu = mu / weights;
+    out.mu_std = std::sqrt(var / weights);
+  }
+  if (roughest >= 0) {
+    out.reflection = line.pieces[roughest].texture.reflection;
+    out.sigma = line.pieces[roughest].texture.sigma;
+  }
+  return out;
+}
+
 LineSample PointLineSample(const Eigen::Vector3d& point, const TextureParams& texture) {
   LineSample line;
   line.path_s_mm = {0.0};

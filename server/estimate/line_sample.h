@@ -54,6 +54,12 @@ struct LineSample {
 // without a path, the path is empty (callers place such a sample at its site).
 LineSample LineSampleOf(const TraceFit& fit);
 
+// One texture for the whole drag, for rules that compare drags as points
+// (the paper's threshold rule): mu and spread weighted by the pieces'
+// lengths (equally when every piece has length 0), the roughness of the
+// longest piece that has its own.
+TextureParams SummaryTexture(const LineSample& line);
+
 // A line sample at one point: the form of a fit known only by its texture
 // (the old SamplingPlan::RecordFit), a single piece of zero length there,
 // with mu_se = mu_std / sqrt(kPointSampleEffectivePairs).
