@@ -185,6 +185,16 @@ absl::StatusOr<MapDocument> MapDocumentFromJson(const json& j, std::string_view 
     return Invalid(source, "vertices.mu_uncertainty", absl::StrCat("has ", unc->size(), " values, vertex_count is ", n));
   }
   doc.mu_uncertainty = *std::move(unc);
+  for (auto [key, out] : {std::pair<const char*, std::vector<double>*>{"a1", &doc.a1}, {"a2", &doc.a2},
+                          {"sigma", &doc.sigma}}) {
+    absl::StatusOr<std::vector<double>> values = ReadNumbers(v, key, absl::StrCat("vertices.", key), source, false);
+    if (!values.ok()) return values.status();
+    if (!values->empty() && values->size() != n) {
+      return Invalid(source, absl::StrCat("vertices.", key),
+                     absl::StrCat("has ", values->size(), " values, vertex_count is ", n));
+    }
+    *out = *std::move(values);
+  }
   if (v.contains("position")) {
     const json& pos = v["position"];
     if (!pos.is_array() || pos.size() != n) {

@@ -51,6 +51,8 @@ struct MapDocument {
   std::vector<std::array<int, 3>> triangles;
   std::vector<double> mu;                         // per vertex, NaN = unknown
   std::vector<double> mu_uncertainty;
+  // Roughness per vertex (NaN = unknown there); empty when the map has none.
+  std::vector<double> a1, a2, sigma;
   std::vector<MapSampleRecord> samples;
 };
 

@@ -10,107 +10,97 @@
 namespace surfmap::mapsim {
 namespace {
 
-int Measured(const MappingRunResult& run) {
-  return static_cast<int>(std::count_if(run.probes.begin(), run.probes.end(),
-                                        [](const ProbeRecord& p) { return p.measured; }));
-}
-
-std::string LevelsLabel(const MappingRunResult& run) {
-  const MappingRunOptions& o = run.options;
-  switch (o.mode) {
-    case SamplingMode::kAdaptive:
-      return absl::StrFormat("L%d-%d t=%.2g", o.coarsest_level, o.finest_level, o.threshold);
-    case SamplingMode::kUncertainty:
-      return absl::StrFormat("L%d-%d n<=%d", o.coarsest_level, o.finest_level, o.sample_budget);
-    case SamplingMode::kUniformLevel:
-      return absl::StrFormat("L%d", o.coarsest_level);
-    case SamplingMode::kUniformSpread:
-      return absl::StrFormat("L%d fps n=%d", o.finest_level, o.sample_budget);
+double WorstRegion(const SurfaceScore& s) {
+  double worst = 1.0;
+  for (const RegionScore& r : s.regions) {
+    if (r.points > 0) worst = std::min(worst, r.classified_right);
   }
-  return "";
+  return worst;
 }
 
 }  // namespace
 
-std::string FormatComparisonTable(const std::vector<MappingRunResult>& runs) {
-  std::string out = absl::StrFormat("%-15s %-15s %7s %5s %8s %8s %8s %9s %9s %7s\n", "mode", "levels", "samples",
-                                    "fail", "mu RMSE", "max err", "class %", "bnd mm", "spur mm", "time s");
-  for (const MappingRunResult& run : runs) {
-    const MapEvaluation& e = run.evaluation;
-    absl::StrAppendFormat(&out, "%-15s %-15s %7d %5d %8.4f %8.4f %8.2f %9.2f %9.2f %7.2f\n",
-                          SamplingModeName(run.options.mode), LevelsLabel(run), Measured(run),
-                          static_cast<int>(run.probes.size()) - Measured(run), e.mu_rmse, e.mu_max_abs_error,
-                          100.0 * e.classification_accuracy, e.boundary_error_mm, e.spurious_boundary_mm,
-                          run.elapsed_s);
+std::string RunLabel(const MappingRunResult& run) {
+  const MappingRunOptions& o = run.options;
+  std::string levels;
+  switch (o.mode) {
+    case SamplingMode::kBoundary:
+      levels = o.sample_budget > 0 ? absl::StrFormat(" n<=%d", o.sample_budget) : "";
+      break;
+    case SamplingMode::kAdaptive:
+      levels = absl::StrFormat(" L%d-%d t=%g", o.coarsest_level, o.finest_level, o.threshold);
+      break;
+    case SamplingMode::kUncertainty:
+      levels = absl::StrFormat(" n<=%d", o.sample_budget);
+      break;
+    case SamplingMode::kUniformLevel:
+      levels = absl::StrFormat(" L%d", o.coarsest_level);
+      break;
+    case SamplingMode::kUniformSpread:
+      levels = absl::StrFormat(" n=%d", o.sample_budget);
+      break;
   }
-  if (runs.empty()) return out;
-  absl::StrAppend(&out, "\nmean map mu per true material (truth mu, vertices):\n");
-  absl::StrAppendFormat(&out, "%-15s", "mode");
-  for (const MaterialEvaluation& m : runs.front().evaluation.materials) {
-    absl::StrAppendFormat(&out, " %22s", absl::StrFormat("%s %.3f (%d)", m.name, m.truth_mu, m.vertices));
-  }
-  absl::StrAppend(&out, "\n");
+  return absl::StrCat(std::string(SamplingModeName(o.mode)), levels, "/", std::string(MapKindName(o.map)));
+}
+
+std::string FormatRunTable(const std::string& scene, int control_vertices, const std::vector<MappingRunResult>& runs) {
+  std::string out = absl::StrFormat("%-13s %-34s %7s %7s %7s %8s %8s %8s %8s %6s\n", "scene", "run", "samples",
+                                    "/ CVs", "right%", "worst%", "mu RMSE", "bnd mm", "miss mm", "time s");
   for (const MappingRunResult& run : runs) {
-    absl::StrAppendFormat(&out, "%-15s", SamplingModeName(run.options.mode));
-    for (const MaterialEvaluation& m : run.evaluation.materials) {
-      absl::StrAppendFormat(&out, " %22s", absl::StrFormat("%.4f", m.map_mu_mean));
-    }
-    absl::StrAppend(&out, "\n");
+    const SurfaceScore& s = run.score;
+    absl::StrAppendFormat(&out, "%-13s %-34s %7d %7.2f %7.2f %8.2f %8.4f %8.2f %8.2f %6.2f\n", scene, RunLabel(run),
+                          run.measured(), static_cast<double>(run.measured()) / control_vertices,
+                          100.0 * s.classified_right, 100.0 * WorstRegion(s), s.mu_rmse, s.boundary_error_mm,
+                          s.missed_boundary_mm, run.elapsed_s);
   }
   return out;
 }
 
 nlohmann::json RunToJson(const MappingRunResult& run) {
   const MappingRunOptions& o = run.options;
-  const MapEvaluation& e = run.evaluation;
-  // JSON has no NaN: an undefined number is written as null.
-  auto number = [](double x) -> nlohmann::json { return std::isfinite(x) ? nlohmann::json(x) : nlohmann::json(); };
-  nlohmann::json materials = nlohmann::json::array();
-  for (const MaterialEvaluation& m : e.materials) {
-    materials.push_back({{"name", m.name},
-                         {"truth_mu", m.truth_mu},
-                         {"vertices", m.vertices},
-                         {"map_mu_mean", number(m.map_mu_mean)},
-                         {"map_mu_rmse", number(m.map_mu_rmse)}});
-  }
   nlohmann::json probes = nlohmann::json::array();
   for (const ProbeRecord& p : run.probes) {
     nlohmann::json j = {{"vertex", p.vertex},
                         {"position", {p.position.x(), p.position.y(), p.position.z()}},
+                        {"direction", {p.direction.x(), p.direction.y(), p.direction.z()}},
                         {"measured", p.measured}};
     if (p.measured) {
       j["mu"] = p.fit.mu;
-      j["mu_std"] = p.fit.mu_std;
-      j["sigma"] = p.fit.sigma;
-      j["reflection"] = p.fit.reflection;
+      j["changes"] = p.changes;
+      nlohmann::json pieces = nlohmann::json::array();
+      for (const LinePiece& piece : p.line.pieces) {
+        pieces.push_back({{"from_mm", piece.start_mm},
+                          {"to_mm", piece.end_mm},
+                          {"mu", piece.texture.mu},
+                          {"mu_se", piece.mu_se},
+                          {"spread", piece.texture.mu_std},
+                          {"roughness", piece.has_roughness()}});
+      }
+      j["pieces"] = std::move(pieces);
     } else {
       j["error"] = p.error;
+      j["unreachable"] = p.unreachable;
     }
     probes.push_back(std::move(j));
   }
-  return {{"mode", SamplingModeName(o.mode)},
+  return {{"run", RunLabel(run)},
+          {"mode", SamplingModeName(o.mode)},
+          {"map", MapKindName(o.map)},
           {"coarsest_level", o.coarsest_level},
           {"finest_level", o.finest_level},
           {"threshold", o.threshold},
           {"sample_budget", o.sample_budget},
           {"seed", o.seed},
-          {"samples", Measured(run)},
-          {"failed_probes", static_cast<int>(run.probes.size()) - Measured(run)},
+          {"samples", run.measured()},
+          {"failed_probes", static_cast<int>(run.probes.size()) - run.measured()},
+          {"skipped_sites", run.skipped},
           {"elapsed_s", run.elapsed_s},
-          {"vertices", e.vertices},
-          {"mu_rmse", number(e.mu_rmse)},
-          {"mu_max_abs_error", number(e.mu_max_abs_error)},
-          {"classification_accuracy", number(e.classification_accuracy)},
-          {"truth_boundary_vertices", e.truth_boundary_vertices},
-          {"map_boundary_vertices", e.map_boundary_vertices},
-          {"boundary_error_mm", number(e.boundary_error_mm)},
-          {"spurious_boundary_mm", number(e.spurious_boundary_mm)},
-          {"materials", std::move(materials)},
+          {"score", SurfaceScoreToJson(run.score)},
           {"probes", std::move(probes)}};
 }
 
 MapMesh RunMapMesh(const MappingBench& bench, const MappingRunResult& run) {
-  const SurfaceLevel& finest = bench.finest();
+  const SurfaceLevel& finest = bench.map_surface();
   MapMesh mesh;
   mesh.positions = finest.limit_positions;
   mesh.normals = finest.limit_normals;
@@ -133,7 +123,7 @@ MapOverlay RunOverlay(const MappingRunResult& run) {
 MapRenderOptions SceneRenderOptions(const MappingBench& bench) {
   MapRenderOptions options;
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = Eigen::Vector3d::Constant(-1e300);
-  for (const Eigen::Vector3d& p : bench.finest().limit_positions) {
+  for (const Eigen::Vector3d& p : bench.map_surface().limit_positions) {
     lo = lo.cwiseMin(p);
     hi = hi.cwiseMax(p);
   }
@@ -169,9 +159,7 @@ absl::StatusOr<std::string> RunPng(const MappingBench& bench, const MappingRunRe
 
 absl::StatusOr<std::string> RunPly(const MappingBench& bench, const MappingRunResult& run) {
   MapPlyOptions options;
-  options.comment = absl::StrFormat("surfmap-mapsim scene %s mode %s levels %d-%d threshold %g seed %d",
-                                    bench.scene().name, SamplingModeName(run.options.mode),
-                                    run.options.coarsest_level, run.options.finest_level, run.options.threshold,
+  options.comment = absl::StrFormat("surfmap-mapsim scene %s run %s seed %d", bench.scene().name, RunLabel(run),
                                     run.options.seed);
   const MapRenderOptions render = SceneRenderOptions(bench);
   options.value_min = render.value_min;

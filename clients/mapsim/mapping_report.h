@@ -1,5 +1,6 @@
-// What surfmap-mapsim prints and writes about mapping runs: the comparison
-// table, JSON, and the map as PNG (grey scale, whiter = more friction, like
+// What surfmap-mapsim prints and writes about mapping runs: the evidence
+// table (one row per run, scored on the scene's true surface), per-region
+// details, JSON, and the map as PNG (grey scale, whiter = more friction, like
 // the paper's Fig. 14, with sample points and executed drag paths) and PLY.
 #pragma once
 
@@ -14,13 +15,17 @@
 
 namespace surfmap::mapsim {
 
-// One row per run: mode, levels, samples, failures, mu RMSE, classification,
-// boundary errors, time; then the mean map mu per material and run.
-std::string FormatComparisonTable(const std::vector<MappingRunResult>& runs);
+// "boundary/regions", "adaptive L0-1 t=4/harmonic", "uniform-spread n=123/regions", ...
+std::string RunLabel(const MappingRunResult& run);
+
+// One row per run: label, samples (and the 1.5 x control vertices limit),
+// share classified right overall and in the worst region, mu RMSE, boundary
+// errors (map -> truth, truth -> map), time.
+std::string FormatRunTable(const std::string& scene, int control_vertices, const std::vector<MappingRunResult>& runs);
 
 nlohmann::json RunToJson(const MappingRunResult& run);
 
-// The finest level coloured by the run's map mu (uncertainty = map mu std).
+// The map level coloured by the run's map mu (uncertainty = map mu std).
 MapMesh RunMapMesh(const MappingBench& bench, const MappingRunResult& run);
 // A dot per measured site and the rig's executed forward drag path.
 MapOverlay RunOverlay(const MappingRunResult& run);

@@ -1,5 +1,6 @@
 #include "clients/mapsim/mapping_run.h"
 
+#include <algorithm>
 #include <chrono>
 #include <limits>
 #include <random>
@@ -7,10 +8,14 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
-#include "clients/rig/scene_truth.h"
+#include "server/estimate/roughness.h"
 #include "server/map/friction_map.h"
+#include "server/map/map_level.h"
+#include "server/map/region_map.h"
+#include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/sampling_plan.h"
+#include "server/plan/site_order.h"
 
 namespace surfmap::mapsim {
 namespace {
@@ -29,8 +34,8 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
   ProbeRecord record;
   record.vertex = vertex;
   record.position = position;
+  record.direction = drag_direction;
   ProbeRequest request;
-  // The rig projects the (off-surface, on curved parts) start onto the surface.
   request.position = position;  // the rig centres the drag on the site
   request.normal = normal;
   request.drag_direction = drag_direction;
@@ -40,6 +45,8 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
   request.command_id = SiteCommandId(vertex, attempt);
   absl::StatusOr<ProbeExecution> execution = rig.ExecuteDetailed(request);
   if (!execution.ok()) {
+    // The rig's FAILED_PRECONDITION: too far from the surface or no drag fits.
+    record.unreachable = absl::IsFailedPrecondition(execution.status());
     record.error = absl::StrCat("rig: ", execution.status().message());
     return record;
   }
@@ -50,12 +57,16 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
     return record;
   }
   record.fit = TextureOf(*fit);
+  record.line = LineSampleOf(*fit);
+  record.changes = static_cast<int>(fit->changes.size());
   record.measured = true;
   return record;
 }
 
 PlanMode PlanModeOf(SamplingMode mode) {
   switch (mode) {
+    case SamplingMode::kBoundary:
+      return PlanMode::kBoundary;
     case SamplingMode::kAdaptive:
       return PlanMode::kAdaptive;
     case SamplingMode::kUncertainty:
@@ -64,22 +75,23 @@ PlanMode PlanModeOf(SamplingMode mode) {
     case SamplingMode::kUniformSpread:
       return PlanMode::kUniform;
   }
-  return PlanMode::kAdaptive;
+  return PlanMode::kBoundary;
 }
 
 // Drives the sampling plan to completion with one rig.
-absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options, MappingRunResult& result,
-                     std::vector<MapSample>& samples) {
+absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options, int finest,
+                     MappingRunResult& result, std::vector<MapSample>& samples) {
   SamplingPlanOptions plan_options;
   plan_options.mode = PlanModeOf(options.mode);
   plan_options.coarsest_level = options.coarsest_level;
-  plan_options.max_level = options.finest_level;
+  plan_options.max_level = finest;
   plan_options.threshold = options.threshold;
   plan_options.distance.property = options.property;
   plan_options.sample_budget = options.sample_budget;
   plan_options.seed = options.seed;
+  plan_options.reach = options.reach;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
-  levels.resize(options.finest_level + 1);  // the plan's finest level is the map's
+  levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
   if (!plan.ok()) return plan.status();
 
@@ -93,8 +105,15 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
     ProbeRecord record = MeasureSite(bench.rig(), options, command->site.vertex, command->attempt,
                                      command->position, command->normal, command->drag_direction,
                                      command->probe);
-    absl::Status status = record.measured ? plan->RecordFit(command->sequence, record.fit)
-                                          : plan->RecordFailure(command->sequence, record.error);
+    absl::Status status;
+    if (!record.measured) {
+      status = plan->RecordFailure(command->sequence, record.error,
+                                   record.unreachable ? FailureKind::kUnreachable : FailureKind::kTransient);
+    } else if (options.mode == SamplingMode::kBoundary) {
+      status = plan->RecordLineSample(command->sequence, record.line);
+    } else {
+      status = plan->RecordFit(command->sequence, record.fit);  // one value per site, as before line samples
+    }
     if (!status.ok()) {
       return absl::Status(status.code(), absl::StrCat("plan rejected the answer to command ", command->sequence,
                                                       " (vertex ", command->site.vertex, "): ", status.message()));
@@ -102,10 +121,11 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
     result.probes.push_back(std::move(record));
   }
   samples = plan->MeasuredSamples();
+  result.skipped = plan->Progress().skipped;
   return absl::OkStatus();
 }
 
-// Farthest-point sampling over the finest level from a seeded first vertex.
+// Farthest-point sampling over a level from a seeded first vertex.
 std::vector<int> SpreadVertices(const SurfaceLevel& level, int count, std::uint64_t seed) {
   const int n = static_cast<int>(level.limit_positions.size());
   count = std::min(count, n);
@@ -127,27 +147,46 @@ std::vector<int> SpreadVertices(const SurfaceLevel& level, int count, std::uint6
 }
 
 // kUniformSpread: no plan; each chosen vertex is probed up to three times.
-void RunSpread(const MappingBench& bench, const MappingRunOptions& options, MappingRunResult& result,
+void RunSpread(const MappingBench& bench, const MappingRunOptions& options, int finest, MappingRunResult& result,
                std::vector<MapSample>& samples) {
-  const SurfaceLevel& finest = bench.finest();
+  const SurfaceLevel& level = bench.level(finest);
   const ProbeParameters probe;
-  for (int vertex : SpreadVertices(finest, options.sample_budget, options.seed)) {
+  for (int vertex : SpreadVertices(level, options.sample_budget, options.seed)) {
+    const Eigen::Vector3d& normal = level.limit_normals[vertex];
+    if (UnreachableReason(options.reach, level.limit_positions[vertex], normal)) {
+      ++result.skipped;
+      continue;
+    }
     for (int attempt = 1; attempt <= 3; ++attempt) {
-      const Eigen::Vector3d& normal = finest.limit_normals[vertex];
-      ProbeRecord record = MeasureSite(bench.rig(), options, vertex, attempt, finest.limit_positions[vertex],
-                                       normal, TangentDragDirection(normal), probe);
-      const bool measured = record.measured;
+      ProbeRecord record = MeasureSite(bench.rig(), options, vertex, attempt, level.limit_positions[vertex], normal,
+                                       VariedDragDirection(normal, SiteShuffleKey(options.seed, vertex)), probe);
+      const bool measured = record.measured, unreachable = record.unreachable;
       if (measured) samples.push_back({vertex, record.fit});
       result.probes.push_back(std::move(record));
-      if (measured) break;
+      if (measured || unreachable) break;
     }
   }
+}
+
+MapReading ReadingOf(const MapValue& value) {
+  MapReading r;
+  r.mu = value.mu;
+  r.has_roughness = value.has_roughness;
+  if (value.has_roughness) {
+    const std::vector<double> a = ReflectionToAr(value.reflection);
+    r.a1 = a.size() > 0 ? a[0] : 0.0;
+    r.a2 = a.size() > 1 ? a[1] : 0.0;
+    r.sigma = value.sigma;
+  }
+  return r;
 }
 
 }  // namespace
 
 std::string_view SamplingModeName(SamplingMode mode) {
   switch (mode) {
+    case SamplingMode::kBoundary:
+      return "boundary";
     case SamplingMode::kAdaptive:
       return "adaptive";
     case SamplingMode::kUncertainty:
@@ -157,7 +196,13 @@ std::string_view SamplingModeName(SamplingMode mode) {
     case SamplingMode::kUniformSpread:
       return "uniform-spread";
   }
-  return "adaptive";
+  return "boundary";
+}
+
+std::string_view MapKindName(MapKind kind) { return kind == MapKind::kRegions ? "regions" : "harmonic"; }
+
+int MappingRunResult::measured() const {
+  return static_cast<int>(std::count_if(probes.begin(), probes.end(), [](const ProbeRecord& p) { return p.measured; }));
 }
 
 bool MappingRunOptions::IsValid(std::string* why) const {
@@ -165,52 +210,57 @@ bool MappingRunOptions::IsValid(std::string* why) const {
     if (why) *why = std::move(msg);
     return false;
   };
-  if (coarsest_level < 0 || coarsest_level > finest_level) {
+  if (finest_level < -1 || finest_level > 6) return fail(absl::StrCat("finest_level must be in -1..6, got ", finest_level));
+  if (coarsest_level < 0 || (finest_level >= 0 && coarsest_level > finest_level)) {
     return fail(absl::StrCat("coarsest_level must be in 0..finest_level (", finest_level, "), got ", coarsest_level));
   }
-  if (finest_level < 0 || finest_level > 6) return fail(absl::StrCat("finest_level must be in 0..6, got ", finest_level));
   if (sample_budget < 0) return fail(absl::StrCat("sample_budget must be >= 0, got ", sample_budget));
   if ((mode == SamplingMode::kUncertainty || mode == SamplingMode::kUniformSpread) && sample_budget == 0) {
     return fail(absl::StrCat(std::string(SamplingModeName(mode)), " mode needs a sample_budget > 0"));
   }
+  if (std::string inner; !reach.IsValid(&inner)) return fail(absl::StrCat("reach: ", inner));
   if (std::string fit_why; !fit.IsValid(&fit_why)) return fail(absl::StrCat("fit: ", fit_why));
   return true;
 }
 
-absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, int finest_level,
-                                                                   std::uint64_t rig_seed, int rig_surface_level) {
-  if (finest_level < 0 || finest_level > 6) {
-    return absl::InvalidArgumentError(absl::StrCat("finest level must be in 0..6, got ", finest_level));
+absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, std::uint64_t rig_seed,
+                                                                   int rig_surface_level, int map_level,
+                                                                   const SurfaceScoreOptions& score) {
+  if (map_level == -1) map_level = MapLevelFor(scene.mesh);
+  if (map_level < 0 || map_level > 6) {
+    return absl::InvalidArgumentError(absl::StrCat("map level must be in 0..6, got ", map_level));
   }
   if (rig_surface_level < 0 || rig_surface_level > 6) {
     return absl::InvalidArgumentError(absl::StrCat("rig surface level must be in 0..6, got ", rig_surface_level));
   }
+  absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(scene, score);
+  if (!scorer.ok()) return scorer.status();
   SimulatedRigOptions rig_options;
-  rig_options.surface_level = std::max(rig_surface_level, finest_level);
+  rig_options.surface_level = std::max(rig_surface_level, map_level);
   rig_options.seed = rig_seed;
   absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(std::move(scene), rig_options);
   if (!rig.ok()) return rig.status();
   std::unique_ptr<MappingBench> bench(new MappingBench());
   bench->rig_ = *std::move(rig);
-  bench->finest_level_ = finest_level;
-  bench->truth_material_ =
-      SceneTruthAtVertices(bench->rig_->scene(), bench->rig_->surface(), finest_level).material_index;
+  bench->map_level_ = map_level;
+  bench->scorer_ = std::make_unique<SurfaceScorer>(*std::move(scorer));
   return bench;
 }
 
 absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const MappingRunOptions& options) {
   if (std::string why; !options.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("mapping run: ", why));
-  if (options.finest_level != bench.finest_level()) {
-    return absl::InvalidArgumentError(absl::StrCat("mapping run: finest_level ", options.finest_level,
-                                                   " differs from the bench's ", bench.finest_level()));
+  const int finest = options.finest_level < 0 ? bench.plan_level() : options.finest_level;
+  if (finest > bench.map_level() || options.coarsest_level > finest) {
+    return absl::InvalidArgumentError(absl::StrCat("mapping run: levels ", options.coarsest_level, "..", finest,
+                                                   " do not fit the bench's map level ", bench.map_level()));
   }
   const auto start = std::chrono::steady_clock::now();
   MappingRunResult result;
   result.options = options;
   std::vector<MapSample> samples;
   if (options.mode == SamplingMode::kUniformSpread) {
-    RunSpread(bench, options, result, samples);
-  } else if (absl::Status status = RunPlan(bench, options, result, samples); !status.ok()) {
+    RunSpread(bench, options, finest, result, samples);
+  } else if (absl::Status status = RunPlan(bench, options, finest, result, samples); !status.ok()) {
     return status;
   }
   if (samples.empty()) {
@@ -218,19 +268,57 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
         absl::StrCat("mapping run: no site was measured (", result.probes.size(), " probes failed)"));
   }
 
-  absl::StatusOr<FrictionMap> map = FrictionMap::Create(bench.finest());
-  if (!map.ok()) return map.status();
-  if (absl::Status status = map->SetSamples(std::move(samples)); !status.ok()) return status;
-  result.map_mu = map->mu();
-  result.map_mu_std = map->mu_std();
-
-  const Scene& scene = bench.scene();
-  std::vector<double> material_mus;
-  for (const Material& m : scene.materials) material_mus.push_back(m.mu);
-  absl::StatusOr<MapEvaluation> evaluation =
-      EvaluateMap(bench.finest(), result.map_mu, bench.truth_material(), material_mus, scene.material_names);
-  if (!evaluation.ok()) return evaluation.status();
-  result.evaluation = *std::move(evaluation);
+  const SurfaceLevel& map_level = bench.map_surface();
+  MapReader reader;
+  std::optional<RegionMap> regions;
+  std::optional<FrictionMap> harmonic;
+  std::shared_ptr<const MeshLocator> harmonic_locator;
+  if (options.map == MapKind::kRegions) {
+    absl::StatusOr<RegionMap> map = RegionMap::Create(map_level);
+    if (!map.ok()) return map.status();
+    std::vector<MapPiece> pieces;
+    for (int i = 0; i < static_cast<int>(result.probes.size()); ++i) {
+      const ProbeRecord& p = result.probes[i];
+      if (!p.measured) continue;
+      std::vector<MapPiece> more = MapPiecesOf(p.line, i, p.position);
+      pieces.insert(pieces.end(), more.begin(), more.end());
+    }
+    if (absl::Status status = map->SetPieces(std::move(pieces)); !status.ok()) return status;
+    regions = std::move(*map);
+    reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
+      absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);
+      if (!v.ok()) return v.status();
+      return ReadingOf(*v);
+    };
+  } else {
+    const SurfaceLevel& level = bench.level(finest);
+    absl::StatusOr<FrictionMap> map = FrictionMap::Create(level);
+    if (!map.ok()) return map.status();
+    if (absl::Status status = map->SetSamples(std::move(samples)); !status.ok()) return status;
+    harmonic = std::move(*map);
+    harmonic_locator = std::make_shared<const MeshLocator>(level);
+    reader = [&harmonic, harmonic_locator](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
+      absl::StatusOr<MapValue> v = harmonic->ValueAt(harmonic_locator->Closest(p));
+      if (!v.ok()) return v.status();
+      return ReadingOf(*v);
+    };
+  }
+  absl::StatusOr<SurfaceScore> score = bench.scorer().Score(reader);
+  if (!score.ok()) return score.status();
+  result.score = *std::move(score);
+  for (const Eigen::Vector3d& p : map_level.limit_positions) {
+    if (regions) {
+      absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);
+      if (!v.ok()) return v.status();
+      result.map_mu.push_back(v->mu);
+      result.map_mu_std.push_back(v->mu_std);
+    } else {
+      absl::StatusOr<MapValue> v = harmonic->ValueAt(harmonic_locator->Closest(p));
+      if (!v.ok()) return v.status();
+      result.map_mu.push_back(v->mu);
+      result.map_mu_std.push_back(v->mu_std);
+    }
+  }
   result.elapsed_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -1,13 +1,15 @@
 // A whole mapping run in one process, no network: the sampling plan issues
 // probe commands, the simulated rig executes them on the scene, FitTrace fits
 // each trace, the fit goes back to the plan, until the plan is complete; then
-// the measured sites are interpolated into a friction map on the finest level.
+// the map is built from the measured drags and scored on the scene's true
+// surface (clients/rig/surface_score.h).
 //
-// The rig is seeded per site (command id = f(vertex, attempt)), not per
-// command sequence, so the same site gives the same trace in every mode: runs
-// of different modes differ only in where they sample.
+// The rig is seeded per site and drag direction (command id = f(vertex,
+// attempt)), not per command sequence, so the same drag gives the same trace
+// in every mode: runs of different modes differ only in where they sample.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -16,33 +18,50 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/mapsim/map_evaluation.h"
 #include "clients/rig/scene.h"
 #include "clients/rig/simulated_rig.h"
+#include "clients/rig/surface_score.h"
 #include "server/estimate/fit_trace.h"
+#include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"
+#include "server/plan/reachability.h"
 
 namespace surfmap::mapsim {
 
 enum class SamplingMode {
+  kBoundary,       // PlanMode::kBoundary: goes looking for boundaries (the default job)
   kAdaptive,       // the paper's threshold rule (PlanMode::kAdaptive)
   kUncertainty,    // PlanMode::kUncertainty with a sample budget
   kUniformLevel,   // PlanMode::kUniform: every vertex of coarsest_level
-  // `sample_budget` vertices of the finest level spread by farthest-point
-  // sampling (Euclidean, from a seeded random first vertex): a uniform design
-  // at any sample count, for comparisons at equal counts.
+  // `sample_budget` vertices of the map's level spread by farthest-point
+  // sampling (Euclidean, from a seeded random first vertex), dragged in
+  // orientations varied as the boundary plan's first drags are: a uniform
+  // design at any sample count, for comparisons at equal counts.
   kUniformSpread,
 };
-std::string_view SamplingModeName(SamplingMode mode);  // "adaptive", "uncertainty", "uniform", "uniform-spread"
+// "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"
+std::string_view SamplingModeName(SamplingMode mode);
+
+enum class MapKind {
+  kRegions,   // RegionMap from every drag's pieces on the bench's map level
+  kHarmonic,  // FrictionMap: one value per site, harmonic over the plan's finest level (the build before line samples)
+};
+std::string_view MapKindName(MapKind kind);  // "regions", "harmonic"
 
 struct MappingRunOptions {
-  SamplingMode mode = SamplingMode::kAdaptive;
+  SamplingMode mode = SamplingMode::kBoundary;
+  MapKind map = MapKind::kRegions;
   int coarsest_level = 0;
-  int finest_level = 2;          // the plan's max level and the map's level
+  // The plan's max level (and the harmonic map's level; the boundary plan's
+  // candidates and its own map); -1 = the bench's plan level, one coarser
+  // than the map level (~4 mm edges: enough to decide where to drag, at a
+  // quarter of the cost of rebuilding the plan's map after every drag).
+  int finest_level = -1;
   double threshold = 2.0;        // kAdaptive, in TextureDistance units
   TextureProperty property = TextureProperty::kFriction;  // what the texture distance compares
-  int sample_budget = 0;         // 0 = unlimited (kUncertainty and kUniformSpread need one)
+  int sample_budget = 0;         // 0 = the mode's default (kUncertainty and kUniformSpread need one)
   std::uint64_t seed = 1;        // plan issue order, rig noise, kUniformSpread's first vertex
+  Reachability reach;            // per job: sites outside are not planned
   FitOptions fit;
 
   bool IsValid(std::string* why) const;
@@ -50,52 +69,62 @@ struct MappingRunOptions {
 
 // One probe as executed: where, and the path the rig dragged.
 struct ProbeRecord {
-  int vertex = -1;               // finest-level vertex of the site
+  int vertex = -1;               // vertex of the site
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // as commanded
   std::vector<Eigen::Vector3d> path;  // forward drag path on the surface (empty when the rig failed)
   bool measured = false;         // false: the rig or FitTrace failed (see error)
+  bool unreachable = false;      // the rig could not reach or drag there (final)
   std::string error;
-  TextureParams fit;
+  TextureParams fit;             // TextureOf the fit
+  LineSample line;               // LineSampleOf the fit
+  int changes = 0;               // material changes found inside the drag
 };
 
 struct MappingRunResult {
   MappingRunOptions options;
   std::vector<ProbeRecord> probes;   // in execution order, failures included
-  std::vector<double> map_mu;        // per finest-level vertex
+  int skipped = 0;                   // sites the plan skipped (unreachable, budget)
+  SurfaceScore score;                // on the scene's true surface
+  std::vector<double> map_mu;        // per vertex of the bench's map level (for pictures)
   std::vector<double> map_mu_std;
-  MapEvaluation evaluation;
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
+  int measured() const;
 };
 
-// The scene's rig and the levels a run needs, created once and shared by
-// several runs (runs do not modify it).
+// The scene's rig, levels and scorer, created once and shared by several
+// runs (runs do not modify it).
 class MappingBench {
  public:
-  // The rig's surface is refined to max(rig_surface_level, finest_level)
-  // (finer = smoother drag paths); the plan and the map use its levels
-  // 0..finest_level. Errors: INVALID_ARGUMENT for levels outside 0..6 or a
-  // scene mesh the rig rejects.
-  static absl::StatusOr<std::unique_ptr<MappingBench>> Create(Scene scene, int finest_level, std::uint64_t rig_seed,
-                                                              int rig_surface_level = 3);
+  // The rig's surface is refined to max(rig_surface_level, map_level) (finer
+  // = smoother drag paths); map_level -1 = MapLevelFor(scene mesh): edges of
+  // ~2 mm. Errors: INVALID_ARGUMENT for levels outside 0..6 or a scene mesh
+  // the rig rejects; the scorer's errors.
+  static absl::StatusOr<std::unique_ptr<MappingBench>> Create(Scene scene, std::uint64_t rig_seed,
+                                                              int rig_surface_level = 3, int map_level = -1,
+                                                              const SurfaceScoreOptions& score = {});
 
   const SimulatedRig& rig() const { return *rig_; }
   const Scene& scene() const { return rig_->scene(); }
-  int finest_level() const { return finest_level_; }
-  const SurfaceLevel& finest() const { return rig_->surface().level(finest_level_); }
-  const std::vector<int>& truth_material() const { return truth_material_; }  // per finest vertex
+  int map_level() const { return map_level_; }
+  int plan_level() const { return std::max(0, map_level_ - 1); }
+  const SurfaceLevel& level(int k) const { return rig_->surface().level(k); }
+  const SurfaceLevel& map_surface() const { return level(map_level_); }
+  const SurfaceScorer& scorer() const { return *scorer_; }
+  int control_vertices() const { return static_cast<int>(scene().mesh.positions.size()); }
 
  private:
   MappingBench() = default;
   std::unique_ptr<SimulatedRig> rig_;
-  int finest_level_ = 0;
-  std::vector<int> truth_material_;
+  int map_level_ = 0;
+  std::unique_ptr<SurfaceScorer> scorer_;
 };
 
-// Runs one mapping. options.finest_level must equal bench.finest_level().
-// Errors: INVALID_ARGUMENT for invalid options (naming the field), errors of
-// the plan or the map (e.g. no site could be measured: FAILED_PRECONDITION).
-// Individual probe failures are not errors: they are recorded and reported to
-// the plan (RecordFailure), which retries them.
+// Runs one mapping. Errors: INVALID_ARGUMENT for invalid options (naming the
+// field) or a finest level above the bench's map level, errors of the plan
+// or the map (e.g. no site could be measured: FAILED_PRECONDITION).
+// Individual probe failures are not errors: they are recorded and reported
+// to the plan (RecordFailure, unreachable ones as such), which retries them.
 absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const MappingRunOptions& options);
 
 }  // namespace surfmap::mapsim

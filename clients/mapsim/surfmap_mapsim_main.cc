@@ -1,7 +1,15 @@
-// surfmap-mapsim: maps a scene entirely in-process (simulated rig -> FitTrace
-// -> sampling plan -> friction map) and scores the map against the scene's
-// truth. `--mode all` compares the sampling strategies at adaptive's sample
-// count. Without flags a scene runs with its tuned defaults (below).
+// surfmap-mapsim: maps scenes entirely in-process (simulated rig -> FitTrace
+// -> sampling plan -> map) and scores every map on the scene's true surface.
+//
+//   surfmap-mapsim [--scene NAME ...|all] [--mode evidence|boundary|adaptive|uncertainty|uniform|uniform-spread]
+//
+// --mode evidence (the default) runs, per scene: the default job (the
+// boundary plan with its default budget, the region map); the build before
+// line samples (the paper's threshold rule over levels 0..1 at threshold 4,
+// the demo's job, one value per site, harmonic map); and uniform sampling at
+// the default job's sample count (farthest-point spread, region map and
+// harmonic map). It prints one table row per run and the per-region score
+// of the default job.
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -20,18 +28,8 @@
 namespace surfmap::mapsim {
 namespace {
 
-// Tuned per built-in scene by sweeping finest 2..3 and threshold 1..4 (seed 1).
-struct SceneDefaults {
-  int coarsest = 0;
-  int finest = 2;
-  double threshold = 2.0;
-};
-
-SceneDefaults DefaultsFor(const std::string& scene) {
-  if (scene == "bottle") return {0, 1, 4.0};  // 100 samples, 99.7 % classified (L0 alone is 82)
-  if (scene == "plate") return {0, 2, 1.0};   // 254 samples, 93 % classified
-  return {};
-}
+const std::vector<std::string> kAllScenes = {"bottle",      "plate",      "banded_vase",
+                                             "strip_block", "dotted_egg", "torus_handle"};
 
 bool WriteFile(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary);
@@ -44,70 +42,50 @@ bool WriteFile(const std::string& path, const std::string& bytes) {
   return true;
 }
 
-// "out.png" -> "out-adaptive.png" when several runs write files.
-std::string PathFor(const std::string& path, const MappingRunResult& run, bool several) {
+// "out.png" -> "out-bottle-3.png" when several runs write files.
+std::string PathFor(const std::string& path, const std::string& scene, int index, bool several) {
   if (!several) return path;
   std::filesystem::path p(path);
-  return (p.parent_path() / (p.stem().string() + "-" + std::string(SamplingModeName(run.options.mode)) +
-                             p.extension().string()))
+  return (p.parent_path() / absl::StrFormat("%s-%s-%d%s", p.stem().string(), scene, index, p.extension().string()))
       .string();
 }
 
-// The level in coarsest..finest whose vertex count is nearest `count`.
-int NearestLevel(const MappingBench& bench, int coarsest, int count) {
-  int best = coarsest;
-  for (int k = coarsest; k <= bench.finest_level(); ++k) {
-    const int n = static_cast<int>(bench.rig().surface().level(k).limit_positions.size());
-    const int best_n = static_cast<int>(bench.rig().surface().level(best).limit_positions.size());
-    if (std::abs(n - count) < std::abs(best_n - count)) best = k;
-  }
-  return best;
-}
-
 int Main(int argc, char** argv) {
-  CLI::App app{"surfmap-mapsim: map a scene in-process with the simulated rig and score the map against its truth"};
-  std::string scene_name = "bottle";
-  std::string mode = "adaptive";
-  int coarsest = 0, finest = 2, budget = 0;
-  double threshold = 2.0;
+  CLI::App app{"surfmap-mapsim: map scenes in-process with the simulated rig and score the maps on the true surface"};
+  std::vector<std::string> scenes = {"bottle"};
+  std::string mode = "evidence";
+  std::string map = "regions";
+  int coarsest = 0, finest = -1, budget = 0, points = 5000;
+  double threshold = 4.0;
   std::uint64_t seed = 1;
   std::string property = "friction";
   std::string png, ply, json_path;
   int rig_level = 3;
-  app.add_option("--scene", scene_name, "scene name (clients/scenes, $SURFMAP_SCENES)")->capture_default_str();
-  app.add_option("--mode", mode, "adaptive | uniform | uncertainty | uniform-spread | all")
-      ->check(CLI::IsMember({"adaptive", "uniform", "uncertainty", "uniform-spread", "all"}))
+  bool details = false;
+  app.add_option("--scene", scenes, "scene names (clients/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
+  app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
+      ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
       ->capture_default_str();
-  auto* coarsest_opt = app.add_option("--coarsest", coarsest, "coarsest level (default: per scene)");
-  auto* finest_opt = app.add_option("--finest", finest, "finest level: refinement limit and map level (default: per scene)");
-  auto* threshold_opt = app.add_option("--threshold", threshold, "adaptive: refine where the texture distance exceeds this (default: per scene)");
-  app.add_option("--budget", budget, "sample budget (uncertainty, uniform-spread; with --mode all: from adaptive)");
+  app.add_option("--map", map, "regions | harmonic (single modes)")
+      ->check(CLI::IsMember({"regions", "harmonic"}))
+      ->capture_default_str();
+  app.add_option("--coarsest", coarsest, "coarsest level")->capture_default_str();
+  app.add_option("--finest", finest, "the plan's finest level (-1: the map level)")->capture_default_str();
+  app.add_option("--threshold", threshold, "adaptive: refine where the texture distance exceeds this")
+      ->capture_default_str();
+  app.add_option("--budget", budget, "sample budget (0: the mode's default)")->capture_default_str();
   app.add_option("--seed", seed, "plan order and rig noise")->capture_default_str();
+  app.add_option("--points", points, "random points on the true surface to score on")->capture_default_str();
   app.add_option("--property", property, "what the texture distance compares: friction | roughness | both")
       ->check(CLI::IsMember({"friction", "roughness", "both"}))
       ->capture_default_str();
-  app.add_option("--rig-level", rig_level, "Loop level of the simulated rig's surface (at least --finest)")
-      ->capture_default_str();
-  app.add_option("--png", png, "map image (grey scale, samples and drag paths); with --mode all one per mode");
-  app.add_option("--ply", ply, "map as PLY; with --mode all one per mode");
-  app.add_option("--json", json_path, "metrics and probes as JSON");
+  app.add_option("--rig-level", rig_level, "Loop level of the simulated rig's surface")->capture_default_str();
+  app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
+  app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
+  app.add_option("--ply", ply, "map as PLY, one per run when several");
+  app.add_option("--json", json_path, "scores and probes as JSON");
   CLI11_PARSE(app, argc, argv);
-
-  const SceneDefaults defaults = DefaultsFor(scene_name);
-  if (!coarsest_opt->count()) coarsest = defaults.coarsest;
-  if (!finest_opt->count()) finest = defaults.finest;
-  if (!threshold_opt->count()) threshold = defaults.threshold;
-
-  absl::StatusOr<Scene> scene = LoadSceneByName(scene_name);
-  if (!scene.ok()) {
-    std::fprintf(stderr, "error: %s\n", std::string(scene.status().message()).c_str());
-    return 1;
-  }
-  absl::StatusOr<std::unique_ptr<MappingBench>> bench = MappingBench::Create(*std::move(scene), finest, seed, rig_level);
-  if (!bench.ok()) {
-    std::fprintf(stderr, "error: %s\n", std::string(bench.status().message()).c_str());
-    return 1;
-  }
+  if (scenes.size() == 1 && scenes[0] == "all") scenes = kAllScenes;
 
   MappingRunOptions base;
   base.coarsest_level = coarsest;
@@ -115,76 +93,106 @@ int Main(int argc, char** argv) {
   base.threshold = threshold;
   base.sample_budget = budget;
   base.seed = seed;
+  base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = property == "roughness" ? TextureProperty::kRoughness
                   : property == "both"    ? TextureProperty::kBoth
                                           : TextureProperty::kFriction;
+  SurfaceScoreOptions score_options;
+  score_options.points = points;
 
-  std::vector<MappingRunResult> runs;
-  auto run = [&](MappingRunOptions options) -> bool {
-    absl::StatusOr<MappingRunResult> result = RunMapping(**bench, options);
-    if (!result.ok()) {
-      std::fprintf(stderr, "error: %s run: %s\n", std::string(SamplingModeName(options.mode)).c_str(),
-                   std::string(result.status().message()).c_str());
-      return false;
-    }
-    runs.push_back(*std::move(result));
-    return true;
-  };
-  if (mode == "all") {
-    MappingRunOptions adaptive = base;
-    adaptive.mode = SamplingMode::kAdaptive;
-    adaptive.sample_budget = 0;
-    if (!run(adaptive)) return 1;
-    int measured = 0;
-    for (const ProbeRecord& p : runs.front().probes) measured += p.measured;
-    MappingRunOptions uncertainty = base;
-    uncertainty.mode = SamplingMode::kUncertainty;
-    uncertainty.sample_budget = measured;
-    MappingRunOptions uniform = base;
-    uniform.mode = SamplingMode::kUniformLevel;
-    uniform.coarsest_level = NearestLevel(**bench, 0, measured);
-    uniform.sample_budget = 0;
-    MappingRunOptions spread = base;
-    spread.mode = SamplingMode::kUniformSpread;
-    spread.sample_budget = measured;
-    if (!run(uncertainty) || !run(uniform) || !run(spread)) return 1;
-  } else {
-    MappingRunOptions options = base;
-    options.mode = mode == "uniform"       ? SamplingMode::kUniformLevel
-                   : mode == "uncertainty" ? SamplingMode::kUncertainty
-                   : mode == "uniform-spread" ? SamplingMode::kUniformSpread
-                                              : SamplingMode::kAdaptive;
-    if (!run(options)) return 1;
-  }
-
-  std::printf("scene %s: finest level %d, %d vertices\n", (*bench)->scene().name.c_str(), finest,
-              runs.front().evaluation.vertices);
-  std::printf("%s", FormatComparisonTable(runs).c_str());
-
-  const bool several = runs.size() > 1;
   nlohmann::json all = nlohmann::json::array();
-  for (const MappingRunResult& r : runs) {
-    all.push_back(RunToJson(r));
-    if (!png.empty()) {
-      absl::StatusOr<std::string> bytes = RunPng(**bench, r);
-      if (!bytes.ok()) {
-        std::fprintf(stderr, "error: png: %s\n", std::string(bytes.status().message()).c_str());
-        return 1;
-      }
-      if (!WriteFile(PathFor(png, r, several), *bytes)) return 1;
+  std::string table;
+  int files = 0;
+  for (const std::string& scene_name : scenes) {
+    absl::StatusOr<Scene> scene = LoadSceneByName(scene_name);
+    if (!scene.ok()) {
+      std::fprintf(stderr, "error: %s\n", std::string(scene.status().message()).c_str());
+      return 1;
     }
-    if (!ply.empty()) {
-      absl::StatusOr<std::string> text = RunPly(**bench, r);
-      if (!text.ok()) {
-        std::fprintf(stderr, "error: ply: %s\n", std::string(text.status().message()).c_str());
-        return 1;
+    absl::StatusOr<std::unique_ptr<MappingBench>> bench =
+        MappingBench::Create(*std::move(scene), seed, rig_level, -1, score_options);
+    if (!bench.ok()) {
+      std::fprintf(stderr, "error: %s: %s\n", scene_name.c_str(), std::string(bench.status().message()).c_str());
+      return 1;
+    }
+    std::vector<MappingRunResult> runs;
+    auto run = [&](MappingRunOptions options) -> bool {
+      absl::StatusOr<MappingRunResult> result = RunMapping(**bench, options);
+      if (!result.ok()) {
+        std::fprintf(stderr, "error: %s: %s run: %s\n", scene_name.c_str(),
+                     std::string(SamplingModeName(options.mode)).c_str(), std::string(result.status().message()).c_str());
+        return false;
       }
-      if (!WriteFile(PathFor(ply, r, several), *text)) return 1;
+      runs.push_back(*std::move(result));
+      return true;
+    };
+    if (mode == "evidence") {
+      MappingRunOptions job = base;  // the default job: only the mode is given
+      job.mode = SamplingMode::kBoundary;
+      job.map = MapKind::kRegions;
+      job.coarsest_level = 0;
+      job.finest_level = -1;
+      job.sample_budget = 0;
+      if (!run(job)) return 1;
+      MappingRunOptions before = base;  // the demo's job on the build before line samples
+      before.mode = SamplingMode::kAdaptive;
+      before.map = MapKind::kHarmonic;
+      before.coarsest_level = 0;
+      before.finest_level = 1;
+      before.threshold = 4.0;
+      before.sample_budget = 0;
+      if (!run(before)) return 1;
+      MappingRunOptions uniform = base;
+      uniform.mode = SamplingMode::kUniformSpread;
+      uniform.finest_level = -1;
+      uniform.sample_budget = runs.front().measured();
+      uniform.map = MapKind::kRegions;
+      if (!run(uniform)) return 1;
+      uniform.map = MapKind::kHarmonic;
+      if (!run(uniform)) return 1;
+    } else {
+      MappingRunOptions options = base;
+      options.mode = mode == "boundary"      ? SamplingMode::kBoundary
+                     : mode == "adaptive"    ? SamplingMode::kAdaptive
+                     : mode == "uncertainty" ? SamplingMode::kUncertainty
+                     : mode == "uniform"     ? SamplingMode::kUniformLevel
+                                             : SamplingMode::kUniformSpread;
+      if (!run(options)) return 1;
+    }
+    const std::string rows = FormatRunTable(scene_name, (*bench)->control_vertices(), runs);
+    table += table.empty() ? rows : rows.substr(rows.find('\n') + 1);
+    std::printf("%s", rows.c_str());
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      if (details || i == 0) std::printf("%s", FormatSurfaceScore(runs[i].score, RunLabel(runs[i])).c_str());
+    }
+    std::fflush(stdout);
+    const bool several = scenes.size() > 1 || runs.size() > 1;
+    for (std::size_t i = 0; i < runs.size(); ++i) {
+      nlohmann::json j = RunToJson(runs[i]);
+      j["scene"] = scene_name;
+      all.push_back(std::move(j));
+      if (!png.empty()) {
+        absl::StatusOr<std::string> bytes = RunPng(**bench, runs[i]);
+        if (!bytes.ok()) {
+          std::fprintf(stderr, "error: png: %s\n", std::string(bytes.status().message()).c_str());
+          return 1;
+        }
+        if (!WriteFile(PathFor(png, scene_name, static_cast<int>(i), several), *bytes)) return 1;
+        ++files;
+      }
+      if (!ply.empty()) {
+        absl::StatusOr<std::string> text = RunPly(**bench, runs[i]);
+        if (!text.ok()) {
+          std::fprintf(stderr, "error: ply: %s\n", std::string(text.status().message()).c_str());
+          return 1;
+        }
+        if (!WriteFile(PathFor(ply, scene_name, static_cast<int>(i), several), *text)) return 1;
+      }
     }
   }
+  if (scenes.size() > 1) std::printf("\nall scenes:\n%s", table.c_str());
   if (!json_path.empty()) {
-    nlohmann::json doc = {{"scene", (*bench)->scene().name}, {"runs", all}};
-    if (!WriteFile(json_path, doc.dump(2) + "\n")) return 1;
+    if (!WriteFile(json_path, nlohmann::json{{"runs", all}}.dump(2) + "\n")) return 1;
   }
   return 0;
 }

@@ -214,9 +214,37 @@ absl::StatusOr<SceneRegion> SceneParser::ParseRegion(const Json& region, const s
       patch.radial_max_mm = (*radial)[1] * scale_;
     }
     out.shape = patch;
+  } else if (*shape == "oriented_box") {
+    if (absl::Status s = CheckKeys(region, path, {"material", "shape", "center", "u", "v", "half_size"}, {}); !s.ok()) {
+      return s;
+    }
+    auto center = Vec3(region, path, "center");
+    auto u = Vec3(region, path, "u");
+    auto v = Vec3(region, path, "v");
+    auto half = Vec3(region, path, "half_size");
+    for (const auto* r : {&center, &u, &v, &half}) {
+      if (!r->ok()) return r->status();
+    }
+    if (u->norm() < 1e-12) return Error(path + ".u", "must be non-zero");
+    OrientedBoxRegion box;
+    box.center = *center * scale_;
+    box.u = u->normalized();
+    const Eigen::Vector3d v_perp = *v - v->dot(box.u) * box.u;
+    if (v_perp.norm() < 1e-6 * v->norm() || v->norm() < 1e-12) {
+      return Error(path + ".v", "must be non-zero and not parallel to u");
+    }
+    box.v = v_perp.normalized();
+    box.w = box.u.cross(box.v);
+    for (int i = 0; i < 3; ++i) {
+      if (!((*half)[i] > 0.0)) {
+        return Error(absl::StrCat(path, ".half_size[", i, "]"), absl::StrCat((*half)[i], " must be > 0"));
+      }
+    }
+    box.half_size = *half * scale_;
+    out.shape = box;
   } else {
     return Error(path + ".shape", absl::StrCat("unknown shape ", Quoted(*shape),
-                                              " (expected 'box', 'sphere' or 'cylinder_patch')"));
+                                              " (expected 'box', 'sphere', 'cylinder_patch' or 'oriented_box')"));
   }
   absl::StatusOr<std::string> material = String(region, path, "material");
   if (!material.ok()) return material.status();
@@ -325,6 +353,10 @@ bool SceneRegion::Contains(const Eigen::Vector3d& p) const {
           return (p.array() >= s.min.array()).all() && (p.array() <= s.max.array()).all();
         } else if constexpr (std::is_same_v<T, SphereRegion>) {
           return (p - s.center).squaredNorm() <= s.radius * s.radius;
+        } else if constexpr (std::is_same_v<T, OrientedBoxRegion>) {
+          const Eigen::Vector3d d = p - s.center;
+          return std::abs(d.dot(s.u)) <= s.half_size.x() && std::abs(d.dot(s.v)) <= s.half_size.y() &&
+                 std::abs(d.dot(s.w)) <= s.half_size.z();
         } else {
           const Eigen::Vector3d d = p - s.axis_point;
           const double h = d.dot(s.axis);

@@ -6,7 +6,9 @@
 //    "materials": {"glass": {"mu": 0.13, "a1": 0, "a2": 0, "sigma": 0.005}, ...},
 //    "regions": [{"material": "sandpaper", "shape": "cylinder_patch", ...},
 //                {"material": "...", "shape": "box", "min": [..], "max": [..]},
-//                {"material": "...", "shape": "sphere", "center": [..], "radius": r}]}
+//                {"material": "...", "shape": "sphere", "center": [..], "radius": r},
+//                {"material": "...", "shape": "oriented_box", "center": [..], "u": [..], "v": [..],
+//                 "half_size": [hu, hv, hw]}]}
 //
 // The first region containing a point gives its material; elsewhere the
 // default material applies. Everything is converted to mm on load.
@@ -55,7 +57,19 @@ struct CylinderPatchRegion {
   double radial_max_mm = 1e300;
 };
 
-using RegionShape = std::variant<BoxRegion, SphereRegion, CylinderPatchRegion>;
+// A box in any orientation: the points whose coordinates along the unit axes
+// u, v and w = u x v (v made orthogonal to u), from `center`, are within
+// +-half_size on each axis. Strips (thin along one axis) and patches at any
+// angle to the world axes.
+struct OrientedBoxRegion {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d v = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d w = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d half_size = Eigen::Vector3d::Zero();
+};
+
+using RegionShape = std::variant<BoxRegion, SphereRegion, CylinderPatchRegion, OrientedBoxRegion>;
 
 struct SceneRegion {
   int material = 0;  // index into Scene::materials

@@ -6,6 +6,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include "clients/rig/surface_score.h"
+#include "server/mesh/loop_surface.h"
 #include "server/mesh/primitive_meshes.h"
 
 namespace surfmap {
@@ -89,6 +91,19 @@ TEST_F(SceneFilesTest, CylinderPatchSelectsAngleHeightAndRadius) {
   EXPECT_EQ(at(180, 55, 15), 0);
 }
 
+TEST_F(SceneFilesTest, OrientedBoxSelectsAlongItsOwnAxes) {
+  // A strip 2 mm wide (along v) and 40 mm long (along u) at 45 degrees in xy.
+  auto scene = Parse(SceneJson(R"({"material": "rubber", "shape": "oriented_box", "center": [0, 0, 0],
+                                   "u": [1, 1, 0], "v": [-1, 1.5, 0], "half_size": [20, 1, 5]})"));
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const int rubber = scene->FindMaterial("rubber");
+  EXPECT_EQ(scene->MaterialIndexAt({10, 10, 0}), rubber);    // along u
+  EXPECT_EQ(scene->MaterialIndexAt({10.6, 9.4, 4}), rubber);  // 0.85 mm across, 4 mm along w
+  EXPECT_NE(scene->MaterialIndexAt({10.8, 9.2, 0}), rubber);  // 1.13 mm across
+  EXPECT_NE(scene->MaterialIndexAt({15, 15, 0}), rubber);     // 21.2 mm along
+  EXPECT_NE(scene->MaterialIndexAt({0, 0, 6}), rubber);       // beyond w
+}
+
 TEST_F(SceneFilesTest, UnitsScaleMeshAndRegionsToMillimetres) {
   auto scene = Parse(SceneJson(R"({"material": "rubber", "shape": "sphere", "center": [0, 0, 0], "radius": 0.5})",
                                R"("units": "cm", )"));
@@ -111,6 +126,12 @@ TEST_F(SceneFilesTest, RejectsInvalidScenes) {
               absl::StatusCode::kInvalidArgument, "box min[1]");
   ExpectError(SceneJson(R"({"material": "glass", "shape": "cone"})"), absl::StatusCode::kInvalidArgument,
               "unknown shape 'cone'");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "oriented_box", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [2, 0, 0], "half_size": [1, 1, 1]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].v: must be non-zero and not parallel to u");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "oriented_box", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [0, 1, 0], "half_size": [1, 0, 1]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].half_size[1]: 0 must be > 0");
   ExpectError(SceneJson(R"({"material": "glass", "shape": "sphere", "center": [0, 0], "radius": 1})"),
               absl::StatusCode::kInvalidArgument, "regions[0].center: must be an array of 3 numbers");
   ExpectError(SceneJson(R"({"material": "glass", "shape": "cylinder_patch", "axis_point": [0, 0, 0],
@@ -187,6 +208,64 @@ TEST(BuiltInScenesTest, PlateHasRubberMasoniteAndWood) {
   EXPECT_NEAR(scene->MaterialAt({-65, 0, 0}).mu, 0.305, 1e-12);
   EXPECT_NEAR(scene->MaterialAt({30, 0, 0}).a1, 1.61, 1e-12);
   EXPECT_NEAR(scene->MaterialAt({80, 60, 0}).mu, 0.42, 1e-12);
+}
+
+// The scenes beyond the paper's bottle and plate: every region is a feature
+// comparable to or smaller than a 20 mm drag in at least one direction, and
+// the control meshes were not built around the regions: control vertices lie
+// near a boundary no more often than random points of the surface do.
+TEST(BuiltInScenesTest, NewScenesHaveDragSizedFeaturesOffTheControlMesh) {
+  constexpr double kNearMm = 1.0;
+  for (const char* name : {"banded_vase", "strip_block", "dotted_egg", "torus_handle"}) {
+    SCOPED_TRACE(name);
+    auto scene = LoadSceneByName(name);
+    ASSERT_TRUE(scene.ok()) << scene.status();
+    ASSERT_GE(scene->regions.size(), 2u);
+    SurfaceScoreOptions options;
+    options.points = 4000;
+    auto scorer = SurfaceScorer::Create(*scene, options);
+    ASSERT_TRUE(scorer.ok()) << scorer.status();
+    // Every region holds points of the true surface (none is hidden by an
+    // earlier one or off the object).
+    std::vector<int> count(scene->regions.size(), 0);
+    for (const Eigen::Vector3d& p : scorer->points()) {
+      for (std::size_t r = 0; r < scene->regions.size(); ++r) {
+        if (scene->regions[r].Contains(p)) {
+          ++count[r];
+          break;
+        }
+      }
+    }
+    for (std::size_t r = 0; r < count.size(); ++r) EXPECT_GT(count[r], 0) << "regions[" << r << "]";
+    auto near_boundary = [&](const Eigen::Vector3d& p) {
+      for (const Eigen::Vector3d& b : scorer->truth_boundary()) {
+        if ((b - p).squaredNorm() < kNearMm * kNearMm) return true;
+      }
+      return false;
+    };
+    int points_near = 0;
+    for (const Eigen::Vector3d& p : scorer->points()) points_near += near_boundary(p);
+    auto surface = LoopSurface::Create(scene->mesh, 1);
+    ASSERT_TRUE(surface.ok());
+    const SurfaceLevel& level0 = (*surface)->level(0);
+    int vertices_near = 0;
+    for (const Eigen::Vector3d& p : level0.limit_positions) vertices_near += near_boundary(p);
+    const double point_share = static_cast<double>(points_near) / scorer->points().size();
+    const double vertex_share = static_cast<double>(vertices_near) / level0.limit_positions.size();
+    // Twice the chance rate, plus two vertices of slack for small counts.
+    EXPECT_LE(vertex_share, 2.0 * point_share + 2.0 / level0.limit_positions.size())
+        << vertices_near << " of " << level0.limit_positions.size() << " control vertices within " << kNearMm
+        << " mm of a boundary; " << 100.0 * point_share << " % of the surface is";
+    // No boundary runs along a control edge: never both ends and the middle
+    // (the edge's level-1 child) near a boundary.
+    const SurfaceLevel& level1 = (*surface)->level(1);
+    for (std::size_t e = 0; e < level0.edges.size(); ++e) {
+      const auto [a, b] = level0.edges[e];
+      EXPECT_FALSE(near_boundary(level0.limit_positions[a]) && near_boundary(level0.limit_positions[b]) &&
+                   near_boundary(level1.limit_positions[level0.edge_child_vertex[e]]))
+          << "control edge " << a << "-" << b << " lies along a boundary";
+    }
+  }
 }
 
 }  // namespace

@@ -8,22 +8,32 @@
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
 #include "server/estimate/fit_trace.h"
+#include "server/estimate/line_sample.h"
 
 namespace surfmap {
 
 // Estimator identity stored with every fit (provenance).
 inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
-inline constexpr const char* kEstimatorVersion = "1";
+// Version 2: a fit carries its change points, pieces and path (line sample);
+// version 1 fits read back without them.
+inline constexpr const char* kEstimatorVersion = "2";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 // Missing keys keep their defaults; unknown keys and wrong types are errors.
 absl::StatusOr<FitOptions> FitOptionsFromJson(const nlohmann::json& json);
 
 // The flat summary: mu, mu_std, mu_median, normal[3], n_pairs, window_mm[2],
-// a1..ap (as "a" array and a1/a2 keys), a_stderr, sigma, stationary,
-// reflection, acf_decay_mm, dominant_wavelength_mm (null when none),
-// below_noise_floor, noise_std, path_length_mm. Per-pair arrays only when
-// `with_series` (they are large).
+// a1..ap (as "a" array and a1/a2 keys), a_stderr, sigma, variance,
+// stationary, reflection, acf_decay_mm, dominant_wavelength_mm (null when
+// none), below_noise_floor, roughness_n, noise_std, path_length_mm,
+// roughness_piece; the line sample: "changes" [{s_mm, pair, statistic,
+// critical_value}], "pieces" [{start_mm, end_mm, first_pair, pairs,
+// starts_at_change, ends_at_change, mu, mu_std, mu_median, mu_se,
+// effective_pairs, roughness: "fitted"|"too_short"|"fit_failed",
+// roughness_note?, fit?: {the roughness keys above}}], "path" {s_mm[],
+// points[[x,y,z]]}. Per-pair arrays only when `with_series` (they are large).
+// TraceFitFromJson reads fits without the line-sample keys (version 1) with
+// no changes, pieces or path.
 nlohmann::json TraceFitToJson(const TraceFit& fit, bool with_series = false);
 absl::StatusOr<TraceFit> TraceFitFromJson(const nlohmann::json& json);
 

@@ -1,11 +1,83 @@
 #include "server/estimate/fit_trace.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
 
 namespace surfmap {
+namespace {
+
+// Forward positions at s = window start, start + step, ..., window end.
+DragPathSamples SamplePath(std::span<const DragSample> forward, const PathPairing& pairing,
+                           const FrictionFit& friction, double step_mm) {
+  DragPathSamples path;
+  const double start = friction.window_start_mm, end = friction.window_end_mm;
+  const int n = static_cast<int>(forward.size());
+  const auto key = [&](int i) { return pairing.forward_s[i]; };
+  MonotoneBracket bracket(n);
+  const int steps = std::max(1, static_cast<int>(std::ceil((end - start) / step_mm - 1e-9)));
+  for (int k = 0; k <= steps; ++k) {
+    const double s = k == steps ? end : start + k * step_mm;
+    int i;
+    double w;
+    bracket.Locate(s, key, &i, &w);
+    const int j = std::min(i + 1, n - 1);
+    path.s_mm.push_back(s);
+    path.points.push_back((1.0 - w) * forward[i].position + w * forward[j].position);
+  }
+  return path;
+}
+
+ArFitOptions RoughnessOptions(const FitOptions& options, double noise_std, double mu) {
+  ArFitOptions ar;
+  ar.order = options.ar_order;
+  ar.method = options.ar_method;
+  ar.step_mm = options.step_mm;
+  if (options.noise_aware) ar.noise_variance = noise_std * noise_std * (1.0 + mu * mu);
+  return ar;
+}
+
+// The roughness of each piece of a drag that crossed material changes, fitted
+// over the piece alone (less the guard next to each change).
+void FitPieceRoughness(std::span<const DragSample> forward, std::span<const DragSample> reverse,
+                       const PathPairing& pairing, const FitOptions& options, TraceFit& fit) {
+  for (DragPiece& piece : fit.pieces) {
+    const double start = piece.start_mm + (piece.starts_at_change ? options.change_guard_mm : 0.0);
+    const double end = piece.end_mm - (piece.ends_at_change ? options.change_guard_mm : 0.0);
+    if (end - start < options.min_roughness_piece_mm) {
+      piece.roughness_state = PieceRoughness::kTooShort;
+      piece.roughness_note = absl::StrCat("piece of ", end - start, " mm is shorter than the ",
+                                          options.min_roughness_piece_mm, " mm a roughness fit needs");
+      continue;
+    }
+    absl::StatusOr<std::vector<Eigen::VectorXd>> series =
+        ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm);
+    absl::StatusOr<ArFit> roughness = series.ok() ? FitAutoregressive(*series, RoughnessOptions(options, fit.noise_std, piece.mu))
+                                                  : absl::StatusOr<ArFit>(series.status());
+    if (!roughness.ok()) {
+      piece.roughness_state = PieceRoughness::kFitFailed;
+      piece.roughness_note = std::string(roughness.status().message());
+      continue;
+    }
+    piece.roughness_state = PieceRoughness::kFitted;
+    piece.roughness = *std::move(roughness);
+  }
+  // The drag's roughness: the longest fitted piece.
+  fit.roughness_piece = -1;
+  for (int p = 0; p < static_cast<int>(fit.pieces.size()); ++p) {
+    if (fit.pieces[p].roughness_state != PieceRoughness::kFitted) continue;
+    if (fit.roughness_piece < 0 || fit.pieces[p].length_mm() > fit.pieces[fit.roughness_piece].length_mm()) {
+      fit.roughness_piece = p;
+    }
+  }
+  fit.roughness = fit.roughness_piece >= 0 ? fit.pieces[fit.roughness_piece].roughness : ArFit{};
+}
+
+}  // namespace
 
 bool FitOptions::IsValid(std::string* why) const {
   auto fail = [&](std::string message) {
@@ -20,6 +92,12 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!window.IsValid(&inner)) return fail(inner);
   if (!pairing.IsValid(&inner)) return fail(absl::StrCat("pairing: ", inner));
   if (!friction.IsValid(&inner)) return fail(absl::StrCat("friction: ", inner));
+  if (!changes.IsValid(&inner)) return fail(absl::StrCat("changes: ", inner));
+  if (!(std::isfinite(min_roughness_piece_mm) && min_roughness_piece_mm > 0.0)) {
+    return fail("min_roughness_piece_mm must be > 0");
+  }
+  if (!(std::isfinite(change_guard_mm) && change_guard_mm >= 0.0)) return fail("change_guard_mm must be >= 0");
+  if (!(std::isfinite(path_step_mm) && path_step_mm > 0.0)) return fail("path_step_mm must be > 0");
   return true;
 }
 
@@ -53,23 +131,40 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   fit.max_retrace_offset_mm = pairing->max_offset_mm;
   fit.noise_std = PauseNoiseStd(pause);
 
+  fit.path = SamplePath(forward, *pairing, fit.friction, options.path_step_mm);
+
+  absl::StatusOr<std::vector<ChangePoint>> changes =
+      DetectChangePoints(fit.friction.pair_s_mm, fit.friction.pair_mu, options.changes);
+  if (!changes.ok()) return changes.status();
+  fit.changes = *std::move(changes);
+  absl::StatusOr<std::vector<DragPiece>> pieces = CutDragPieces(fit.friction, fit.changes);
+  if (!pieces.ok()) return pieces.status();
+  fit.pieces = *std::move(pieces);
+  if (fit.pieces.size() > 1) {
+    FitPieceRoughness(forward, reverse, *pairing, options, fit);
+    return fit;
+  }
+
+  // One piece: the whole window, fitted as it always was (an error if it fails).
   absl::StatusOr<std::vector<Eigen::VectorXd>> series =
       ForceVariationSeries(forward, reverse, *pairing, fit.friction, options.step_mm);
   if (!series.ok()) return series.status();
-  ArFitOptions ar;
-  ar.order = options.ar_order;
-  ar.method = options.ar_method;
-  ar.step_mm = options.step_mm;
-  if (options.noise_aware) {
-    const double mu = fit.friction.mu;
-    ar.noise_variance = fit.noise_std * fit.noise_std * (1.0 + mu * mu);
-  }
-  absl::StatusOr<ArFit> roughness = FitAutoregressive(*series, ar);
+  absl::StatusOr<ArFit> roughness = FitAutoregressive(*series, RoughnessOptions(options, fit.noise_std, fit.friction.mu));
   if (!roughness.ok()) {
     return absl::Status(roughness.status().code(),
                         absl::StrCat("roughness fit: ", roughness.status().message()));
   }
   fit.roughness = *std::move(roughness);
+  fit.roughness_piece = 0;
+  DragPiece& piece = fit.pieces.front();
+  if (piece.length_mm() >= options.min_roughness_piece_mm) {
+    piece.roughness_state = PieceRoughness::kFitted;
+    piece.roughness = fit.roughness;
+  } else {
+    piece.roughness_state = PieceRoughness::kTooShort;
+    piece.roughness_note = absl::StrCat("piece of ", piece.length_mm(), " mm is shorter than the ",
+                                        options.min_roughness_piece_mm, " mm a roughness fit needs");
+  }
   return fit;
 }
 

@@ -2,8 +2,15 @@
 //
 // Steps (each its own file): SplitDragPasses (drag_passes.h) -> PairPasses by
 // arc length (path_pairing.h) -> ChooseDataWindow (data_window.h) ->
-// FitFriction, the differential method (friction.h) -> ForceVariationSeries
-// and PauseNoiseStd (force_variation.h) -> FitAutoregressive (roughness.h).
+// FitFriction, the differential method (friction.h) -> DetectChangePoints in
+// the per-pair mu (change_points.h) -> CutDragPieces (drag_pieces.h) ->
+// ForceVariationSeries per piece and PauseNoiseStd (force_variation.h) ->
+// FitAutoregressive (roughness.h).
+//
+// A drag is a line sample: the pieces (each a pure stretch of one material,
+// with its extent along the path) and the path itself (`path`, positions of
+// the window every path_step_mm) are what a map needs; the headline mu is
+// the mean over the whole window, a blend when the drag crossed a boundary.
 #pragma once
 
 #include <string>
@@ -11,7 +18,9 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
+#include "server/estimate/change_points.h"
 #include "server/estimate/data_window.h"
+#include "server/estimate/drag_pieces.h"
 #include "server/estimate/drag_trace.h"
 #include "server/estimate/friction.h"
 #include "server/estimate/path_pairing.h"
@@ -35,14 +44,47 @@ struct FitOptions {
   int min_pass_samples = 10;      // per pass, before any windowing
   PairingOptions pairing;         // retrace limits
   FrictionOptions friction;       // contact force floor, minimum pairs
+  ChangePointOptions changes;     // material changes inside a drag
+  // A piece gets its own roughness fit only when its extent (less the guard
+  // at each change) is at least this long. Why 5 mm: at the 0.1 mm grid that
+  // is 50 points per pass; the AR(2) coefficients' standard error is then
+  // about sqrt((1 - a2^2) / n) <= 0.1 (both passes, which feel the same
+  // texture, count once), enough to tell the paper's textures apart (rubber
+  // a1 0.6, masonite 1.61, sandpaper 0.3) and to pool into a map. Shorter
+  // pieces are flagged kTooShort, never fitted with their neighbours.
+  double min_roughness_piece_mm = 5.0;
+  // Left out of a piece's roughness series next to a change point: the change
+  // is located to about one pair spacing (0.1 mm) and the texture on the
+  // other side must not leak into the fit.
+  double change_guard_mm = 0.3;
+  // Spacing of TraceFit::path (positions of the window along the forward
+  // path): a 20 mm drag on a 40 mm radius has a chord error of 0.003 mm at 1 mm.
+  double path_step_mm = 1.0;
   bool IsValid(std::string* why) const;
+};
+
+// Positions of the forward path over the data window: s_mm[i] (mm from the
+// forward path's first sample, the frame of FrictionFit::window_* and
+// DragPiece) and points[i] (mm, the trace's frame). Both window ends are
+// included; interior points every FitOptions::path_step_mm.
+struct DragPathSamples {
+  std::vector<double> s_mm;
+  std::vector<Eigen::Vector3d> points;
 };
 
 // FrictionFit is declared in friction.h.
 
 struct TraceFit {
   FrictionFit friction;
+  // The roughness of the drag: the whole window's fit when no change was
+  // detected; otherwise the fit of the longest piece that has one (index in
+  // roughness_piece), never a fit across a change; empty (a = {}, stationary
+  // false, roughness_piece -1) when no piece could be fitted.
   ArFit roughness;
+  int roughness_piece = 0;
+  std::vector<ChangePoint> changes;  // detected in friction.pair_mu, in path order
+  std::vector<DragPiece> pieces;     // changes.size() + 1 pieces covering the window
+  DragPathSamples path;
   double noise_std = 0.0;         // force noise during the pause, N (PauseNoiseStd)
   double path_length_mm = 0.0;    // forward path length
   double max_retrace_offset_mm = 0.0;  // largest reverse-to-forward path distance
@@ -59,7 +101,9 @@ struct TraceFit {
 // Roughness: FitAutoregressive on the two segments of ForceVariationSeries
 // (forward and reverse pass); with noise_aware the noise variance passed on
 // is noise_std^2 * (1 + mu^2): the variation |f_t| - mu f_n carries the
-// tangential noise plus mu times the normal noise.
+// tangential noise plus mu times the normal noise. With one piece a failing
+// roughness fit is an error (as above); with several, each piece's fit is its
+// own, and a piece whose fit fails is marked kFitFailed with the reason.
 absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& options);
 
 // What the sampling plan and the map take from a fit: mu and its spread, and

@@ -259,3 +259,103 @@ TEST(TextureOfTest, KeepsRoughnessOnlyWhenTheModelIsStationary) {
 
 }  // namespace
 }  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+// The true arc length along the forward pass where the material changes.
+std::vector<double> TrueChanges(const DragSimResult& sim) {
+  std::vector<double> out;
+  for (std::size_t i = 1; i < sim.trace.samples.size(); ++i) {
+    if (sim.trace.samples[i].phase != DragPhase::kForward) break;
+    if (sim.truth.material_mu[i] != sim.truth.material_mu[i - 1]) {
+      out.push_back(0.5 * (sim.truth.s_mm[i] + sim.truth.s_mm[i - 1]));
+    }
+  }
+  return out;
+}
+
+TEST(FitTraceTest, ADragAcrossABoundaryIsCutThereIntoPurePieces) {
+  // Glass | rubber at the middle of a 20 mm drag around a 40 mm cylinder.
+  // Located within 0.15 mm in every seed: the change lies between two pairs
+  // 0.1 mm apart (measured: 0.04 mm mean). Each piece's mu within its
+  // material's realised spread: glass's texture is tiny (its pieces are
+  // exact to ~1e-3); rubber's texture has a long-run spread of
+  // sigma / (1 - a1 - a2) / 5 N = 0.147 per pair, so the mean of an 8 mm
+  // piece (80 pairs) varies by 0.016 about the nominal 0.305: 3 x that.
+  for (std::uint64_t seed = 1; seed <= 10; ++seed) {
+    DragSimOptions options;
+    options.seed = seed;
+    auto sim = SimulateDrag(CylinderGeometry(40.0, 20.0),
+                            SplitMaterial(kGlass, kRubber, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitX()), options);
+    ASSERT_TRUE(sim.ok());
+    auto fit = FitTrace(sim->trace, FitOptions{});
+    ASSERT_TRUE(fit.ok()) << fit.status();
+    const std::vector<double> truth = TrueChanges(*sim);
+    ASSERT_EQ(truth.size(), 1u);
+    ASSERT_EQ(fit->changes.size(), 1u) << "seed " << seed;
+    EXPECT_NEAR(fit->changes[0].s_mm, truth[0], 0.15) << "seed " << seed;
+    ASSERT_EQ(fit->pieces.size(), 2u);
+    EXPECT_NEAR(fit->pieces[0].mu, kGlass.mu, 0.003);
+    EXPECT_NEAR(fit->pieces[1].mu, kRubber.mu, 0.05);
+    EXPECT_DOUBLE_EQ(fit->pieces[0].start_mm, fit->friction.window_start_mm);
+    EXPECT_DOUBLE_EQ(fit->pieces[0].end_mm, fit->changes[0].s_mm);
+    EXPECT_DOUBLE_EQ(fit->pieces[1].end_mm, fit->friction.window_end_mm);
+    // Both pieces are ~8 mm: each has its own roughness fit; the drag's
+    // roughness is the longer piece's, not a fit across the boundary.
+    EXPECT_EQ(fit->pieces[0].roughness_state, PieceRoughness::kFitted);
+    EXPECT_EQ(fit->pieces[1].roughness_state, PieceRoughness::kFitted);
+    ASSERT_GE(fit->roughness_piece, 0);
+    EXPECT_EQ(fit->roughness.sigma, fit->pieces[fit->roughness_piece].roughness.sigma);
+    EXPECT_TRUE(fit->pieces[0].roughness.below_noise_floor);  // glass
+    EXPECT_FALSE(fit->pieces[1].roughness.below_noise_floor);  // rubber
+    // The path covers the window: ends included, 1 mm apart inside.
+    ASSERT_GE(fit->path.s_mm.size(), 2u);
+    EXPECT_DOUBLE_EQ(fit->path.s_mm.front(), fit->friction.window_start_mm);
+    EXPECT_DOUBLE_EQ(fit->path.s_mm.back(), fit->friction.window_end_mm);
+    EXPECT_NEAR(fit->path.s_mm[1] - fit->path.s_mm[0], 1.0, 1e-12);
+  }
+}
+
+TEST(FitTraceTest, ABandNarrowerThanTheDragGivesThreePiecesAndAShortOneIsNotFitted) {
+  // 4.5 mm of sandpaper across a glass drag from s = 6.5 to 11 mm (data
+  // window 2..18 mm): its piece, less the 0.3 mm guards, is 3.9 mm, under
+  // the 5 mm a roughness fit needs; so is the 4.5 mm glass piece before it;
+  // the 7 mm glass piece after it is fitted.
+  const MaterialField band = [](const Eigen::Vector3d& p) { return std::abs(p.x() + 1.25) < 2.25 ? kSandpaper : kGlass; };
+  DragSimOptions options;
+  options.seed = 3;
+  auto sim = SimulateDrag(TiltedPlaneGeometry(10.0, 20.0), band, options);
+  ASSERT_TRUE(sim.ok());
+  auto fit = FitTrace(sim->trace, FitOptions{});
+  ASSERT_TRUE(fit.ok()) << fit.status();
+  const std::vector<double> truth = TrueChanges(*sim);
+  ASSERT_EQ(truth.size(), 2u);
+  ASSERT_EQ(fit->changes.size(), 2u);
+  EXPECT_NEAR(fit->changes[0].s_mm, truth[0], 0.15);
+  EXPECT_NEAR(fit->changes[1].s_mm, truth[1], 0.15);
+  ASSERT_EQ(fit->pieces.size(), 3u);
+  EXPECT_NEAR(fit->pieces[1].mu, kSandpaper.mu, 0.05);
+  EXPECT_EQ(fit->pieces[1].roughness_state, PieceRoughness::kTooShort);
+  EXPECT_NE(fit->pieces[1].roughness_note.find("shorter than the 5 mm"), std::string::npos)
+      << fit->pieces[1].roughness_note;
+  EXPECT_EQ(fit->pieces[0].roughness_state, PieceRoughness::kTooShort);
+  EXPECT_EQ(fit->pieces[2].roughness_state, PieceRoughness::kFitted);
+  EXPECT_EQ(fit->roughness_piece, 2);
+}
+
+TEST(FitTraceTest, ADragOnOneMaterialIsOnePieceWithTheWholeFit) {
+  const DragSimResult sim = Simulate(CylinderGeometry(40.0, 20.0), kRubber, 9);
+  auto fit = FitTrace(sim.trace, FitOptions{});
+  ASSERT_TRUE(fit.ok());
+  EXPECT_TRUE(fit->changes.empty());
+  ASSERT_EQ(fit->pieces.size(), 1u);
+  EXPECT_DOUBLE_EQ(fit->pieces[0].mu, fit->friction.mu);
+  EXPECT_EQ(fit->roughness_piece, 0);
+  EXPECT_EQ(fit->pieces[0].roughness.a, fit->roughness.a);
+  // Rubber's root 0.88 leaves ~11 independent pairs of 160: se ~ spread / 3.
+  EXPECT_GT(fit->pieces[0].mu_se, 2.0 * fit->friction.mu_std / std::sqrt(160.0));
+}
+
+}  // namespace
+}  // namespace surfmap

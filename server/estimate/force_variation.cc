@@ -33,7 +33,7 @@ void Detrend(double* v, int n) {
 // `order` lists the pass's sample indices in increasing arc length.
 template <typename IndexFn>
 void ResamplePass(std::span<const DragSample> samples, const std::vector<double>& s, int count,
-                  const IndexFn& index, const FrictionFit& friction, double start, double step,
+                  const IndexFn& index, const FrictionFit& friction, double mu, double start, double step,
                   int grid, std::vector<double>& pos, std::vector<double>& val, double* out) {
   pos.clear();
   val.clear();
@@ -61,7 +61,7 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     const double fn = fm / m_norm;
     const double ft = std::sqrt(std::max(0.0, f.squaredNorm() - fm * fm / (m_norm * m_norm)));
     pos.push_back(s[i]);
-    val.push_back(ft - friction.mu * fn);
+    val.push_back(ft - mu * fn);
   }
   const int nv = static_cast<int>(pos.size());
   MonotoneBracket grid_bracket(nv);
@@ -84,20 +84,29 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm) {
-  const double start = friction.window_start_mm;
-  const double length = friction.window_end_mm - start;
+  return ForceVariationSeries(forward, reverse, pairing, friction, friction.window_start_mm,
+                              friction.window_end_mm, friction.mu, step_mm);
+}
+
+absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
+                                                     std::span<const DragSample> reverse,
+                                                     const PathPairing& pairing,
+                                                     const FrictionFit& friction, double start_mm,
+                                                     double end_mm, double mu, double step_mm) {
+  const double start = start_mm;
+  const double length = end_mm - start;
   // Counted in double: the cast to int and the two series' allocation come
   // only after the count is known to be in range.
   const double points = std::floor(length / step_mm + 1e-9) + 1.0;
   if (!(step_mm > 0.0) || !(points >= 2.0) || friction.n_pairs < 1) {
     return absl::InvalidArgumentError(absl::StrFormat(
         "data window %.3f..%.3f mm holds fewer than 2 points of the %.3g mm roughness grid",
-        start, friction.window_end_mm, step_mm));
+        start, end_mm, step_mm));
   }
   if (points > kMaxRoughnessGridPoints) {
     return absl::InvalidArgumentError(absl::StrFormat(
         "data window %.6g..%.6g mm holds %.4g points of the %.3g mm roughness grid; the limit is %d",
-        start, friction.window_end_mm, points, step_mm, kMaxRoughnessGridPoints));
+        start, end_mm, points, step_mm, kMaxRoughnessGridPoints));
   }
   const int grid = static_cast<int>(points);
   const int nf = static_cast<int>(forward.size());
@@ -106,9 +115,9 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
   pos.reserve(std::max(nf, nr));
   val.reserve(std::max(nf, nr));
   std::vector<Eigen::VectorXd> series(2, Eigen::VectorXd(grid));
-  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, start, step_mm,
+  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, mu, start, step_mm,
                grid, pos, val, series[0].data());
-  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction,
+  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction, mu,
                start, step_mm, grid, pos, val, series[1].data());
   return series;
 }

@@ -36,6 +36,15 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm);
 
+// The same over the stretch start_mm..end_mm of the path (inside the friction
+// window) with friction coefficient `mu`: the series of one piece of a drag
+// (drag_pieces.h), so that no roughness fit spans a change of material.
+absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
+                                                     std::span<const DragSample> reverse,
+                                                     const PathPairing& pairing,
+                                                     const FrictionFit& friction, double start_mm,
+                                                     double end_mm, double mu, double step_mm);
+
 // White sensor noise of the force during the pause, N: per axis the
 // standard deviation of first differences over sqrt(2), combined as
 // sqrt(mean of the three variances). Differencing detrends: the residual

@@ -1,6 +1,9 @@
 #include "server/plan/drag_direction.h"
 
 #include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
 
 namespace surfmap {
 
@@ -12,6 +15,13 @@ Eigen::Vector3d TangentDragDirection(const Eigen::Vector3d& normal) {
   }
   const Eigen::Vector3d e = Eigen::Vector3d::Unit(axis);
   return (e - e.dot(n) * n).normalized();
+}
+
+Eigen::Vector3d VariedDragDirection(const Eigen::Vector3d& normal, std::uint64_t key) {
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d t = TangentDragDirection(n);
+  const double angle = static_cast<double>(key % 3) * std::numbers::pi / 3.0;
+  return (std::cos(angle) * t + std::sin(angle) * n.cross(t)).normalized();
 }
 
 }  // namespace surfmap

@@ -1,6 +1,8 @@
 // The deterministic drag direction of a probe command.
 #pragma once
 
+#include <cstdint>
+
 #include <Eigen/Core>
 
 namespace surfmap {
@@ -11,5 +13,12 @@ namespace surfmap {
 // planner needs no surface queries. `normal` must be non-zero (it is
 // normalised here).
 Eigen::Vector3d TangentDragDirection(const Eigen::Vector3d& normal);
+
+// TangentDragDirection turned about the normal by 0, 60 or 120 degrees, by
+// `key` modulo 3 (e.g. a site's shuffle key): where nothing is known yet,
+// neighbouring drags run in different directions, and a boundary of any
+// direction is crossed at 60 degrees or more by a third of them (a drag that
+// runs along a narrow band never finds it).
+Eigen::Vector3d VariedDragDirection(const Eigen::Vector3d& normal, std::uint64_t key);
 
 }  // namespace surfmap

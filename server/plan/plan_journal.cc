@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "absl/strings/str_cat.h"
+#include "server/plan/line_sample_json.h"
 
 namespace surfmap {
 namespace {
@@ -19,13 +20,13 @@ std::string PlanJournalEntryToJson(const PlanJournalEntry &entry) {
   json j = {{"sequence", entry.sequence}};
   if (entry.kind == PlanJournalEntry::Kind::kFit) {
     j["op"] = "fit";
-    j["fit"] = {{"mu", entry.fit.mu},
-                {"mu_std", entry.fit.mu_std},
-                {"reflection", entry.fit.reflection},
-                {"sigma", entry.fit.sigma}};
+    const TextureParams fit = entry.line ? SummaryTexture(*entry.line) : entry.fit;
+    j["fit"] = {{"mu", fit.mu}, {"mu_std", fit.mu_std}, {"reflection", fit.reflection}, {"sigma", fit.sigma}};
+    if (entry.line) j["line"] = LineSampleToJson(*entry.line);
   } else {
     j["op"] = "failure";
     j["reason"] = entry.reason;
+    if (entry.failure != FailureKind::kTransient) j["kind"] = std::string(FailureKindName(entry.failure));
   }
   return j.dump();
 }
@@ -59,11 +60,21 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
     entry.fit.mu_std = (*fit)["mu_std"].get<double>();
     entry.fit.sigma = (*fit)["sigma"].get<double>();
     entry.kind = PlanJournalEntry::Kind::kFit;
+    if (auto line = j.find("line"); line != j.end()) {
+      absl::StatusOr<LineSample> parsed = LineSampleFromJson(*line, "plan journal entry: line");
+      if (!parsed.ok()) return parsed.status();
+      entry.line = *std::move(parsed);
+    }
   } else if (*op == "failure") {
     auto reason = j.find("reason");
     if (reason == j.end() || !reason->is_string()) return Malformed("\"reason\" is missing or not a string");
     entry.reason = reason->get<std::string>();
     entry.kind = PlanJournalEntry::Kind::kFailure;
+    if (auto kind = j.find("kind"); kind != j.end()) {
+      std::optional<FailureKind> parsed = kind->is_string() ? ParseFailureKind(kind->get<std::string>()) : std::nullopt;
+      if (!parsed) return Malformed("\"kind\" is not \"transient\" or \"unreachable\"");
+      entry.failure = *parsed;
+    }
   } else {
     return Malformed(absl::StrCat("\"op\" is \"", op->get<std::string>(), "\", not \"fit\" or \"failure\""));
   }
@@ -71,8 +82,10 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
 }
 
 absl::Status ApplyPlanJournalEntry(const PlanJournalEntry &entry, SamplingPlan &plan) {
-  return entry.kind == PlanJournalEntry::Kind::kFit ? plan.RecordFit(entry.sequence, entry.fit)
-                                                    : plan.RecordFailure(entry.sequence, entry.reason);
+  if (entry.kind == PlanJournalEntry::Kind::kFailure) {
+    return plan.RecordFailure(entry.sequence, entry.reason, entry.failure);
+  }
+  return entry.line ? plan.RecordLineSample(entry.sequence, *entry.line) : plan.RecordFit(entry.sequence, entry.fit);
 }
 
 }  // namespace surfmap

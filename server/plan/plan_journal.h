@@ -9,10 +9,12 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 
 #include "absl/status/statusor.h"
+#include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"
 #include "server/plan/sampling_plan.h"
 
@@ -22,17 +24,26 @@ struct PlanJournalEntry {
   enum class Kind { kFit, kFailure };
   Kind kind = Kind::kFit;
   std::uint64_t sequence = 0;  // the answered command's plan sequence
-  TextureParams fit;           // kFit
+  // kFit: the drag as a line sample (path and pieces: what the plan and the
+  // map need, LineSampleOf(fit)); entries written before line samples carry
+  // only `fit`, replayed as RecordFit.
+  std::optional<LineSample> line;
+  TextureParams fit;           // kFit without a line
   std::string reason;          // kFailure
+  FailureKind failure = FailureKind::kTransient;  // kFailure
 };
 
-// {"op":"fit","sequence":n,"fit":{"mu","mu_std","reflection","sigma"}} or
-// {"op":"failure","sequence":n,"reason":"..."}.
+// {"op":"fit","sequence":n,"fit":{"mu","mu_std","reflection","sigma"}} (the
+// summary texture) plus "line":{line_sample_json.h} when it has a line, or
+// {"op":"failure","sequence":n,"reason":"..."} plus "kind":"unreachable" for
+// an unreachable site. A 20 mm drag's line is ~17 path points and a few
+// pieces: ~1-2 KB.
 std::string PlanJournalEntryToJson(const PlanJournalEntry &entry);
 // INVALID_ARGUMENT naming the field for malformed text.
 absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text);
 
-// RecordFit / RecordFailure on `plan`; their errors.
+// RecordLineSample (or RecordFit without a line) / RecordFailure on `plan`;
+// their errors.
 absl::Status ApplyPlanJournalEntry(const PlanJournalEntry &entry, SamplingPlan &plan);
 
 }  // namespace surfmap

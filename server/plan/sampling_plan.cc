@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "absl/strings/str_cat.h"
 #include "server/plan/drag_direction.h"
@@ -40,6 +41,22 @@ constexpr char kBudgetUsedUp[] = "sample budget used up";
 constexpr char kCancelled[] = "cancelled";
 
 }  // namespace
+
+std::string_view FailureKindName(FailureKind kind) {
+  return kind == FailureKind::kUnreachable ? "unreachable" : "transient";
+}
+
+std::optional<FailureKind> ParseFailureKind(std::string_view name) {
+  for (FailureKind k : {FailureKind::kTransient, FailureKind::kUnreachable}) {
+    if (FailureKindName(k) == name) return k;
+  }
+  return std::nullopt;
+}
+
+int DefaultSampleBudget(const std::vector<const SurfaceLevel*>& levels) {
+  if (levels.empty() || levels.front() == nullptr) return 0;
+  return static_cast<int>(1.5 * static_cast<double>(levels.front()->limit_positions.size()));
+}
 
 std::string_view SiteStateName(SiteState state) {
   switch (state) {
@@ -93,6 +110,12 @@ absl::Status SamplingPlan::Initialise() {
           absl::StrCat("SamplingPlan: level ", k, " has fewer vertices than level ", k - 1));
     }
   }
+  budget_ = options_.sample_budget > 0 ? options_.sample_budget
+            : options_.mode == PlanMode::kBoundary ? DefaultSampleBudget(levels_)
+                                                   : 0;
+  if (options_.mode == PlanMode::kBoundary) {
+    selector_.emplace(*levels_.back(), 0.5 * options_.probe.segment_length_mm);
+  }
   state_counts_.assign(options_.max_level - options_.coarsest_level + 1, {});
   edge_index_.assign(options_.max_level - options_.coarsest_level, {});
   for (int k = options_.coarsest_level; k < options_.max_level; ++k) {
@@ -124,9 +147,14 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Create(std::vector<const SurfaceLevel
   plan.levels_ = std::move(levels);
   plan.options_ = options;
   if (auto status = plan.Initialise(); !status.ok()) return status;
+  const SurfaceLevel& finest = *plan.levels_.back();
   for (int v = 0; v < plan.VertexCount(options.coarsest_level); ++v) {
     SiteRecord r;
     r.site = {options.coarsest_level, v};
+    if (auto why = UnreachableReason(options.reach, finest.limit_positions[v], finest.limit_normals[v])) {
+      r.state = SiteState::kSkipped;
+      r.reason = *why;
+    }
     plan.AddSite(std::move(r));
   }
   if (auto status = plan.RefreshSelection(); !status.ok()) return status;
@@ -144,8 +172,12 @@ SamplingPlan::PendingKey SamplingPlan::KeyOf(const SiteRecord& r) const {
   return {r.site.level, r.failures, SiteShuffleKey(options_.seed, r.site.vertex), r.site.vertex};
 }
 
-bool SamplingPlan::BudgetUsedUpByMeasured() const {
-  return options_.sample_budget > 0 && measured_count_ >= options_.sample_budget;
+bool SamplingPlan::BudgetUsedUpByMeasured() const { return budget_ > 0 && measured_count_ >= budget_; }
+
+bool SamplingPlan::Reachable(int vertex) const {
+  if (!options_.reach.constrained()) return true;
+  const SurfaceLevel& finest = *levels_.back();
+  return !UnreachableReason(options_.reach, finest.limit_positions[vertex], finest.limit_normals[vertex]).has_value();
 }
 
 void SamplingPlan::AddSite(SiteRecord record) {
@@ -182,8 +214,7 @@ void SamplingPlan::SkipAllPending(std::string_view reason) {
 
 std::optional<ProbeCommand> SamplingPlan::NextCommand() {
   if (pending_.empty()) return std::nullopt;
-  if (options_.sample_budget > 0 &&
-      measured_count_ + static_cast<int>(outstanding_.size()) >= options_.sample_budget) {
+  if (budget_ > 0 && measured_count_ + static_cast<int>(outstanding_.size()) >= budget_) {
     return std::nullopt;  // the rest of the budget is held by issued sites
   }
   const PendingKey key = *pending_.begin();
@@ -203,7 +234,7 @@ std::optional<ProbeCommand> SamplingPlan::NextCommand() {
   command.position = finest.limit_positions[r.site.vertex];
   const Eigen::Vector3d& n = finest.limit_normals[r.site.vertex];
   command.normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
-  command.drag_direction = TangentDragDirection(command.normal);
+  command.drag_direction = DirectionFor(r);
   command.probe = options_.probe;
   // A selection error can only come from the map rejecting a fit, and every
   // fit was validated by RecordFit; the command is valid either way.
@@ -226,18 +257,46 @@ absl::Status SamplingPlan::RecordFit(std::uint64_t sequence, const TextureParams
   }
   auto vertex = OutstandingVertex(sequence);
   if (!vertex.ok()) return vertex.status();
+  return RecordMeasurement(sequence, fit, PointLineSample(levels_.back()->limit_positions[*vertex], fit));
+}
+
+absl::Status SamplingPlan::RecordLineSample(std::uint64_t sequence, const LineSample& line) {
+  if (auto status = line.Validate(); !status.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("command ", sequence, ": ", status.message()));
+  }
+  auto vertex = OutstandingVertex(sequence);
+  if (!vertex.ok()) return vertex.status();
+  return RecordMeasurement(sequence, SummaryTexture(line), line);
+}
+
+absl::Status SamplingPlan::RecordLineSampleForSite(SiteId site, const LineSample& line) {
+  const SiteRecord* r = FindSite(site.vertex);
+  if (r == nullptr || r->site.level != site.level || r->state != SiteState::kIssued) {
+    return absl::FailedPreconditionError(
+        absl::StrCat("site (level ", site.level, ", vertex ", site.vertex, ") is not issued"));
+  }
+  return RecordLineSample(r->sequence, line);
+}
+
+absl::Status SamplingPlan::RecordMeasurement(std::uint64_t sequence, const TextureParams& fit, LineSample line) {
+  auto vertex = OutstandingVertex(sequence);
+  if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
   CountSite(r, -1);
   r.state = SiteState::kMeasured;
   CountSite(r, +1);
   r.fit = fit;
+  r.line = std::move(line);
   r.reason.clear();
   ++measured_count_;
+  measured_order_.push_back(*vertex);
   map_stale_ = true;
+  region_map_stale_ = true;
   if (BudgetUsedUpByMeasured()) SkipAllPending(kBudgetUsedUp);
   if (options_.mode == PlanMode::kAdaptive) CompareEdgesOf(*vertex);
-  return RefreshSelection();
+  if (auto status = RefreshSelection(); !status.ok()) return status;
+  return RefreshBoundarySelection();
 }
 
 absl::Status SamplingPlan::RecordFitForSite(SiteId site, const TextureParams& fit) {
@@ -249,14 +308,20 @@ absl::Status SamplingPlan::RecordFitForSite(SiteId site, const TextureParams& fi
   return RecordFit(r->sequence, fit);
 }
 
-absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_view reason) {
+absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_view reason, FailureKind kind) {
   auto vertex = OutstandingVertex(sequence);
   if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
   CountSite(r, -1);
   ++r.failures;
-  if (r.failures > options_.max_retries) {
+  if (kind == FailureKind::kUnreachable) {
+    // The rig cannot reach or drag here: retrying is pointless, and so is
+    // selecting another site next to it.
+    r.state = SiteState::kFailed;
+    r.reason = absl::StrCat("unreachable: ", std::string(reason));
+    no_go_.push_back(levels_.back()->limit_positions[r.site.vertex]);
+  } else if (r.failures > options_.max_retries) {
     r.state = SiteState::kFailed;
     r.reason = absl::StrCat(std::string(reason), " (failed ", r.failures, " time", r.failures == 1 ? "" : "s", ")");
   } else {
@@ -273,16 +338,17 @@ absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_vie
     }
   }
   CountSite(r, +1);
-  return RefreshSelection();
+  if (auto status = RefreshSelection(); !status.ok()) return status;
+  return RefreshBoundarySelection();
 }
 
-absl::Status SamplingPlan::RecordFailureForSite(SiteId site, std::string_view reason) {
+absl::Status SamplingPlan::RecordFailureForSite(SiteId site, std::string_view reason, FailureKind kind) {
   const SiteRecord* r = FindSite(site.vertex);
   if (r == nullptr || r->site.level != site.level || r->state != SiteState::kIssued) {
     return absl::FailedPreconditionError(
         absl::StrCat("site (level ", site.level, ", vertex ", site.vertex, ") is not issued"));
   }
-  return RecordFailure(r->sequence, reason);
+  return RecordFailure(r->sequence, reason, kind);
 }
 
 void SamplingPlan::Cancel() {
@@ -310,6 +376,11 @@ void SamplingPlan::CompareEdgesOf(int vertex) {
       refined.parent_a = std::min(vertex, u);
       refined.parent_b = std::max(vertex, u);
       refined.parent_distance = d;
+      if (!Reachable(child)) {
+        refined.state = SiteState::kSkipped;
+        refined.reason = *UnreachableReason(options_.reach, levels_.back()->limit_positions[child],
+                                            levels_.back()->limit_normals[child]);
+      }
       AddSite(std::move(refined));
     }
   }
@@ -330,7 +401,7 @@ absl::Status SamplingPlan::RefreshSelection() {
     }
   }
   if (!pending_.empty() || measured_count_ == 0) return absl::OkStatus();
-  if (measured_count_ + static_cast<int>(outstanding_.size()) >= options_.sample_budget) return absl::OkStatus();
+  if (measured_count_ + static_cast<int>(outstanding_.size()) >= budget_) return absl::OkStatus();
   if (!map_) {
     auto map = FrictionMap::Create(*levels_.back(), options_.map);
     if (!map.ok()) return map.status();
@@ -357,7 +428,7 @@ absl::Status SamplingPlan::RefreshSelection() {
   std::uint64_t best_key = 0;
   const int candidates = VertexCount(options_.max_level);
   for (int v = 0; v < candidates; ++v) {
-    if (sites_.count(v)) continue;
+    if (sites_.count(v) || !Reachable(v)) continue;
     const double jump = std::isfinite(distance[v]) ? gradient[v] * distance[v] * inv_s : 0.0;
     const double score = mu_std[v] * (1.0 + options_.gradient_weight * jump);
     const std::uint64_t key = SiteShuffleKey(options_.seed, v);
@@ -389,7 +460,7 @@ PlanProgress SamplingPlan::Progress() const {
     p.failed += l.failed, p.skipped += l.skipped;
     p.levels.push_back(l);
   }
-  if (options_.sample_budget > 0) p.budget_left = std::max(0, options_.sample_budget - p.measured - p.issued);
+  if (budget_ > 0) p.budget_left = std::max(0, budget_ - p.measured - p.issued);
   p.done = IsComplete();
   return p;
 }
@@ -414,6 +485,111 @@ std::vector<MapSample> SamplingPlan::MeasuredSamples() const {
     if (r.state == SiteState::kMeasured) out.push_back({v, *r.fit});
   }
   return out;
+}
+
+std::vector<MapPiece> SamplingPlan::MeasuredPieces() const {
+  std::vector<MapPiece> out;
+  const SurfaceLevel& finest = *levels_.back();
+  for (int v : measured_order_) {
+    const SiteRecord& r = sites_.at(v);
+    if (!r.line) continue;
+    std::vector<MapPiece> pieces = MapPiecesOf(*r.line, v, finest.limit_positions[v]);
+    out.insert(out.end(), std::make_move_iterator(pieces.begin()), std::make_move_iterator(pieces.end()));
+  }
+  return out;
+}
+
+absl::Status SamplingPlan::EnsureRegionMap() {
+  if (!region_map_) {
+    auto map = RegionMap::Create(*levels_.back(), options_.regions);
+    if (!map.ok()) return map.status();
+    region_map_ = std::move(*map);
+    region_map_stale_ = true;
+  }
+  if (region_map_stale_ && measured_count_ > 0) {
+    if (auto status = region_map_->SetPieces(MeasuredPieces()); !status.ok()) return status;
+    region_map_stale_ = false;
+  }
+  return absl::OkStatus();
+}
+
+Eigen::Vector3d SamplingPlan::DirectionFor(const SiteRecord& r) {
+  const SurfaceLevel& finest = *levels_.back();
+  const Eigen::Vector3d& n = finest.limit_normals[r.site.vertex];
+  const Eigen::Vector3d normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
+  if (options_.mode != PlanMode::kBoundary) return TangentDragDirection(normal);
+  if (auto it = selected_direction_.find(r.site.vertex); it != selected_direction_.end() && it->second.norm() > 0.5) {
+    return it->second;
+  }
+  // Across a boundary the drags so far put within reach; where nothing is
+  // known, orientations varied from site to site.
+  if (measured_count_ > 0 && EnsureRegionMap().ok()) {
+    const Eigen::Vector3d across = selector_->CrossingNear(*region_map_, r.site.vertex);
+    if (across.norm() > 0.5) return across;
+  }
+  return VariedDragDirection(normal, SiteShuffleKey(options_.seed, r.site.vertex));
+}
+
+absl::Status SamplingPlan::RefreshBoundarySelection() {
+  if (options_.mode != PlanMode::kBoundary || cancelled_) return absl::OkStatus();
+  // Re-make the choice of fresh selected sites with the newest information.
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    const int v = std::get<3>(*it);
+    const SiteRecord& r = sites_.at(v);
+    if (r.origin == SiteOrigin::kSelected && r.failures == 0) {
+      CountSite(r, -1);
+      sites_.erase(v);
+      it = pending_.erase(it);
+    } else {
+      ++it;
+    }
+  }
+  selected_direction_.clear();
+  if (measured_count_ == 0) return absl::OkStatus();
+  // Coverage first: every reachable vertex of the coarsest level is issued
+  // before any site is chosen.
+  for (const auto& key : pending_) {
+    if (sites_.at(std::get<3>(key)).origin == SiteOrigin::kInitial) return absl::OkStatus();
+  }
+  const SurfaceLevel& finest = *levels_.back();
+  int selected_outstanding = 0;
+  std::vector<Eigen::Vector3d> covered;
+  for (const auto& [sequence, v] : outstanding_) {
+    selected_outstanding += sites_.at(v).origin == SiteOrigin::kSelected;
+    covered.push_back(finest.limit_positions[v]);
+  }
+  for (const auto& key : pending_) covered.push_back(finest.limit_positions[std::get<3>(key)]);
+  const int queued = static_cast<int>(pending_.size());
+  int slots = options_.lookahead - selected_outstanding - queued;
+  if (budget_ > 0) slots = std::min(slots, budget_ - measured_count_ - static_cast<int>(outstanding_.size()) - queued);
+  if (slots <= 0) return absl::OkStatus();
+  if (auto status = EnsureRegionMap(); !status.ok()) return status;
+
+  const int candidates = VertexCount(options_.max_level);
+  const double reach = selector_->reach_mm();
+  std::vector<char> candidate(candidates, 0);
+  for (int v = 0; v < candidates; ++v) {
+    if (sites_.count(v) || !Reachable(v)) continue;
+    bool near_no_go = false;
+    for (const Eigen::Vector3d& p : no_go_) near_no_go |= (finest.limit_positions[v] - p).squaredNorm() < reach * reach;
+    candidate[v] = !near_no_go;
+  }
+  // Stop when no drag could remove more than a resolution-sized error over
+  // its whole reach.
+  const double resolution = options_.regions.merge.mu_resolution;
+  const double min_gain = std::max(options_.min_uncertainty_score, resolution * resolution * std::numbers::pi * reach * reach);
+  for (int k = 0; k < slots; ++k) {
+    const BoundarySelection choice = selector_->Select(*region_map_, candidate, covered);
+    if (choice.vertex < 0 || !(choice.gain > min_gain)) break;
+    SiteRecord r;
+    r.site = {std::max(options_.coarsest_level, NaturalLevel(choice.vertex)), choice.vertex};
+    r.origin = SiteOrigin::kSelected;
+    AddSite(std::move(r));
+    selected_direction_[choice.vertex] = choice.direction;
+    candidate[choice.vertex] = 0;
+    covered.push_back(finest.limit_positions[choice.vertex]);
+  }
+  return absl::OkStatus();
 }
 
 }  // namespace surfmap

@@ -4,10 +4,13 @@
 //
 // Site states:
 //   pending  -> issued (NextCommand)
-//   issued   -> measured (RecordFit)
-//            -> pending again (RecordFailure, up to max_retries times)
-//            -> failed (RecordFailure after max_retries re-queues; keeps the reason)
+//   issued   -> measured (RecordLineSample, RecordFit)
+//            -> pending again (RecordFailure, transient, up to max_retries times)
+//            -> failed (RecordFailure after max_retries re-queues, or at once when
+//               the rig reports the site unreachable; keeps the reason)
 //   pending  -> skipped (the budget is used up by measured sites, or Cancel)
+//   (new)    -> skipped at once when options.reach says a rig cannot reach it
+//               (reason "unreachable: ...")
 // measured, failed and skipped are final. A vertex has at most one site.
 //
 // Which sites exist (options.mode):
@@ -26,6 +29,16 @@
 //                with issued sites counted as pending (they lower uncertainty
 //                near them). The choice is re-made after every change, so it
 //                always uses the newest fits.
+//   kBoundary    every vertex of coarsest_level (drag orientations varied
+//                from site to site, or across a boundary the data so far
+//                puts within reach); once none of them is pending, up to
+//                `lookahead` sites at a time chosen by BoundarySelector
+//                (boundary_selection.h) on the RegionMap of every measured
+//                drag's pieces, until the budget (DefaultSampleBudget when
+//                none is given) is used or no drag could remove more than
+//                a resolution-sized error over its reach. Each is dragged
+//                across the boundary it was placed for. The choices are
+//                re-made when a fit or a failure comes in.
 //
 // Issue order (deterministic for a given seed and sequence of calls): lowest
 // level first, then fewest failures (retries go behind fresh sites of their
@@ -62,12 +75,22 @@
 #include "server/estimate/texture.h"
 #include "server/map/friction_map.h"
 #include "server/mesh/loop_surface.h"
+#include "server/estimate/line_sample.h"
+#include "server/map/region_map.h"
+#include "server/plan/boundary_selection.h"
 #include "server/plan/probe_command.h"
 #include "server/plan/sampling_plan_options.h"
 
 namespace surfmap {
 
 enum class SiteState { kPending, kIssued, kMeasured, kFailed, kSkipped };
+// Why a command was not measured: kTransient (a trace rejected, a lease
+// expired, a rig fault: the site is retried up to max_retries times) or
+// kUnreachable (the rig cannot reach or drag there: final at once, and the
+// boundary plan avoids its neighbourhood).
+enum class FailureKind { kTransient, kUnreachable };
+std::string_view FailureKindName(FailureKind kind);  // "transient", "unreachable"
+std::optional<FailureKind> ParseFailureKind(std::string_view name);
 enum class SiteOrigin {
   kInitial,   // a vertex of the coarsest level
   kRefined,   // splits an edge whose ends differ (kAdaptive)
@@ -83,7 +106,8 @@ struct SiteRecord {
   int failures = 0;
   std::uint64_t sequence = 0;      // of the latest command issued for it (0 = never issued)
   std::string reason;              // why it failed or was skipped
-  std::optional<TextureParams> fit;  // when measured
+  std::optional<TextureParams> fit;  // when measured (SummaryTexture of the line sample)
+  std::optional<LineSample> line;    // when measured: the drag's path and pieces
   // kRefined: the ends of the edge it splits and their texture distance.
   int parent_a = -1, parent_b = -1;
   double parent_distance = 0.0;
@@ -119,16 +143,25 @@ class SamplingPlan {
   // The next probe command, or nothing when no site can be issued now.
   std::optional<ProbeCommand> NextCommand();
 
-  // The fit for an issued command. Errors: NOT_FOUND for a sequence that is
-  // not outstanding (unknown, answered, or superseded after a failure);
-  // INVALID_ARGUMENT for a non-finite mu, negative mu_std or sigma, |k| >= 1.
+  // The drag measured for an issued command: its path and pieces
+  // (LineSampleOf(fit)). The site's `fit` becomes SummaryTexture(line).
+  // Errors: NOT_FOUND for a sequence that is not outstanding (unknown,
+  // answered, or superseded after a failure); INVALID_ARGUMENT for a line
+  // sample that LineSample::Validate rejects.
+  absl::Status RecordLineSample(std::uint64_t sequence, const LineSample& line);
+  absl::Status RecordLineSampleForSite(SiteId site, const LineSample& line);
+  // The fit for an issued command, as one texture (the form before line
+  // samples): a point sample at the site (PointLineSample). Errors: as
+  // above; INVALID_ARGUMENT for a non-finite mu, negative mu_std or sigma,
+  // |k| >= 1.
   absl::Status RecordFit(std::uint64_t sequence, const TextureParams& fit);
   // Same, by site; FAILED_PRECONDITION when the site is not issued.
   absl::Status RecordFitForSite(SiteId site, const TextureParams& fit);
-  // The command could not be measured (unreachable, trace rejected, lease
-  // expired). Errors as for RecordFit.
-  absl::Status RecordFailure(std::uint64_t sequence, std::string_view reason);
-  absl::Status RecordFailureForSite(SiteId site, std::string_view reason);
+  // The command could not be measured. Errors as for RecordFit.
+  absl::Status RecordFailure(std::uint64_t sequence, std::string_view reason,
+                             FailureKind kind = FailureKind::kTransient);
+  absl::Status RecordFailureForSite(SiteId site, std::string_view reason,
+                                    FailureKind kind = FailureKind::kTransient);
 
   // Skips every pending site; answers to issued commands are still accepted
   // but create no new sites.
@@ -146,12 +179,24 @@ class SamplingPlan {
   const SiteRecord* FindSite(int vertex) const;
   // The measured sites as map samples (finest-level vertex indices).
   std::vector<MapSample> MeasuredSamples() const;
+  // The pieces of every measured drag, drags in the order they were
+  // measured (drag id = the site's vertex), for a RegionMap.
+  std::vector<MapPiece> MeasuredPieces() const;
+  const std::vector<int>& measured_order() const { return measured_order_; }
+  // The sample budget in force: options.sample_budget, or for kBoundary
+  // without one DefaultSampleBudget(levels); 0 = unlimited.
+  int budget() const { return budget_; }
 
  private:
   using PendingKey = std::tuple<int, int, std::uint64_t, int>;  // level, failures, shuffle key, vertex
 
   SamplingPlan() = default;
   static absl::Status ValidateFit(const TextureParams& fit);
+  absl::Status RecordMeasurement(std::uint64_t sequence, const TextureParams& fit, LineSample line);
+  bool Reachable(int vertex) const;
+  Eigen::Vector3d DirectionFor(const SiteRecord& r);
+  absl::Status RefreshBoundarySelection();  // kBoundary
+  absl::Status EnsureRegionMap();
   absl::Status Initialise();  // derived structures from levels_ and options_
   int NaturalLevel(int vertex) const;
   int VertexCount(int level) const { return static_cast<int>(levels_[level]->limit_positions.size()); }
@@ -184,7 +229,24 @@ class SamplingPlan {
   // kUncertainty: the map of the measured sites, rebuilt when they change.
   std::optional<FrictionMap> map_;
   bool map_stale_ = true;
+
+  int budget_ = 0;                   // see budget()
+  std::vector<int> measured_order_;  // vertices, in the order their drags were recorded
+  // Sites the rig reported unreachable: no site is selected within reach of them.
+  std::vector<Eigen::Vector3d> no_go_;
+  // kBoundary: the map of the measured drags' pieces and the selector on
+  // the finest level; the directions chosen for the pending selected sites.
+  std::optional<RegionMap> region_map_;
+  bool region_map_stale_ = true;
+  std::optional<BoundarySelector> selector_;
+  std::map<int, Eigen::Vector3d> selected_direction_;
 };
+
+// The default sample budget of a boundary plan: 1.5 x the number of control
+// vertices (level 0). Every control vertex is measured once for coverage, and
+// half as many drags again go to the boundaries they found: on the paper's
+// bottle (82 control vertices, three patches) its threshold rule took 100.
+int DefaultSampleBudget(const std::vector<const SurfaceLevel*>& levels);
 
 // The levels of a Loop surface, as SamplingPlan::Create wants them.
 inline std::vector<const SurfaceLevel*> PlanLevels(const LoopSurface& surface) {

@@ -1,11 +1,17 @@
 // SamplingPlan::SaveJson / Restore: the complete plan state as JSON.
 //
-//   {"format": "surfmap.sampling_plan", "version": 1,
+//   {"format": "surfmap.sampling_plan", "version": 2,
 //    "options": {...}, "surface": {"vertex_counts": [...], "edge_counts": [...],
 //    "triangle_counts": [...]}, "next_sequence": n, "cancelled": false,
+//    "measured_order": [vertex, ...], "no_go": [[x, y, z], ...],
 //    "sites": [{"vertex", "level", "state", "origin", "failures", "sequence",
 //               "reason", "fit": {"mu", "mu_std", "reflection", "sigma"},
-//               "parent_a", "parent_b", "parent_distance"}, ...]}
+//               "line": {line_sample_json.h}, "parent_a", "parent_b",
+//               "parent_distance"}, ...]}
+//
+// Version 1 (before line samples, reachability and the boundary mode) is
+// read too: its measured sites become point samples at their vertices, in
+// vertex order.
 //
 // Doubles are written with round-trip precision, so a restored plan compares
 // and scores exactly as the saved one did.
@@ -13,6 +19,7 @@
 
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
+#include "server/plan/line_sample_json.h"
 #include "server/plan/sampling_plan.h"
 
 namespace surfmap {
@@ -21,7 +28,7 @@ namespace {
 using nlohmann::json;
 
 constexpr char kFormat[] = "surfmap.sampling_plan";
-constexpr int kVersion = 1;
+constexpr int kVersion = 2;
 
 std::string_view PropertyName(TextureProperty p) {
   switch (p) {
@@ -111,6 +118,27 @@ class Reader {
   absl::Status* status_;
 };
 
+json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+
+json ReachToJson(const Reachability& r) {
+  json j = {{"max_angle_deg", r.max_angle_deg}, {"support_clearance_mm", r.support_clearance_mm}};
+  j["approach_direction"] = r.approach_direction ? Vector(*r.approach_direction) : json(nullptr);
+  j["support_point"] = r.support_point ? Vector(*r.support_point) : json(nullptr);
+  j["support_normal"] = r.support_normal ? Vector(*r.support_normal) : json(nullptr);
+  return j;
+}
+
+std::optional<Eigen::Vector3d> OptionalVector(const json& j, const std::string& where, const char* key, Reader& in) {
+  auto it = j.find(key);
+  if (it == j.end() || it->is_null()) return std::nullopt;
+  const std::vector<double> v = in.Doubles(j, where, key);
+  if (v.size() != 3) {
+    in.Fail(absl::StrCat(where, ".", key, " must hold 3 numbers"));
+    return std::nullopt;
+  }
+  return Eigen::Vector3d(v[0], v[1], v[2]);
+}
+
 json OptionsToJson(const SamplingPlanOptions& o) {
   return {
       {"mode", PlanModeName(o.mode)},
@@ -135,6 +163,17 @@ json OptionsToJson(const SamplingPlanOptions& o) {
        {{"weights", WeightsName(o.map.weights)},
         {"correlation_length_mm", o.map.correlation_length_mm},
         {"prior_mu_std_floor", o.map.prior_mu_std_floor}}},
+      {"reach", ReachToJson(o.reach)},
+      {"regions",
+       {{"false_split_probability", o.regions.merge.false_split_probability},
+        {"mu_resolution", o.regions.merge.mu_resolution},
+        {"spread_resolution", o.regions.merge.spread_resolution},
+        {"point_spacing_mm", o.regions.point_spacing_mm},
+        {"correlation_length_mm", o.regions.correlation_length_mm},
+        {"prior_mu_std_floor", o.regions.prior_mu_std_floor},
+        {"min_mu_se", o.regions.min_mu_se},
+        {"min_spread", o.regions.min_spread}}},
+      {"lookahead", o.lookahead},
   };
 }
 
@@ -144,7 +183,7 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   if (auto m = ParsePlanMode(mode)) {
     o.mode = *m;
   } else if (!mode.empty()) {
-    in.Fail(absl::StrCat("options.mode \"", mode, "\" is not adaptive, uniform or uncertainty"));
+    in.Fail(absl::StrCat("options.mode \"", mode, "\" is not adaptive, uniform, uncertainty or boundary"));
   }
   o.coarsest_level = static_cast<int>(in.Int(j, "options", "coarsest_level"));
   o.max_level = static_cast<int>(in.Int(j, "options", "max_level"));
@@ -180,6 +219,28 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
     o.map.correlation_length_mm = in.Double(*m, "options.map", "correlation_length_mm");
     o.map.prior_mu_std_floor = in.Double(*m, "options.map", "prior_mu_std_floor");
   }
+  // Added in version 2; a version 1 plan has the defaults.
+  if (j.contains("reach")) {
+    const json& r = j.at("reach");
+    o.reach.max_angle_deg = in.Double(r, "options.reach", "max_angle_deg");
+    o.reach.support_clearance_mm = in.Double(r, "options.reach", "support_clearance_mm");
+    o.reach.approach_direction = OptionalVector(r, "options.reach", "approach_direction", in);
+    o.reach.support_point = OptionalVector(r, "options.reach", "support_point", in);
+    o.reach.support_normal = OptionalVector(r, "options.reach", "support_normal", in);
+  }
+  if (j.contains("regions")) {
+    const json& r = j.at("regions");
+    const std::string w = "options.regions";
+    o.regions.merge.false_split_probability = in.Double(r, w, "false_split_probability");
+    o.regions.merge.mu_resolution = in.Double(r, w, "mu_resolution");
+    o.regions.merge.spread_resolution = in.Double(r, w, "spread_resolution");
+    o.regions.point_spacing_mm = in.Double(r, w, "point_spacing_mm");
+    o.regions.correlation_length_mm = in.Double(r, w, "correlation_length_mm");
+    o.regions.prior_mu_std_floor = in.Double(r, w, "prior_mu_std_floor");
+    o.regions.min_mu_se = in.Double(r, w, "min_mu_se");
+    o.regions.min_spread = in.Double(r, w, "min_spread");
+  }
+  if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
   return o;
 }
 
@@ -211,6 +272,7 @@ std::string SamplingPlan::SaveJson() const {
                   {"reflection", r.fit->reflection},
                   {"sigma", r.fit->sigma}};
     }
+    if (r.line) s["line"] = LineSampleToJson(*r.line);
     if (r.origin == SiteOrigin::kRefined) {
       s["parent_a"] = r.parent_a;
       s["parent_b"] = r.parent_b;
@@ -218,12 +280,16 @@ std::string SamplingPlan::SaveJson() const {
     }
     sites.push_back(std::move(s));
   }
+  json no_go = json::array();
+  for (const Eigen::Vector3d& p : no_go_) no_go.push_back(Vector(p));
   json j = {{"format", kFormat},
             {"version", kVersion},
             {"options", OptionsToJson(options_)},
             {"surface", SurfaceToJson(levels_)},
             {"next_sequence", next_sequence_},
             {"cancelled", cancelled_},
+            {"measured_order", measured_order_},
+            {"no_go", std::move(no_go)},
             {"sites", std::move(sites)}};
   return j.dump();
 }
@@ -238,7 +304,7 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
     return absl::InvalidArgumentError(absl::StrCat("plan JSON: format \"", format, "\" is not ", kFormat));
   }
   const std::int64_t version = in.Int(j, "plan", "version");
-  if (status.ok() && version != kVersion) {
+  if (status.ok() && version != kVersion && version != 1) {
     return absl::InvalidArgumentError(
         absl::StrCat("plan JSON: version ", version, " is not supported (this build reads version ", kVersion, ")"));
   }
@@ -328,6 +394,13 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
         fit.sigma = in.Double(*f, fw, "sigma");
         r.fit = fit;
       }
+      if (js.contains("line")) {
+        absl::StatusOr<LineSample> line = LineSampleFromJson(js.at("line"), "plan JSON: " + where + ".line");
+        if (!line.ok()) return line.status();
+        r.line = *std::move(line);
+      } else if (r.fit) {
+        r.line = PointLineSample(plan.levels_.back()->limit_positions[r.site.vertex], *r.fit);  // version 1
+      }
     }
     if (!status.ok()) return status;
     if (r.fit) {
@@ -358,7 +431,40 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
     plan.CountSite(r, +1);
     plan.sites_.emplace(r.site.vertex, std::move(r));
   }
+  // The order in which drags were measured (the map's piece order).
+  if (j.contains("measured_order")) {
+    const std::vector<double> order = in.Doubles(j, "plan", "measured_order");
+    if (!status.ok()) return status;
+    for (double x : order) {
+      const int v = static_cast<int>(x);
+      const SiteRecord* r = plan.FindSite(v);
+      if (r == nullptr || r->state != SiteState::kMeasured || x != v) {
+        return absl::InvalidArgumentError(absl::StrCat("plan JSON: measured_order names ", x, ", not a measured site"));
+      }
+      plan.measured_order_.push_back(v);
+    }
+    if (static_cast<int>(plan.measured_order_.size()) != plan.measured_count_) {
+      return absl::InvalidArgumentError(absl::StrCat("plan JSON: measured_order has ", plan.measured_order_.size(),
+                                                     " sites, ", plan.measured_count_, " are measured"));
+    }
+  } else {
+    for (const auto& [v, r] : plan.sites_) {
+      if (r.state == SiteState::kMeasured) plan.measured_order_.push_back(v);
+    }
+  }
+  if (j.contains("no_go")) {
+    const json& no_go = j.at("no_go");
+    if (!no_go.is_array()) return absl::InvalidArgumentError("plan JSON: no_go must be an array");
+    for (std::size_t i = 0; i < no_go.size(); ++i) {
+      const json& p = no_go[i];
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) {
+        return absl::InvalidArgumentError(absl::StrCat("plan JSON: no_go[", i, "] must be 3 numbers"));
+      }
+      plan.no_go_.emplace_back(p[0].get<double>(), p[1].get<double>(), p[2].get<double>());
+    }
+  }
   if (auto s = plan.RefreshSelection(); !s.ok()) return s;
+  if (auto s = plan.RefreshBoundarySelection(); !s.ok()) return s;
   return plan;
 }
 

@@ -109,8 +109,8 @@ TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   };
   EXPECT_FALSE(SamplingPlan::Restore("{not json", Pointers(levels)).ok());
   nlohmann::json j = good;
-  j["version"] = 2;
-  expect_error(j, "version 2");
+  j["version"] = 3;
+  expect_error(j, "version 3");
   j = good;
   j["format"] = "something else";
   expect_error(j, "format");

@@ -32,6 +32,9 @@ bool SamplingPlanOptions::IsValid(std::string* why) const {
   }
   std::string map_why;
   if (!map.IsValid(&map_why)) return fail(absl::StrCat("map: ", map_why));
+  if (!reach.IsValid(&map_why)) return fail(absl::StrCat("reach: ", map_why));
+  if (!regions.IsValid(&map_why)) return fail(absl::StrCat("regions: ", map_why));
+  if (lookahead < 1) return fail(absl::StrCat("lookahead must be >= 1, got ", lookahead));
   return true;
 }
 
@@ -43,12 +46,14 @@ std::string_view PlanModeName(PlanMode mode) {
       return "uniform";
     case PlanMode::kUncertainty:
       return "uncertainty";
+    case PlanMode::kBoundary:
+      return "boundary";
   }
   return "adaptive";
 }
 
 std::optional<PlanMode> ParsePlanMode(std::string_view name) {
-  for (PlanMode m : {PlanMode::kAdaptive, PlanMode::kUniform, PlanMode::kUncertainty}) {
+  for (PlanMode m : {PlanMode::kAdaptive, PlanMode::kUniform, PlanMode::kUncertainty, PlanMode::kBoundary}) {
     if (PlanModeName(m) == name) return m;
   }
   return std::nullopt;

@@ -8,7 +8,9 @@
 
 #include "server/estimate/texture.h"
 #include "server/map/friction_map.h"
+#include "server/map/region_map.h"
 #include "server/plan/probe_command.h"
+#include "server/plan/reachability.h"
 
 namespace surfmap {
 
@@ -24,6 +26,17 @@ enum class PlanMode {
   // value gradient, among the vertices of levels coarsest..max_level not yet
   // sampled. Needs a sample budget.
   kUncertainty,
+  // Goes looking for boundaries (beyond the paper): every vertex of
+  // `coarsest_level` first, dragged in orientations that vary from site to
+  // site (nothing is known yet); then, a few at a time, the vertex of
+  // max_level where one more drag would remove the most squared map error:
+  // the map's variance (region_map.h: boundaries between regions that differ
+  // beyond their measurement uncertainty, and distance from data) summed over
+  // the drag's reach. Each such drag is turned to cross the boundary it was
+  // placed for. The regions come from the pieces of the drags, so a drag that
+  // found a change inside it marks a boundary at once. Its default budget
+  // (sample_budget 0) is DefaultSampleBudget.
+  kBoundary,
 };
 
 struct SamplingPlanOptions {
@@ -33,7 +46,8 @@ struct SamplingPlanOptions {
   double threshold = 1.0;     // kAdaptive: refine where TextureDistance(ends) > threshold
   TextureDistanceOptions distance;
   // At most this many sites measured + issued; 0 = unlimited (not allowed for
-  // kUncertainty). Failed sites do not count.
+  // kUncertainty; DefaultSampleBudget for kBoundary). Failed and skipped
+  // sites do not count.
   int sample_budget = 0;
   int max_retries = 2;        // a failed site is re-queued this many times, then fails for good
   ProbeParameters probe;
@@ -48,10 +62,19 @@ struct SamplingPlanOptions {
   double min_uncertainty_score = 0.0;
   FrictionMapOptions map;     // kUncertainty: the map that scores candidate sites
 
+  // Sites a rig cannot reach are skipped (with the reason) instead of planned.
+  Reachability reach;
+  // kBoundary: the map that scores candidate sites and orients the drags.
+  RegionMapOptions regions;
+  // kBoundary: at most this many selected sites outstanding at once. Each
+  // is chosen with the others counted as covered; more rigs than this wait
+  // rather than measure where the newest drags would have sent them.
+  int lookahead = 4;
+
   bool IsValid(std::string* why) const;
 };
 
-std::string_view PlanModeName(PlanMode mode);  // "adaptive", "uniform", "uncertainty"
+std::string_view PlanModeName(PlanMode mode);  // "adaptive", "uniform", "uncertainty", "boundary"
 std::optional<PlanMode> ParsePlanMode(std::string_view name);
 
 }  // namespace surfmap

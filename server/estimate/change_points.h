@@ -1,0 +1,79 @@
+// Change points in a drag's per-pair friction series: where the probe crossed
+// from one material into another. A drag is a line sample: the per-pair mu
+// along the path shows a boundary's position to a fraction of a mm, and a
+// drag that straddles two materials must not be reported as one blended value.
+//
+// Method: binary segmentation with a likelihood-ratio test for a change of
+// the series' AR(2) model. The per-pair friction rides on the surface
+// texture, which the method models as an AR(2) process in space (METHOD.md
+// section 3); within one material the series is that process about the
+// material's mu, with the sensor's noise. A material change changes the mean
+// (mu), the texture's correlation (a1, a2) and its amplitude (innovation
+// variance), or some of them. So, in a stretch [a, b) of the series, for every
+// split k leaving at least `min_piece_mm` and `min_piece_pairs` on each side:
+//
+//   LR(k) = N log(RSS / N) - N1 log(RSS1 / N1) - N2 log(RSS2 / N2)
+//
+// with RSS1, RSS2 the residual sums of squares of least-squares AR(2) fits
+// with intercept, x_t = c + a1 x_(t-1) + a2 x_(t-2) + e_t, on the rows of each
+// side (N1, N2 rows; no row's lags reach across k) and RSS of one fit on the
+// same rows together. The innovations of a correct model are white, so no
+// correction for the texture's correlation is needed (a test of the raw mean
+// would see changes everywhere: neighbouring pairs feel the same texture). At
+// a fixed k, LR is asymptotically chi-square with 4 degrees of freedom under
+// "no change"; the split is placed at the largest LR and kept when that
+// exceeds the Bonferroni critical value over the stretch's candidates at the
+// family-wise false-alarm probability (conservative: neighbouring candidates
+// are strongly correlated). Both sides are then searched again. At the end
+// every change is re-placed at the largest LR within the stretch between its
+// neighbouring changes.
+#pragma once
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "absl/status/statusor.h"
+
+namespace surfmap {
+
+// The pair on each side of a change is transitional: its reverse force is
+// interpolated between reverse samples that may lie on both sides of the
+// boundary (0.1 mm apart), so it can hold a blend of the two materials. It
+// belongs to neither piece's statistics nor to the stretches searched after
+// the change is found.
+inline constexpr int kChangeGuardPairs = 1;
+
+struct ChangePointOptions {
+  // Family-wise false-alarm probability per drag. A map takes ~100-200 drags;
+  // at 1e-3 a whole map expects ~0.1-0.2 false changes, and a false change
+  // only splits a drag into two pieces that the map then finds alike.
+  double false_alarm_probability = 1e-3;
+  // Shortest piece, mm along the path: a side's AR(2) fit needs a few
+  // correlation lengths of texture (masonite's is correlated over ~0.6 mm);
+  // 1.5 mm holds ~15 pairs at the paper's 10 mm/s and 100 Hz. Shorter
+  // stretches at a drag's ends are never split off (they stay in the piece
+  // next to them).
+  double min_piece_mm = 1.5;
+  // ... and never fewer pairs than this on a side, whatever their spacing:
+  // the chi-square approximation of a 4-parameter fit needs ~3x as many rows.
+  int min_piece_pairs = 12;
+  bool IsValid(std::string* why) const;
+};
+
+struct ChangePoint {
+  int index = 0;              // first element after the change (1..n-1)
+  double s_mm = 0.0;          // midway between elements index - 1 and index
+  double statistic = 0.0;     // LR at the split when it was found
+  double critical_value = 0.0;  // the chi-square(4) value it exceeded
+};
+
+// `s_mm` (non-decreasing positions along the path) and `values` (e.g. the
+// per-pair mu) of equal length. Returns the changes in increasing order.
+// Errors (INVALID_ARGUMENT): invalid options, lengths that differ, non-finite
+// values, positions that decrease.
+absl::StatusOr<std::vector<ChangePoint>> DetectChangePoints(std::span<const double> s_mm,
+                                                            std::span<const double> values,
+                                                            const ChangePointOptions& options = {});
+
+}  // namespace surfmap

@@ -1,0 +1,201 @@
+#include "server/estimate/change_points.h"
+
+#include <cmath>
+#include <random>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include "server/estimate/roughness.h"
+
+namespace surfmap {
+namespace {
+
+// Pair spacing of the paper's drag: 10 mm/s sampled at 100 Hz.
+constexpr double kSpacingMm = 0.1;
+// A 16 mm data window.
+constexpr int kPairs = 160;
+
+std::vector<double> Positions(int n) {
+  std::vector<double> s(n);
+  for (int i = 0; i < n; ++i) s[i] = 2.0 + kSpacingMm * i;
+  return s;
+}
+
+struct Stretch {
+  int length;
+  double mean;
+  ArParams texture;  // per-pair deviation about the mean
+};
+
+// The stretches one after another, each an independent realisation of its
+// texture about its mean (a material change restarts the texture).
+std::vector<double> Series(const std::vector<Stretch>& stretches, std::uint64_t seed) {
+  std::vector<double> x;
+  std::uint64_t k = 0;
+  for (const Stretch& s : stretches) {
+    const Eigen::VectorXd t = SimulateRoughness(s.texture, s.length, seed * 1000 + k++);
+    for (int i = 0; i < s.length; ++i) x.push_back(s.mean + t(i));
+  }
+  return x;
+}
+
+// Per-pair friction textures of the paper's materials at 5 N (texture force
+// / normal force): the AR(2) of METHOD.md with sigma divided by 5 N.
+const ArParams kGlassLike{{0.0, 0.0}, 0.003};
+const ArParams kRubberLike{{0.60, 0.25}, 0.11 / 5.0};
+const ArParams kMasoniteLike{{1.61, -0.73}, 0.16 / 5.0};
+const ArParams kSandpaperLike{{0.30, 0.10}, 0.25 / 5.0};
+
+TEST(ChangePointsTest, RarelyReportsAChangeInOneMaterial) {
+  // alpha = 1e-3 per series (Bonferroni, conservative); allow up to 1 %:
+  // the chi-square approximation is an asymptotic one, and at the 12-pair
+  // minimum sides it is a little optimistic.
+  constexpr int kSeeds = 300;
+  constexpr double kAllowedFalseAlarmRate = 0.01;
+  for (const ArParams& texture : {kGlassLike, kRubberLike, kMasoniteLike, kSandpaperLike}) {
+    int alarms = 0;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      auto changes = DetectChangePoints(Positions(kPairs), Series({{kPairs, 0.3, texture}}, seed));
+      ASSERT_TRUE(changes.ok()) << changes.status();
+      alarms += !changes->empty();
+    }
+    EXPECT_LE(alarms, kAllowedFalseAlarmRate * kSeeds) << "a1 " << texture.a[0] << " sigma " << texture.sigma;
+  }
+}
+
+TEST(ChangePointsTest, FindsOneChangeWhereItIs) {
+  // Glass to rubber at pair 70: the boundary between pairs 69 and 70.
+  // Tolerance: one pair spacing (the change lies between two pairs).
+  constexpr double kLocationToleranceMm = kSpacingMm;
+  for (int seed = 1; seed <= 50; ++seed) {
+    const std::vector<double> s = Positions(kPairs);
+    auto changes = DetectChangePoints(s, Series({{70, 0.106, kGlassLike}, {90, 0.305, kRubberLike}}, seed));
+    ASSERT_TRUE(changes.ok());
+    ASSERT_EQ(changes->size(), 1u) << "seed " << seed;
+    EXPECT_NEAR((*changes)[0].s_mm, 0.5 * (s[69] + s[70]), kLocationToleranceMm) << "seed " << seed;
+    EXPECT_GT((*changes)[0].statistic, (*changes)[0].critical_value);
+  }
+}
+
+TEST(ChangePointsTest, FindsAChangeOfTextureAtAlmostTheSameMu) {
+  // Rubber (0.305) next to masonite (0.36): mu differs by less than
+  // masonite's per-pair spread (~0.13), the textures differ a lot. Always
+  // found; in at least 85 of 100 seeds as exactly one change within 1.5 mm
+  // (masonite's texture is correlated over ~0.6 mm and oscillates with a
+  // ~1.9 mm period; measured: 89, the rest find a second change in masonite).
+  constexpr double kLocationToleranceMm = 1.5;
+  int found = 0, one_located = 0;
+  for (int seed = 1; seed <= 100; ++seed) {
+    const std::vector<double> s = Positions(kPairs);
+    auto changes = DetectChangePoints(s, Series({{80, 0.305, kRubberLike}, {80, 0.36, kMasoniteLike}}, seed));
+    ASSERT_TRUE(changes.ok());
+    found += !changes->empty();
+    one_located +=
+        changes->size() == 1 && std::abs((*changes)[0].s_mm - 0.5 * (s[79] + s[80])) <= kLocationToleranceMm;
+  }
+  EXPECT_EQ(found, 100);
+  EXPECT_GE(one_located, 85);
+}
+
+TEST(ChangePointsTest, FindsBothEdgesOfABandNarrowerThanTheDrag) {
+  // A 6 mm strip of sandpaper in glass: two changes.
+  constexpr double kLocationToleranceMm = kSpacingMm;
+  for (int seed = 1; seed <= 50; ++seed) {
+    const std::vector<double> s = Positions(kPairs);
+    auto changes = DetectChangePoints(
+        s, Series({{50, 0.106, kGlassLike}, {60, 0.5, kSandpaperLike}, {50, 0.106, kGlassLike}}, seed));
+    ASSERT_TRUE(changes.ok());
+    ASSERT_EQ(changes->size(), 2u) << "seed " << seed;
+    EXPECT_NEAR((*changes)[0].s_mm, 0.5 * (s[49] + s[50]), kLocationToleranceMm);
+    EXPECT_NEAR((*changes)[1].s_mm, 0.5 * (s[109] + s[110]), kLocationToleranceMm);
+  }
+}
+
+TEST(ChangePointsTest, SplitsNearTheEndsButNotShorterThanTheMinimumPiece) {
+  const std::vector<double> s = Positions(kPairs);
+  ChangePointOptions options;  // min_piece_mm 1.5, min_piece_pairs 12
+  // 2 mm of rubber at the start (20 pairs): found.
+  auto near_start = DetectChangePoints(s, Series({{20, 0.305, kRubberLike}, {140, 0.106, kGlassLike}}, 3), options);
+  ASSERT_TRUE(near_start.ok());
+  ASSERT_EQ(near_start->size(), 1u);
+  EXPECT_EQ((*near_start)[0].index, 20);
+  // 2 mm at the end: found.
+  auto near_end = DetectChangePoints(s, Series({{140, 0.106, kGlassLike}, {20, 0.5, kSandpaperLike}}, 4), options);
+  ASSERT_TRUE(near_end.ok());
+  ASSERT_EQ(near_end->size(), 1u);
+  EXPECT_EQ((*near_end)[0].index, 140);
+  // 0.8 mm (8 pairs) at the end: shorter than a piece may be. The split
+  // goes to the nearest place allowed, 12 pairs from the end, so the short
+  // stretch ends up in a short end piece and not in the glass piece.
+  auto too_short = DetectChangePoints(s, Series({{152, 0.106, kGlassLike}, {8, 0.5, kSandpaperLike}}, 5), options);
+  ASSERT_TRUE(too_short.ok());
+  ASSERT_EQ(too_short->size(), 1u);
+  EXPECT_EQ((*too_short)[0].index, kPairs - options.min_piece_pairs);
+}
+
+TEST(ChangePointsTest, DetectionGrowsWithTheSizeOfTheChange) {
+  // Mean steps within one rubber-like texture. What limits detection is the
+  // texture's long-run spread: sigma / (1 - a1 - a2) = 0.147 per pair, so the
+  // mean of 80 pairs varies by 0.016 and two such means differ by 0.023 (1
+  // se). Steps of 0, ~4, ~9 and 13 se: detection does not fall as the step
+  // grows, none at 0, every one at 13 se (measured 0, 28, 94, 100 of 100).
+  std::vector<int> found;
+  for (double step : {0.0, 0.1, 0.2, 0.3}) {
+    int n = 0;
+    for (int seed = 1; seed <= 60; ++seed) {
+      auto changes = DetectChangePoints(Positions(kPairs),
+                                        Series({{80, 0.3, kRubberLike}, {80, 0.3 + step, kRubberLike}}, seed));
+      ASSERT_TRUE(changes.ok());
+      n += !changes->empty();
+    }
+    found.push_back(n);
+  }
+  EXPECT_LE(found[0], 1);
+  for (std::size_t i = 1; i < found.size(); ++i) EXPECT_GE(found[i] + 3, found[i - 1]) << i;
+  EXPECT_EQ(found.back(), 60);
+}
+
+TEST(ChangePointsTest, ExactDataWithoutNoiseIsSplitAtTheStep) {
+  std::vector<double> x(100, 0.1);
+  for (int i = 40; i < 100; ++i) x[i] = 0.5;
+  auto changes = DetectChangePoints(Positions(100), x);
+  ASSERT_TRUE(changes.ok()) << changes.status();
+  ASSERT_EQ(changes->size(), 1u);
+  EXPECT_EQ((*changes)[0].index, 40);
+  auto flat = DetectChangePoints(Positions(100), std::vector<double>(100, 0.2));
+  ASSERT_TRUE(flat.ok());
+  EXPECT_TRUE(flat->empty());
+}
+
+TEST(ChangePointsTest, ShortSeriesHaveNoChange) {
+  auto changes = DetectChangePoints(Positions(20), Series({{10, 0.1, kGlassLike}, {10, 0.5, kGlassLike}}, 1));
+  ASSERT_TRUE(changes.ok());
+  EXPECT_TRUE(changes->empty());  // no split leaves 12 pairs on both sides
+  auto empty = DetectChangePoints({}, {});
+  ASSERT_TRUE(empty.ok());
+  EXPECT_TRUE(empty->empty());
+}
+
+TEST(ChangePointsTest, RejectsBadInput) {
+  const std::vector<double> s = Positions(30);
+  std::vector<double> x(30, 0.1);
+  EXPECT_EQ(DetectChangePoints(s, std::vector<double>(29, 0.1)).status().message(),
+            "change points: 30 positions but 29 values");
+  x[7] = std::nan("");
+  EXPECT_EQ(DetectChangePoints(s, x).status().message(), "change points: element 7 is not finite (s 2.7 mm, value nan)");
+  std::vector<double> backwards = s;
+  backwards[3] = 0.0;
+  EXPECT_EQ(DetectChangePoints(backwards, std::vector<double>(30, 0.1)).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  ChangePointOptions options;
+  options.false_alarm_probability = 0.0;
+  EXPECT_EQ(DetectChangePoints(s, std::vector<double>(30, 0.1), options).status().message(),
+            "ChangePointOptions: false_alarm_probability 0 must be in (0, 1)");
+  options = {};
+  options.min_piece_pairs = 5;
+  EXPECT_EQ(DetectChangePoints(s, std::vector<double>(30, 0.1), options).status().code(),
+            absl::StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace surfmap

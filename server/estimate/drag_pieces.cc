@@ -1,0 +1,84 @@
+#include "server/estimate/drag_pieces.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Core>
+#include "absl/status/status.h"
+#include "absl/strings/str_cat.h"
+#include "server/estimate/series_dependence.h"
+
+namespace surfmap {
+namespace {
+
+double Median(std::vector<double> v) {
+  const std::size_t n = v.size();
+  const auto mid = v.begin() + n / 2;
+  std::nth_element(v.begin(), mid, v.end());
+  double m = *mid;
+  if (n % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), mid));
+  return m;
+}
+
+}  // namespace
+
+std::string_view PieceRoughnessName(PieceRoughness state) {
+  switch (state) {
+    case PieceRoughness::kFitted:
+      return "fitted";
+    case PieceRoughness::kTooShort:
+      return "too_short";
+    case PieceRoughness::kFitFailed:
+      return "fit_failed";
+  }
+  return "too_short";
+}
+
+absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction,
+                                                     const std::vector<ChangePoint>& changes) {
+  const int n = static_cast<int>(friction.pair_mu.size());
+  if (n == 0 || static_cast<int>(friction.pair_s_mm.size()) != n) {
+    return absl::InvalidArgumentError(absl::StrCat("drag pieces: the friction fit has ", n, " per-pair values and ",
+                                                   friction.pair_s_mm.size(), " positions"));
+  }
+  std::vector<int> cuts = {0};
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const int k = changes[i].index;
+    if (k <= cuts.back() || k >= n) {
+      return absl::InvalidArgumentError(absl::StrCat("drag pieces: change ", i, " at pair ", k,
+                                                     " is out of order or outside 1..", n - 1));
+    }
+    cuts.push_back(k);
+  }
+  cuts.push_back(n);
+  std::vector<DragPiece> pieces;
+  for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
+    // The transitional pairs next to a change belong to neither piece.
+    const int a = cuts[p] + (p > 0 ? kChangeGuardPairs : 0);
+    const int b = cuts[p + 1] - (p + 2 < cuts.size() ? kChangeGuardPairs : 0);
+    if (b - a < 2) {
+      return absl::InvalidArgumentError(absl::StrCat("drag pieces: changes ", p == 0 ? 0 : p - 1, " and ", p,
+                                                     " leave piece ", p, " fewer than 2 pairs"));
+    }
+    DragPiece piece;
+    piece.first_pair = a;
+    piece.pair_count = b - a;
+    piece.starts_at_change = p > 0;
+    piece.ends_at_change = p + 2 < cuts.size();
+    piece.start_mm = piece.starts_at_change ? changes[p - 1].s_mm : friction.window_start_mm;
+    piece.end_mm = piece.ends_at_change ? changes[p].s_mm : friction.window_end_mm;
+    const Eigen::Map<const Eigen::VectorXd> mu(friction.pair_mu.data() + a, b - a);
+    piece.mu = mu.mean();
+    const Eigen::VectorXd centred = mu.array() - piece.mu;
+    const double variance = piece.pair_count > 1 ? centred.squaredNorm() / (piece.pair_count - 1) : 0.0;
+    piece.mu_std = std::sqrt(variance);
+    piece.mu_median = Median(std::vector<double>(mu.data(), mu.data() + mu.size()));
+    const SeriesDependence dependence = EstimateSeriesDependence({centred});
+    piece.mu_se = std::sqrt(dependence.mean_inflation * variance / piece.pair_count);
+    piece.effective_pairs = piece.pair_count / dependence.mean_inflation;
+    pieces.push_back(std::move(piece));
+  }
+  return pieces;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,58 @@
+// The pieces of a drag: the stretches of the per-pair friction series between
+// detected change points (change_points.h), each a pure sample of one
+// material along its extent of the path.
+#pragma once
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "server/estimate/change_points.h"
+#include "server/estimate/friction.h"
+#include "server/estimate/roughness.h"
+
+namespace surfmap {
+
+enum class PieceRoughness {
+  kFitted,     // `roughness` holds the piece's own AR fit
+  kTooShort,   // shorter than the minimum for a roughness fit: not fitted (never fitted across a change)
+  kFitFailed,  // long enough, but the AR fit failed (`roughness_note` says why)
+};
+std::string_view PieceRoughnessName(PieceRoughness state);  // "fitted", "too_short", "fit_failed"
+
+struct DragPiece {
+  // Pairs first_pair .. first_pair + pair_count - 1 of the FrictionFit (the
+  // transitional pair next to each change, kChangeGuardPairs, is left out).
+  int first_pair = 0;
+  int pair_count = 0;
+  // Extent along the forward path (mm from its first sample, the frame of
+  // FrictionFit::window_*): from the window start or a change point to a
+  // change point or the window end.
+  double start_mm = 0.0;
+  double end_mm = 0.0;
+  bool starts_at_change = false;
+  bool ends_at_change = false;
+  double mu = 0.0;          // mean of the per-pair mu
+  double mu_std = 0.0;      // their sample standard deviation (the texture's spread, not an error)
+  double mu_median = 0.0;
+  // Standard error of mu, sqrt(mean_inflation * mu_std^2 / pair_count) with
+  // the serial correlation of the pairs modelled (series_dependence.h):
+  // neighbouring pairs feel the same texture.
+  double mu_se = 0.0;
+  double effective_pairs = 0.0;  // pair_count / mean_inflation
+  PieceRoughness roughness_state = PieceRoughness::kTooShort;
+  std::string roughness_note;    // why not fitted (empty when fitted)
+  ArFit roughness;               // when kFitted
+  double length_mm() const { return end_mm - start_mm; }
+};
+
+// The pieces of `friction`'s per-pair series cut at `changes` (indices into
+// the series, increasing), with their friction statistics; roughness is left
+// kTooShort for FitTrace to fill in. Errors (INVALID_ARGUMENT): an empty
+// series, change indices out of order or out of range, or so close that a
+// piece keeps fewer than 2 pairs.
+absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction,
+                                                     const std::vector<ChangePoint>& changes);
+
+}  // namespace surfmap

@@ -1,0 +1,443 @@
+#include "server/map/region_map.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+#include "absl/strings/str_cat.h"
+#include "absl/strings/strip.h"
+
+namespace surfmap {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kInf = std::numeric_limits<double>::infinity();
+constexpr double kMaxReflection = 0.999;  // keep medians of reflection coefficients strictly stationary
+
+double Median(std::vector<double> v) {
+  const std::size_t n = v.size();
+  std::nth_element(v.begin(), v.begin() + n / 2, v.end());
+  double m = v[n / 2];
+  if (n % 2 == 0) m = 0.5 * (m + *std::max_element(v.begin(), v.begin() + n / 2));
+  return m;
+}
+
+// The points of a polyline with no gap longer than `spacing`.
+std::vector<Eigen::Vector3d> Resample(const std::vector<Eigen::Vector3d>& points, double spacing) {
+  std::vector<Eigen::Vector3d> out;
+  if (points.empty()) return out;
+  out.push_back(points.front());
+  for (std::size_t i = 1; i < points.size(); ++i) {
+    const Eigen::Vector3d step = points[i] - points[i - 1];
+    const int parts = std::max(1, static_cast<int>(std::ceil(step.norm() / spacing - 1e-9)));
+    for (int k = 1; k <= parts; ++k) out.push_back(points[i - 1] + (static_cast<double>(k) / parts) * step);
+  }
+  return out;
+}
+
+Eigen::Vector3d Tangent(const Eigen::Vector3d& v, const Eigen::Vector3d& normal) { return v - v.dot(normal) * normal; }
+
+}  // namespace
+
+std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
+  std::vector<MapPiece> out;
+  for (const LinePiece& piece : line.pieces) {
+    MapPiece p;
+    p.drag = drag;
+    p.piece = piece;
+    p.points = line.path_s_mm.empty() ? std::vector<Eigen::Vector3d>{site_position}
+                                      : line.PointsBetween(piece.start_mm, piece.end_mm);
+    if (p.points.empty()) p.points.push_back(line.path_s_mm.empty() ? site_position : line.PointAt(piece.start_mm));
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+bool RegionMapOptions::IsValid(std::string* why) const {
+  auto fail = [why](std::string m) {
+    if (why != nullptr) *why = std::move(m);
+    return false;
+  };
+  std::string inner;
+  if (!merge.IsValid(&inner)) return fail(absl::StrCat("merge: ", inner));
+  if (!(std::isfinite(point_spacing_mm) && point_spacing_mm > 0.0)) return fail("point_spacing_mm must be > 0");
+  if (!(std::isfinite(correlation_length_mm) && correlation_length_mm >= 0.0)) {
+    return fail("correlation_length_mm must be >= 0 (0 = automatic)");
+  }
+  if (!(std::isfinite(prior_mu_std_floor) && prior_mu_std_floor >= 0.0)) return fail("prior_mu_std_floor must be >= 0");
+  if (!(min_mu_se > 0.0 && min_spread > 0.0)) return fail("min_mu_se and min_spread must be > 0");
+  return true;
+}
+
+absl::StatusOr<RegionMap> RegionMap::Create(const SurfaceLevel& level, const RegionMapOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("RegionMapOptions: ", why));
+  const std::size_t nv = level.limit_positions.size();
+  if (nv == 0 || level.triangles.empty()) return absl::InvalidArgumentError("RegionMap: the level has no vertices or triangles");
+  if (level.neighbors.size() != nv || level.limit_normals.size() != nv) {
+    return absl::InvalidArgumentError(absl::StrCat("RegionMap: the level has ", nv, " limit positions but ",
+                                                   level.neighbors.size(), " neighbour rows and ",
+                                                   level.limit_normals.size(), " normals"));
+  }
+  for (std::size_t t = 0; t < level.triangles.size(); ++t) {
+    for (int v : level.triangles[t]) {
+      if (v < 0 || static_cast<std::size_t>(v) >= nv) {
+        return absl::InvalidArgumentError(absl::StrCat("RegionMap: triangle ", t, " names vertex ", v, ", outside 0..", nv - 1));
+      }
+    }
+  }
+  RegionMap map;
+  map.level_ = &level;
+  map.options_ = options;
+  map.locator_ = std::make_shared<const MeshLocator>(level);
+  absl::StatusOr<LabelPropagation> propagation = LabelPropagation::Create(level);
+  if (!propagation.ok()) return propagation.status();
+  map.propagation_ = std::make_shared<LabelPropagation>(*std::move(propagation));
+  map.correlation_length_mm_ = options.correlation_length_mm;
+  if (map.correlation_length_mm_ == 0.0) {
+    Eigen::Vector3d lo = level.limit_positions[0], hi = lo;
+    for (const auto& p : level.limit_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
+    map.correlation_length_mm_ = std::max(0.1 * (hi - lo).norm(), 1e-9);
+  }
+  return map;
+}
+
+absl::Status RegionMap::Validate(const std::vector<MapPiece>& pieces) const {
+  if (pieces.empty()) return absl::InvalidArgumentError("RegionMap::SetPieces: no pieces");
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const MapPiece& p = pieces[i];
+    auto bad = [i](const std::string& what) {
+      return absl::InvalidArgumentError(absl::StrCat("map piece ", i, ": ", what));
+    };
+    if (p.points.empty()) return bad("has no points");
+    for (std::size_t k = 0; k < p.points.size(); ++k) {
+      if (!p.points[k].allFinite()) return bad(absl::StrCat("point ", k, " is not finite"));
+    }
+    LineSample probe;
+    probe.path_s_mm = {p.piece.start_mm, p.piece.end_mm};
+    probe.path_points = {p.points.front(), p.points.back()};
+    probe.pieces = {p.piece};
+    if (absl::Status s = probe.Validate(); !s.ok()) {
+      return bad(std::string(absl::StripPrefix(s.message(), "line sample: piece 0: ")));
+    }
+  }
+  return absl::OkStatus();
+}
+
+RegionMap::PlacedPiece RegionMap::Place(const MapPiece& piece, int index) const {
+  PlacedPiece placed;
+  placed.points = piece.points;
+  for (const Eigen::Vector3d& point : Resample(piece.points, options_.point_spacing_mm)) {
+    const SurfacePoint hit = locator_->Closest(point);
+    if (hit.triangle < 0) continue;
+    for (int corner : level_->triangles[hit.triangle]) placed.seeds.push_back({hit.position, corner, index});
+    placed.surface_seeds.push_back({hit.triangle, hit.barycentric, index});
+  }
+  return placed;
+}
+
+absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
+  if (absl::Status s = Validate(pieces); !s.ok()) return s;
+  std::vector<PlacedPiece> placed;
+  placed.reserve(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    if (i < placed_.size() && placed_[i].points == pieces[i].points) {
+      placed.push_back(std::move(placed_[i]));
+    } else {
+      placed.push_back(Place(pieces[i], static_cast<int>(i)));
+    }
+  }
+  pieces_ = std::move(pieces);
+  placed_ = std::move(placed);
+  return Rebuild();
+}
+
+absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite()) {
+      return absl::InvalidArgumentError(absl::StrCat("RegionMap::SetPendingPoints: point ", i, " is not finite"));
+    }
+  }
+  pending_ = std::move(points);
+  if (has_pieces()) RecomputeUncertainty();
+  return absl::OkStatus();
+}
+
+absl::Status RegionMap::Rebuild() {
+  const int n = static_cast<int>(pieces_.size());
+  const int nv = vertex_count();
+  std::vector<LabelledSeed> seeds;
+  for (const PlacedPiece& p : placed_) seeds.insert(seeds.end(), p.seeds.begin(), p.seeds.end());
+
+  // Which pieces touch: Voronoi cells that meet across an edge, the two
+  // nearest pieces of a vertex, and neighbours along one drag.
+  const NearestLabels by_piece = FindNearestLabels(*level_, seeds);
+  std::vector<std::pair<int, int>> adjacent, cannot_link;
+  for (const auto& e : level_->edges) {
+    const int a = by_piece.label[e[0]][0], b = by_piece.label[e[1]][0];
+    if (a >= 0 && b >= 0 && a != b) adjacent.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  for (int v = 0; v < nv; ++v) {
+    const int a = by_piece.label[v][0], b = by_piece.label[v][1];
+    if (a >= 0 && b >= 0) adjacent.emplace_back(std::min(a, b), std::max(a, b));
+  }
+  for (int i = 0; i + 1 < n; ++i) {
+    if (pieces_[i].drag != pieces_[i + 1].drag) continue;
+    adjacent.emplace_back(i, i + 1);
+    if (pieces_[i].piece.ends_at_change) cannot_link.emplace_back(i, i + 1);
+  }
+  std::sort(adjacent.begin(), adjacent.end());
+  adjacent.erase(std::unique(adjacent.begin(), adjacent.end()), adjacent.end());
+
+  std::vector<PieceStatistics> statistics(n);
+  for (int i = 0; i < n; ++i) {
+    const LinePiece& p = pieces_[i].piece;
+    statistics[i].mu = p.texture.mu;
+    statistics[i].mu_se = std::max(p.mu_se, options_.min_mu_se);
+    statistics[i].spread = std::max(p.texture.mu_std, options_.min_spread);
+    statistics[i].effective_pairs = std::max(p.effective_pairs, 1.0);
+  }
+  piece_region_ = MergeIntoRegions(statistics, adjacent, cannot_link, options_.merge);
+  const int region_count = n == 0 ? 0 : *std::max_element(piece_region_.begin(), piece_region_.end()) + 1;
+  regions_.assign(region_count, {});
+  int order = 0;
+  for (int i = 0; i < n; ++i) {
+    TextureRegion& r = regions_[piece_region_[i]];
+    r.pieces.push_back(i);
+    if (pieces_[i].piece.has_roughness()) order = std::max<int>(order, pieces_[i].piece.texture.reflection.size());
+  }
+  for (TextureRegion& r : regions_) {
+    std::vector<PieceStatistics> members;
+    std::vector<std::vector<double>> k(order);
+    std::vector<double> log_sigma;
+    for (int i : r.pieces) {
+      members.push_back(statistics[i]);
+      const TextureParams& t = pieces_[i].piece.texture;
+      if (!pieces_[i].piece.has_roughness()) continue;
+      for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
+      log_sigma.push_back(std::log(t.sigma));
+    }
+    r.statistics = PoolStatistics(members);
+    r.roughness_pieces = static_cast<int>(log_sigma.size());
+    if (r.roughness_pieces > 0) {
+      for (int j = 0; j < order; ++j) r.reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));
+      r.sigma = std::exp(Median(log_sigma));
+    }
+  }
+
+  // The region diagram.
+  seed_points_.clear();
+  for (LabelledSeed& s : seeds) {
+    s.label = piece_region_[s.label];
+    seed_points_.push_back(s.point);
+  }
+  nearest_ = FindNearestLabels(*level_, seeds);
+  double mean = 0.0;
+  for (const MapPiece& p : pieces_) mean += p.piece.texture.mu;
+  mean /= n;
+  double var = 0.0;
+  for (const MapPiece& p : pieces_) var += (p.piece.texture.mu - mean) * (p.piece.texture.mu - mean);
+  var /= std::max(1, n - 1);
+  prior_mu_std_ = std::max(std::sqrt(var), options_.prior_mu_std_floor);
+
+  // Regions spread from their pieces' points.
+  std::vector<SurfaceSeed> surface_seeds;
+  for (const PlacedPiece& p : placed_) {
+    for (SurfaceSeed s : p.surface_seeds) {
+      s.label = piece_region_[s.label];
+      surface_seeds.push_back(s);
+    }
+  }
+  absl::StatusOr<std::vector<std::vector<double>>> fields = propagation_->Propagate(surface_seeds, region_count);
+  if (!fields.ok()) return fields.status();
+  probability_ = *std::move(fields);
+
+  region_.assign(nv, -1);
+  second_region_.assign(nv, -1);
+  mu_.assign(nv, mean);
+  boundary_probability_.assign(nv, 0.0);
+  reflection_.assign(order, std::vector<double>(nv, kNaN));
+  log_sigma_.assign(order > 0 ? nv : 0, kNaN);
+  for (int v = 0; v < nv; ++v) {
+    int r = -1, second = -1;
+    double pr = 0.0, p2 = 0.0;
+    for (int c = 0; c < region_count; ++c) {
+      const double p = probability_[c][v];
+      if (p > pr) {
+        second = r, p2 = pr;
+        r = c, pr = p;
+      } else if (p > p2) {
+        second = c, p2 = p;
+      }
+    }
+    if (r < 0) continue;  // no data reaches this part of the surface
+    region_[v] = r;
+    second_region_[v] = second;
+    mu_[v] = regions_[r].statistics.mu;
+    if (second >= 0) boundary_probability_[v] = p2 / (pr + p2);
+    if (regions_[r].has_roughness()) {
+      for (int j = 0; j < order; ++j) reflection_[j][v] = regions_[r].reflection[j];
+      log_sigma_[v] = std::log(regions_[r].sigma);
+    }
+  }
+  RecomputeUncertainty();
+  return absl::OkStatus();
+}
+
+double RegionMap::BoundaryVariance(int region, int second, double p) const {
+  if (region < 0 || second < 0) return 0.0;
+  const double jump = regions_[second].statistics.mu - regions_[region].statistics.mu;
+  return p * (1.0 - p) * jump * jump;
+}
+
+double RegionMap::FarVariance(double d) const {
+  return prior_mu_std_ * prior_mu_std_ * -std::expm1(-2.0 * d / correlation_length_mm_);
+}
+
+double RegionMap::PointVariance(int region, int second, double p, double d) const {
+  if (region < 0) return prior_mu_std_ * prior_mu_std_;
+  const double se = regions_[region].statistics.mu_se;
+  return se * se + FarVariance(d) + BoundaryVariance(region, second, p);
+}
+
+void RegionMap::RecomputeUncertainty() {
+  const int nv = vertex_count();
+  std::vector<double> pending_distance(nv, kInf);
+  if (!pending_.empty()) {
+    std::vector<LabelledSeed> seeds;
+    for (const Eigen::Vector3d& p : pending_) {
+      const SurfacePoint hit = locator_->Closest(p);
+      if (hit.triangle < 0) continue;
+      for (int corner : level_->triangles[hit.triangle]) seeds.push_back({hit.position, corner, 0});
+    }
+    const NearestLabels near = FindNearestLabels(*level_, seeds);
+    for (int v = 0; v < nv; ++v) pending_distance[v] = near.distance_mm[v][0];
+  }
+  data_distance_mm_.assign(nv, kInf);
+  mu_std_.assign(nv, prior_mu_std_);
+  boundary_variance_.assign(nv, 0.0);
+  far_variance_.assign(nv, prior_mu_std_ * prior_mu_std_);
+  for (int v = 0; v < nv; ++v) {
+    data_distance_mm_[v] = std::min(nearest_.distance_mm[v][0], pending_distance[v]);
+    const double d = std::isfinite(data_distance_mm_[v]) ? data_distance_mm_[v] : 1e300;
+    mu_std_[v] = std::sqrt(PointVariance(region_[v], second_region_[v], boundary_probability_[v], d));
+    if (region_[v] < 0) continue;
+    boundary_variance_[v] = BoundaryVariance(region_[v], second_region_[v], boundary_probability_[v]);
+    far_variance_[v] = FarVariance(d);
+  }
+}
+
+MapValue RegionMap::VertexValue(int v) const {
+  MapValue out;
+  out.mu = mu_[v];
+  out.mu_std = mu_std_[v];
+  const int r = region_[v];
+  out.has_roughness = r >= 0 && regions_[r].has_roughness();
+  if (out.has_roughness) {
+    out.reflection = regions_[r].reflection;
+    out.sigma = regions_[r].sigma;
+  }
+  return out;
+}
+
+absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
+  if (!has_pieces()) return absl::FailedPreconditionError("RegionMap::ValueAt: the map has no pieces yet");
+  const int nt = static_cast<int>(level_->triangles.size());
+  if (point.triangle < 0 || point.triangle >= nt) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("RegionMap::ValueAt: triangle ", point.triangle, " is outside the level's 0..", nt - 1));
+  }
+  if (!point.barycentric.allFinite()) {
+    return absl::InvalidArgumentError("RegionMap::ValueAt: barycentric coordinates are not finite");
+  }
+  const auto& t = level_->triangles[point.triangle];
+  const auto& x = level_->limit_positions;
+  const Eigen::Vector3d& b = point.barycentric;
+  int best_region = -1, second_region = -1;
+  double best = 0.0, second = 0.0;
+  for (int c = 0; c < static_cast<int>(regions_.size()); ++c) {
+    const auto& f = probability_[c];
+    const double p = b[0] * f[t[0]] + b[1] * f[t[1]] + b[2] * f[t[2]];
+    if (p > best) {
+      second = best, second_region = best_region;
+      best = p, best_region = c;
+    } else if (p > second) {
+      second = p, second_region = c;
+    }
+  }
+  if (best_region < 0) return VertexValue(t[0]);
+  MapValue out;
+  const TextureRegion& region = regions_[best_region];
+  out.mu = region.statistics.mu;
+  const double p = second_region >= 0 ? second / (best + second) : 0.0;
+  double d = kInf;
+  for (int i = 0; i < 3; ++i) d = std::min(d, data_distance_mm_[t[i]] + (point.position - x[t[i]]).norm());
+  out.mu_std = std::sqrt(PointVariance(best_region, second_region, p, std::isfinite(d) ? d : 1e300));
+  out.has_roughness = region.has_roughness();
+  if (out.has_roughness) {
+    out.reflection = region.reflection;
+    out.sigma = region.sigma;
+  }
+  return out;
+}
+
+absl::StatusOr<MapValue> RegionMap::ValueAtPosition(const Eigen::Vector3d& position) const {
+  if (!position.allFinite()) return absl::InvalidArgumentError("RegionMap::ValueAtPosition: the point is not finite");
+  return ValueAt(locator_->Closest(position));
+}
+
+absl::StatusOr<std::vector<MapValue>> RegionMap::ValuesAtLevel(const SurfaceLevel& other) const {
+  if (!has_pieces()) return absl::FailedPreconditionError("RegionMap::ValuesAtLevel: the map has no pieces yet");
+  std::vector<MapValue> out;
+  out.reserve(other.limit_positions.size());
+  const bool prefix = other.limit_positions.size() <= level_->limit_positions.size() &&
+                      (other.limit_positions.empty() || other.limit_positions.back() == level_->limit_positions[other.limit_positions.size() - 1]);
+  for (std::size_t v = 0; v < other.limit_positions.size(); ++v) {
+    if (prefix) {
+      out.push_back(VertexValue(static_cast<int>(v)));
+      continue;
+    }
+    absl::StatusOr<MapValue> value = ValueAtPosition(other.limit_positions[v]);
+    if (!value.ok()) return value.status();
+    out.push_back(*std::move(value));
+  }
+  return out;
+}
+
+Eigen::Vector3d RegionMap::NearestDataPoint(int v) const {
+  if (v < 0 || v >= vertex_count()) return Eigen::Vector3d::Zero();
+  const int s = nearest_.seed.empty() ? -1 : nearest_.seed[v][0];
+  return s >= 0 ? seed_points_[s] : level_->limit_positions[v];
+}
+
+Eigen::Vector3d RegionMap::CrossingDirection(int v) const {
+  if (v < 0 || v >= vertex_count() || second_region_.empty() || second_region_[v] < 0) return Eigen::Vector3d::Zero();
+  // Least-squares gradient of g = P_2 - P_r over v's neighbours in the
+  // tangent plane: it points across the boundary, towards the second region.
+  const auto& x = level_->limit_positions;
+  const Eigen::Vector3d& n = level_->limit_normals[v];
+  Eigen::Vector3d t1 = Tangent(Eigen::Vector3d::UnitX(), n);
+  if (t1.norm() < 0.1) t1 = Tangent(Eigen::Vector3d::UnitY(), n);
+  t1.normalize();
+  const Eigen::Vector3d t2 = n.cross(t1);
+  const auto& own = probability_[region_[v]];
+  const auto& other = probability_[second_region_[v]];
+  const double g0 = other[v] - own[v];
+  Eigen::Matrix2d normal_matrix = Eigen::Matrix2d::Zero();
+  Eigen::Vector2d right = Eigen::Vector2d::Zero();
+  for (int u : level_->neighbors[v]) {
+    const Eigen::Vector3d d = x[u] - x[v];
+    const Eigen::Vector2d q(d.dot(t1), d.dot(t2));
+    normal_matrix += q * q.transpose();
+    right += q * ((other[u] - own[u]) - g0);
+  }
+  if (std::abs(normal_matrix.determinant()) < 1e-18) return Eigen::Vector3d::Zero();
+  const Eigen::Vector2d gradient = normal_matrix.ldlt().solve(right);
+  const Eigen::Vector3d dir = gradient.x() * t1 + gradient.y() * t2;
+  return dir.norm() > 1e-12 ? Eigen::Vector3d(dir.normalized()) : Eigen::Vector3d::Zero();
+}
+
+}  // namespace surfmap

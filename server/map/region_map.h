@@ -1,0 +1,208 @@
+// The friction/roughness map from line samples: every pure piece of every
+// drag (estimate/line_sample.h), placed along its executed path on the
+// surface, grouped into regions of like texture with an explicit boundary
+// between them. Harmonic interpolation (friction_map.h) blurs every boundary
+// over the gap between samples and takes a drag as one point; here a
+// boundary lies where the nearest data changes region, and a drag that found
+// a change inside it pins the boundary where it crossed.
+//
+// Construction (SetPieces):
+// 1. Each piece's points (resampled to point_spacing_mm) are projected onto
+//    the map's level; the corners of the triangle holding a point are seeds.
+// 2. A geodesic Voronoi diagram of the pieces (nearest_labels.h) says which
+//    pieces touch; pieces that touch are merged into regions while the merged
+//    groups stay statistically alike (texture_regions.h), never across a
+//    detected change that is larger than the resolutions.
+// 3. The regions spread over the surface from the pieces' points by a random
+//    walker (label_propagation.h): each vertex gets every region's
+//    probability, its region is the most probable, and the boundary passes
+//    through the places where drags found changes and runs smoothly between
+//    them. Inside a triangle the probabilities are interpolated linearly, so
+//    the boundary is resolved below the level's edge length. A diagram of the
+//    nearest data (nearest_labels.h) gives the distance to data.
+//
+// Values: a vertex takes its region's mu (the precision-weighted mean of its
+// pieces) and, when at least one of its pieces had its own roughness fit, the
+// region's roughness (per-coefficient medians of the pieces' reflection
+// coefficients, median sigma): roughness comes only from pure pieces, and a
+// region without one has none (NaN). Uncertainty (standard deviation of mu):
+//
+//   var(v) = se_r^2                          the region mean's standard error
+//          + s^2 (1 - exp(-2 d / l))         far from data: d to the nearest
+//                                            piece or pending point, l the
+//                                            correlation length, s the spread
+//                                            of the pieces' mu (floored)
+//          + p (1 - p) (mu_2 - mu_r)^2       near a boundary: p = P_2 / (P_r +
+//                                            P_2) from the two most probable
+//                                            regions' probabilities, the chance
+//                                            that v belongs to the second one,
+//                                            mu_2 its mu
+//
+// so it rises near boundaries that no drag has pinned and far from data, and
+// falls to se_r at a piece.
+//
+// Not thread-safe for SetPieces / SetPendingPoints; the const methods may be
+// called concurrently. Copies share the factorisation workspace: rebuild
+// (SetPieces) only one of them.
+#pragma once
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include "absl/status/status.h"
+#include "absl/status/statusor.h"
+#include "server/estimate/line_sample.h"
+#include "server/map/friction_map.h"
+#include "server/map/label_propagation.h"
+#include "server/map/nearest_labels.h"
+#include "server/map/texture_regions.h"
+#include "server/mesh/loop_surface.h"
+#include "server/mesh/mesh_locator.h"
+
+namespace surfmap {
+
+// One pure piece of one drag, on the object.
+struct MapPiece {
+  int drag = -1;                        // pieces with the same id are one drag, in path order
+  std::vector<Eigen::Vector3d> points;  // along its extent (>= 1; a point sample has one), mm
+  LinePiece piece;                      // texture, mu_se, effective pairs, change flags
+};
+
+// The pieces of a line sample as map pieces (the path between each piece's
+// ends). A line sample without a path (an old fit) gives one piece at
+// `site_position`.
+std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position);
+
+struct RegionMapOptions {
+  RegionMergeOptions merge;
+  // Pieces are resampled to at most this spacing before they are placed on
+  // the level: finer than the map level's edges (~1-2 mm), so every triangle
+  // a piece crosses holds a seed.
+  double point_spacing_mm = 0.5;
+  // l above; 0 = a tenth of the level's bounding-box diagonal.
+  double correlation_length_mm = 0.0;
+  // Lower bound on s above: a few alike pieces must not make the whole map
+  // look certain.
+  double prior_mu_std_floor = 0.02;
+  // Floors on a piece's mu_se and spread: synthetic or noise-free data can
+  // report 0, which the merge statistics divide by.
+  double min_mu_se = 1e-4;
+  double min_spread = 1e-4;
+  bool IsValid(std::string* why) const;
+};
+
+struct TextureRegion {
+  PieceStatistics statistics;     // pooled over its pieces
+  std::vector<int> pieces;        // indices into the pieces given
+  int roughness_pieces = 0;       // pieces with their own roughness fit
+  std::vector<double> reflection;  // medians (empty without roughness)
+  double sigma = 0.0;             // median (0 without roughness)
+  bool has_roughness() const { return roughness_pieces > 0; }
+};
+
+class RegionMap {
+ public:
+  // `level` (e.g. the finest level of the surface, refined until its edges
+  // are ~1-2 mm) must outlive the map. Errors (INVALID_ARGUMENT): invalid
+  // options, an empty level, sizes of positions / neighbours / triangles
+  // that disagree.
+  static absl::StatusOr<RegionMap> Create(const SurfaceLevel& level, const RegionMapOptions& options = {});
+
+  // Replaces the pieces and rebuilds the map. Errors (INVALID_ARGUMENT, naming
+  // the piece): no pieces, a piece without points, non-finite points or
+  // invalid texture (LineSample rules). On error the map keeps its state.
+  // Pieces identical to those at the same index in the previous call keep
+  // their projection onto the level (a plan adds pieces at the end).
+  absl::Status SetPieces(std::vector<MapPiece> pieces);
+
+  // Points about to be measured (issued drags' sites): they lower the
+  // far-from-data uncertainty near them, not the values. Errors: non-finite
+  // points. Allowed before any piece is set.
+  absl::Status SetPendingPoints(std::vector<Eigen::Vector3d> points);
+
+  bool has_pieces() const { return !pieces_.empty(); }
+  int vertex_count() const { return static_cast<int>(level_->limit_positions.size()); }
+  const SurfaceLevel& level() const { return *level_; }
+  const std::vector<MapPiece>& pieces() const { return pieces_; }
+  const std::vector<TextureRegion>& regions() const { return regions_; }
+  const std::vector<int>& piece_region() const { return piece_region_; }
+
+  // Per vertex of the level (empty before the first SetPieces).
+  const std::vector<int>& region() const { return region_; }            // -1: no data reachable
+  const std::vector<int>& second_region() const { return second_region_; }  // -1: none
+  const std::vector<double>& mu() const { return mu_; }
+  const std::vector<double>& mu_std() const { return mu_std_; }
+  const std::vector<double>& data_distance_mm() const { return data_distance_mm_; }  // incl. pending points
+  const std::vector<double>& boundary_probability() const { return boundary_probability_; }  // p above
+  // The two position-dependent terms of var(v) above: p (1 - p) (mu_2 - mu_r)^2
+  // and s^2 (1 - exp(-2 d / l)); what one more drag near v could remove.
+  const std::vector<double>& boundary_variance() const { return boundary_variance_; }
+  const std::vector<double>& far_variance() const { return far_variance_; }
+  // reflection()[j][v] is k_(j+1) at v; NaN where v's region has no roughness.
+  const std::vector<std::vector<double>>& reflection() const { return reflection_; }
+  const std::vector<double>& log_sigma() const { return log_sigma_; }  // NaN where no roughness
+  int roughness_order() const { return static_cast<int>(reflection_.size()); }
+  double prior_mu_std() const { return prior_mu_std_; }
+  double correlation_length_mm() const { return correlation_length_mm_; }
+
+  // Values at vertex v (0 <= v < vertex_count(), after SetPieces).
+  MapValue VertexValue(int v) const;
+  // At a point of the level's triangle point.triangle (barycentric): the
+  // region whose interpolated distance is least. Errors: no pieces yet
+  // (FAILED_PRECONDITION), a triangle out of range or non-finite barycentrics
+  // (INVALID_ARGUMENT).
+  absl::StatusOr<MapValue> ValueAt(const SurfacePoint& point) const;
+  // At any point: projected onto the level first.
+  absl::StatusOr<MapValue> ValueAtPosition(const Eigen::Vector3d& position) const;
+  // The values at every vertex of another level of the same surface (its
+  // limit positions projected onto this one). A coarser level's vertices are
+  // a prefix of this level's (the numbering contract) and read directly.
+  absl::StatusOr<std::vector<MapValue>> ValuesAtLevel(const SurfaceLevel& other) const;
+
+  // The unit tangent direction at v across the nearest boundary, towards
+  // v's second region: the gradient of (P_2 - P_r) over v's neighbours in
+  // the tangent plane. Zero when v has no second region.
+  Eigen::Vector3d CrossingDirection(int v) const;
+  // The data point (on a piece) nearest to v; v's own position when no data
+  // is reachable.
+  Eigen::Vector3d NearestDataPoint(int v) const;
+
+ private:
+  RegionMap() = default;
+  struct PlacedPiece {
+    std::vector<Eigen::Vector3d> points;   // as given (to recognise it next time)
+    std::vector<LabelledSeed> seeds;       // label = piece index
+    std::vector<SurfaceSeed> surface_seeds;  // label = piece index
+  };
+  absl::Status Validate(const std::vector<MapPiece>& pieces) const;
+  PlacedPiece Place(const MapPiece& piece, int index) const;
+  absl::Status Rebuild();
+  void RecomputeUncertainty();
+  double PointVariance(int region, int second, double p, double d) const;
+  double BoundaryVariance(int region, int second, double p) const;
+  double FarVariance(double d) const;
+
+  const SurfaceLevel* level_ = nullptr;
+  RegionMapOptions options_;
+  std::shared_ptr<const MeshLocator> locator_;
+  std::shared_ptr<LabelPropagation> propagation_;
+  std::vector<std::vector<double>> probability_;  // [region][vertex]
+  double correlation_length_mm_ = 0.0;
+
+  std::vector<MapPiece> pieces_;
+  std::vector<PlacedPiece> placed_;
+  std::vector<Eigen::Vector3d> pending_;
+  std::vector<TextureRegion> regions_;
+  std::vector<int> piece_region_;
+  NearestLabels nearest_;  // labelled by region
+  std::vector<Eigen::Vector3d> seed_points_;  // of nearest_'s seeds
+  double prior_mu_std_ = 0.0;
+  std::vector<int> region_, second_region_;
+  std::vector<double> mu_, mu_std_, data_distance_mm_, boundary_probability_, log_sigma_;
+  std::vector<double> boundary_variance_, far_variance_;
+  std::vector<std::vector<double>> reflection_;
+};
+
+}  // namespace surfmap

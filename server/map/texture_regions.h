@@ -1,0 +1,67 @@
+// Grouping the pieces of the drags into regions of like texture: the
+// segmentation that keeps the map's boundaries sharp. Pieces that touch on
+// the surface (their Voronoi cells meet, or they follow each other along a
+// drag) are merged, most alike first, while the merged groups stay
+// statistically indistinguishable:
+//
+//   mu:      |mu_A - mu_B| <= max(mu_resolution, z sqrt(se_A^2 + se_B^2))
+//   spread:  |ln s_A - ln s_B| <= max(ln spread_resolution,
+//                                     z sqrt(1 / (2 n_A) + 1 / (2 n_B)))
+//
+// with a group's mu the precision-weighted mean of its pieces' mu (se from
+// the weights), s the pooled per-pair spread and n its effective pairs (the
+// spread of n independent normal values has a log standard error of
+// ~1 / sqrt(2 n)), z the two-sided normal quantile at `false_split_probability`.
+// The spread is the texture's signature: rubber (0.305) and masonite (0.36)
+// are one drag's noise apart in mu but ~3x apart in spread. Pieces of one
+// drag on both sides of a detected change are never merged, unless they are
+// alike within the resolutions (a change that is statistically real but
+// smaller than anything worth mapping).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace surfmap {
+
+struct PieceStatistics {
+  double mu = 0.0;
+  double mu_se = 0.0;        // > 0 (callers floor it)
+  double spread = 0.0;       // per-pair standard deviation, > 0 (callers floor it)
+  double effective_pairs = 1.0;
+};
+
+struct RegionMergeOptions {
+  // Chance that two pieces of one material are kept apart by one test. A map
+  // makes a few hundred comparisons; at 1e-3 a false split is rare, and one
+  // only costs a refinement at a boundary that is not there.
+  double false_split_probability = 1e-3;
+  // Friction differences below this are not mapped as boundaries, however
+  // significant: the run-to-run repeatability of a friction coefficient is a
+  // few hundredths, and the closest of the paper's materials (rubber 0.305,
+  // masonite 0.36) differ by 0.055. Without it, glass pieces known to
+  // +-0.0003 would split on differences of 0.001.
+  double mu_resolution = 0.01;
+  // Likewise for the per-pair spread: ratios below this are one texture.
+  double spread_resolution = 1.25;
+  bool IsValid(std::string* why) const;
+};
+
+// `adjacent`: pairs of piece indices that touch; `cannot_link`: pairs known
+// to differ (the pieces on both sides of a detected change). Returns the
+// region of each piece, numbered 0.. in order of each region's lowest piece.
+// Indices out of range are ignored (callers validate).
+std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
+                                  const std::vector<std::pair<int, int>>& adjacent,
+                                  const std::vector<std::pair<int, int>>& cannot_link,
+                                  const RegionMergeOptions& options = {});
+
+// Whether two groups are alike by the rule above (exposed for tests and the
+// planner).
+bool TexturesAlike(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& options);
+
+// The statistics of pieces merged into one group.
+PieceStatistics PoolStatistics(const std::vector<PieceStatistics>& pieces);
+
+}  // namespace surfmap

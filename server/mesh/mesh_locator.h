@@ -1,0 +1,40 @@
+// Closest points on any triangle mesh (a surface level other than the
+// LoopSurface's finest, or a map's mesh read back from a file): the exact
+// closest point over its triangles, found with the module's bounding-volume
+// tree (triangle_bvh.h).
+#pragma once
+
+#include <array>
+#include <memory>
+#include <vector>
+
+#include <Eigen/Core>
+#include "server/mesh/loop_surface.h"
+
+namespace surfmap {
+
+class MeshLocator {
+ public:
+  // Copies the mesh. Triangle indices must lie in 0..positions.size()-1
+  // (callers validate); an empty mesh finds nothing.
+  MeshLocator(std::vector<Eigen::Vector3d> positions, std::vector<std::array<int, 3>> triangles);
+  // The limit mesh of a surface level.
+  explicit MeshLocator(const SurfaceLevel& level);
+  MeshLocator(MeshLocator&&) noexcept;
+  MeshLocator& operator=(MeshLocator&&) noexcept;
+  ~MeshLocator();
+
+  // The closest point: triangle (-1 for an empty mesh), barycentric weights
+  // of its vertices, position, distance; normal = the triangle's unit normal
+  // (by its winding).
+  SurfacePoint Closest(const Eigen::Vector3d& query) const;
+
+  const std::vector<Eigen::Vector3d>& positions() const;
+  const std::vector<std::array<int, 3>>& triangles() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace surfmap

@@ -1,0 +1,35 @@
+#include "server/mesh/mesh_locator.h"
+
+#include <gtest/gtest.h>
+#include "server/mesh/primitive_meshes.h"
+
+namespace surfmap {
+namespace {
+
+TEST(MeshLocatorTest, FindsTheClosestPointOnAnyLevel) {
+  auto control = MakeIcosphere(10.0, 1);
+  ASSERT_TRUE(control.ok());
+  auto surface = LoopSurface::Create(*control, 2);
+  ASSERT_TRUE(surface.ok());
+  // Level 1 is not the surface's finest: the locator searches its own mesh.
+  MeshLocator locator((*surface)->level(1));
+  const SurfacePoint hit = locator.Closest(Eigen::Vector3d(0, 0, 30));
+  ASSERT_GE(hit.triangle, 0);
+  const auto& t = (*surface)->level(1).triangles[hit.triangle];
+  const auto& p = (*surface)->level(1).limit_positions;
+  const Eigen::Vector3d rebuilt = hit.barycentric[0] * p[t[0]] + hit.barycentric[1] * p[t[1]] + hit.barycentric[2] * p[t[2]];
+  EXPECT_NEAR((rebuilt - hit.position).norm(), 0.0, 1e-9);
+  EXPECT_NEAR(hit.distance, (hit.position - Eigen::Vector3d(0, 0, 30)).norm(), 1e-9);
+  EXPECT_GT(hit.normal.z(), 0.9);  // outward at the top
+  // Moving the locator keeps it working (its tree points into its own copy).
+  MeshLocator moved = std::move(locator);
+  EXPECT_EQ(moved.Closest(Eigen::Vector3d(0, 0, 30)).triangle, hit.triangle);
+}
+
+TEST(MeshLocatorTest, AnEmptyMeshFindsNothing) {
+  const MeshLocator locator({}, {});
+  EXPECT_EQ(locator.Closest(Eigen::Vector3d::Zero()).triangle, -1);
+}
+
+}  // namespace
+}  // namespace surfmap
