@@ -9,6 +9,8 @@ find_package(SQLite3 REQUIRED)
 find_package(tinyobjloader CONFIG REQUIRED)
 find_package(Protobuf REQUIRED)
 find_package(gRPC CONFIG REQUIRED)
+# glTF export of maps (clients/haptics): Debian's libtinygltf-dev ships it as a shared library.
+find_package(TinyGLTF CONFIG REQUIRED)
 
 # Debian's OpenSubdiv CMake config references libosdCPU.a, which the package does
 # not ship (see ../shared/docs/BUILD-NOTES.md): locate the shared library by hand.

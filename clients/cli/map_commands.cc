@@ -6,12 +6,18 @@
 #include <fstream>
 
 #include "absl/strings/ascii.h"
+#include "absl/strings/match.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
 #include "clients/cli/map_json.h"
 #include "clients/cli/map_overlay.h"
-#include "clients/render/map_ply.h"
+#include "clients/haptics/export/simulate_drag_proto.h"
+#include "clients/haptics/export/texture_map_proto.h"
+#include "clients/haptics/map_quantity.h"
+#include "clients/haptics/texture_map_gltf.h"
+#include "clients/haptics/texture_map_ply.h"
+#include "clients/haptics/texture_model_json.h"
 #include "clients/render/map_render.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 #include "server/codec/trace_samples_proto.h"
@@ -33,6 +39,7 @@ struct MapGetArgs {
   int width = 480;
   std::vector<double> mu_range;
   bool one_view = false;
+  std::string quantity = "mu";
 };
 
 // Writes `bytes` to `path` via a temporary file and rename, so a reader never
@@ -62,6 +69,8 @@ void RunMapGet(RemoteCli& cli, const MapGetArgs& args) {
   if (!format.ok()) return FailUsage(cli, std::string(format.status().message()));
   if (args.output.empty()) return FailUsage(cli, "map get: -o FILE is required");
   MapRenderOptions render;
+  absl::StatusOr<haptics::MapQuantity> quantity = haptics::ParseMapQuantity(args.quantity);
+  if (!quantity.ok()) return FailUsage(cli, absl::StrCat("--quantity: ", quantity.status().message()));
   if (*format == "png") {
     absl::StatusOr<Eigen::Vector3d> view = ParsePoint(args.view);
     if (!view.ok()) return FailUsage(cli, absl::StrCat("--view: ", view.status().message()));
@@ -95,25 +104,36 @@ void RunMapGet(RemoteCli& cli, const MapGetArgs& args) {
     pb::GetJobResponse job;
     if (!CallRpc(cli, "GetJob", *job_stub, &pb::JobService::Stub::GetJob, job_request, &job)) return;
     bytes = MapToJson(response, &job.job()).dump(1) + "\n";
-  } else {
+  } else if (*format == "png") {
     MapMesh mesh = MapMeshFromResponse(response);
-    if (*format == "png") {
-      MapOverlay overlay = SampleOverlay(mesh, response.map());
-      absl::StatusOr<std::string> png = RenderMapPng(mesh, overlay, render);
-      if (!png.ok()) return FailUsage(cli, absl::StrCat("map get: rendering: ", png.status().message()));
-      bytes = *std::move(png);
+    // Any per-vertex quantity, from the same TextureMap the exports write.
+    absl::StatusOr<haptics::TextureMap> texture = haptics::TextureMapFromResponse(response);
+    if (!texture.ok()) return FailUsage(cli, absl::StrCat("map get: ", texture.status().message()));
+    absl::StatusOr<std::vector<double>> values = haptics::MapQuantityValues(*texture, *quantity);
+    if (!values.ok()) return FailUsage(cli, absl::StrCat("map get: --quantity: ", values.status().message()));
+    mesh.values = *std::move(values);
+    render.color_bar_title = std::string(haptics::MapQuantityTitle(*quantity));
+    MapOverlay overlay = SampleOverlay(mesh, response.map());
+    absl::StatusOr<std::string> png = RenderMapPng(mesh, overlay, render);
+    if (!png.ok()) return FailUsage(cli, absl::StrCat("map get: rendering: ", png.status().message()));
+    bytes = *std::move(png);
+  } else {
+    // The renderer exports: every per-vertex attribute (PLY, glTF) or the
+    // texture model per region (texture-json); see docs/texture-model.md.
+    absl::StatusOr<haptics::TextureMap> texture = haptics::TextureMapFromResponse(response);
+    if (!texture.ok()) return FailUsage(cli, absl::StrCat("map get: ", texture.status().message()));
+    absl::StatusOr<std::string> out;
+    if (*format == "ply") {
+      out = haptics::WriteTexturePly(*texture);
+    } else if (*format == "gltf" || *format == "glb") {
+      out = haptics::WriteTextureGltf(*texture, *format == "glb");
     } else {
-      MapPlyOptions ply;
-      ply.comment = absl::StrCat("surfmap job ", response.map().job_id(), " level ", response.map().level(),
-                                 ", ", response.map().samples_size(), " samples");
-      if (args.mu_range.size() == 2) {
-        ply.value_min = args.mu_range[0];
-        ply.value_max = args.mu_range[1];
-      }
-      absl::StatusOr<std::string> text = WriteMapPly(mesh, ply);
-      if (!text.ok()) return FailUsage(cli, absl::StrCat("map get: ply: ", text.status().message()));
-      bytes = *std::move(text);
+      absl::StatusOr<nlohmann::json> json = haptics::TextureModelToJson(*texture);
+      if (json.ok()) out = json->dump(1) + "\n";
+      else out = json.status();
     }
+    if (!out.ok()) return FailUsage(cli, absl::StrCat("map get: ", *format, ": ", out.status().message()));
+    bytes = *std::move(out);
   }
   if (!WriteFileAtomically(cli, args.output, bytes)) return;
   std::printf("%s: level %d, %d vertices, %d samples\n", args.output.c_str(), response.map().level(),
@@ -155,6 +175,58 @@ void RunMapQuery(RemoteCli& cli, const MapQueryArgs& args) {
   }
 }
 
+struct SimulateDragArgs {
+  int64_t job_id = 0;
+  std::string at;
+  std::string direction;
+  double length_mm = 20.0;
+  double speed_mm_s = 10.0;
+  double normal_force_n = 5.0;
+  double sample_rate_hz = 100.0;
+  double pause_s = 0.5;
+  int level = -1;
+  uint64_t seed = 1;
+  std::string output;
+};
+
+// A drag over the job's model (SimulateDrag), written as a drag-trace CSV
+// that `surfmap fit` and plotting scripts read like a measured trace.
+void RunSimulateDrag(RemoteCli& cli, const SimulateDragArgs& args) {
+  absl::StatusOr<Eigen::Vector3d> at = ParsePoint(args.at);
+  if (!at.ok()) return FailUsage(cli, absl::StrCat("--at: ", at.status().message()));
+  absl::StatusOr<Eigen::Vector3d> direction = ParsePoint(args.direction);
+  if (!direction.ok()) return FailUsage(cli, absl::StrCat("--direction: ", direction.status().message()));
+  pb::SimulateDragRequest request;
+  request.set_job_id(args.job_id);
+  for (auto [v, out] : {std::pair{*at, request.mutable_position()}, std::pair{*direction, request.mutable_direction()}}) {
+    out->set_x(v.x());
+    out->set_y(v.y());
+    out->set_z(v.z());
+  }
+  request.set_length_mm(args.length_mm);
+  request.set_speed_mm_s(args.speed_mm_s);
+  request.set_normal_force_n(args.normal_force_n);
+  request.set_sample_rate_hz(args.sample_rate_hz);
+  request.set_pause_s(args.pause_s);
+  if (args.level >= 0) request.set_level(args.level);
+  request.set_seed(args.seed);
+  auto stub = pb::MapService::NewStub(cli.Channel());
+  pb::SimulateDragResponse response;
+  if (!CallRpc(cli, "SimulateDrag", *stub, &pb::MapService::Stub::SimulateDrag, request, &response)) return;
+  absl::StatusOr<DragTrace> trace = DragTraceFromProto(response.samples());
+  if (!trace.ok()) return FailUsage(cli, absl::StrCat("SimulateDrag: ", trace.status().message()));
+  const std::string csv =
+      absl::StrCat("# surfmap map simulate-drag: job ", args.job_id, " level ", response.level(), ", the model (map) ",
+                   "rendered at ", args.speed_mm_s, " mm/s, ", args.normal_force_n, " N, grid ", response.grid_step_mm(),
+                   " mm, seed ", args.seed, "\n", FormatTraceCsv(*trace));
+  if (args.output.empty() || args.output == "-") {
+    std::fwrite(csv.data(), 1, csv.size(), stdout);
+    return;
+  }
+  if (!WriteFileAtomically(cli, args.output, csv)) return;
+  std::printf("%s: %zu samples over the model of job %lld (level %d)\n", args.output.c_str(), trace->samples.size(),
+              static_cast<long long>(args.job_id), response.level());
+}
 
 }  // namespace
 
@@ -180,25 +252,33 @@ absl::StatusOr<std::string> ResolveMapFormat(std::string_view format_view, std::
   if (f.empty()) {
     f = absl::AsciiStrToLower(std::filesystem::path(output_path).extension().string());
     if (!f.empty() && f[0] == '.') f.erase(0, 1);
-    if (f != "json" && f != "png" && f != "ply") {
-      return absl::InvalidArgumentError(
-          absl::StrCat("map get: cannot tell the format from '", output_path, "': use --format json|png|ply"));
+    // "x.texture.json" is the texture model, any other ".json" the map file.
+    if (f == "json" && absl::EndsWith(absl::AsciiStrToLower(output_path), ".texture.json")) f = "texture-json";
+    if (f != "json" && f != "png" && f != "ply" && f != "gltf" && f != "glb" && f != "texture-json") {
+      return absl::InvalidArgumentError(absl::StrCat("map get: cannot tell the format from '", output_path,
+                                                     "': use --format json|png|ply|gltf|glb|texture-json"));
     }
   }
-  if (f != "json" && f != "png" && f != "ply") {
-    return absl::InvalidArgumentError(absl::StrCat("map get: unknown format '", format, "' (json, png or ply)"));
+  if (f != "json" && f != "png" && f != "ply" && f != "gltf" && f != "glb" && f != "texture-json") {
+    return absl::InvalidArgumentError(
+        absl::StrCat("map get: unknown format '", format, "' (json, png, ply, gltf, glb or texture-json)"));
   }
   return f;
 }
 
 void AddMapCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
-  CLI::App* map = app.add_subcommand("map", "The friction/roughness map of a job: get, query");
+  CLI::App* map = app.add_subcommand("map", "The friction/roughness map of a job: get, query, simulate-drag");
   map->require_subcommand(1);
 
   auto g = std::make_shared<MapGetArgs>();
-  CLI::App* get = map->add_subcommand("get", "Write a job's map as JSON, PNG or PLY");
+  CLI::App* get = map->add_subcommand("get", "Write a job's map as JSON, PNG, PLY, glTF/GLB or a texture model");
   get->add_option("job", g->job_id, "Job id")->required();
-  get->add_option("--format", g->format, "json, png or ply (default: from the -o extension)");
+  get->add_option("--format", g->format,
+                  "json, png, ply, gltf, glb or texture-json (default: from the -o extension; "
+                  "*.texture.json = texture-json)");
+  get->add_option("--quantity", g->quantity,
+                  "png: what to colour by: mu, mu_std, sigma, a1, a2, region, boundary_probability")
+      ->capture_default_str();
   get->add_option("-o,--output", g->output, "Output file")->required();
   get->add_option("--level", g->level, "Subdivision level (-1 = the job's finest)")->capture_default_str();
   get->add_option("--view", g->view, "png: the direction the first camera looks, X,Y,Z")->capture_default_str();
@@ -206,9 +286,25 @@ void AddMapCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   get->add_option("--color-map", g->color_map, "png: grey (whiter = more friction) or viridis")
       ->capture_default_str();
   get->add_option("--width", g->width, "png: pixels per view")->check(CLI::Range(16, 8192))->capture_default_str();
-  get->add_option("--mu-range", g->mu_range, "png/ply: colour scale LO HI (default: the map's range)")
+  get->add_option("--mu-range", g->mu_range, "png: colour scale LO HI of the quantity (default: its range)")
       ->expected(2);
   get->callback([cli, g] { RunMapGet(*cli, *g); });
+
+  auto d = std::make_shared<SimulateDragArgs>();
+  CLI::App* drag = map->add_subcommand(
+      "simulate-drag", "Render a drag over the job's model (its map) as a drag-trace CSV, to compare with a measured one");
+  drag->add_option("job", d->job_id, "Job id")->required();
+  drag->add_option("--at", d->at, "Start X,Y,Z in mm (projected onto the surface; within 2 mm)")->required();
+  drag->add_option("--direction", d->direction, "Drag direction X,Y,Z (projected onto the tangent plane)")->required();
+  drag->add_option("--length", d->length_mm, "Drag length, mm")->capture_default_str();
+  drag->add_option("--speed", d->speed_mm_s, "Sliding speed, mm/s")->capture_default_str();
+  drag->add_option("--force", d->normal_force_n, "Normal force, N")->capture_default_str();
+  drag->add_option("--rate", d->sample_rate_hz, "Sample rate, Hz")->capture_default_str();
+  drag->add_option("--pause", d->pause_s, "Pause between the passes, s")->capture_default_str();
+  drag->add_option("--level", d->level, "Map level (-1 = the finest)")->capture_default_str();
+  drag->add_option("--seed", d->seed, "Texture realisation")->capture_default_str();
+  drag->add_option("-o,--output", d->output, "Output CSV file (default: stdout)");
+  drag->callback([cli, d] { RunSimulateDrag(*cli, *d); });
 
   auto q = std::make_shared<MapQueryArgs>();
   CLI::App* query = map->add_subcommand("query", "The map at points (projected onto the surface)");

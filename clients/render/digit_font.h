@@ -1,6 +1,7 @@
-// A tiny built-in 5x7 bitmap font for number labels (colour bar min/max).
-// Covers the digits, '.', '-', '+', 'e' and ' '; any other character is drawn
-// as a blank cell, so labels never fail to render.
+// A tiny built-in 5x7 bitmap font for the colour bar's number labels and
+// title. Covers the digits, '.', '-', '+', 'e', ' ', the capitals A-Z and
+// '(', ')', '_', '/'; any other character is drawn as a blank cell, so
+// labels never fail to render (titles are written in capitals).
 #pragma once
 
 #include <string_view>

@@ -109,7 +109,9 @@ void DrawColorBar(RgbImage& image, int x0, const ColorScale& scale, const MapRen
   const int text_h = kGlyphHeight * text_scale;
   const int bar_w = 24;
   const int bar_x = x0 + (kColorBarStripWidth - bar_w) / 2;
-  const int bar_top = 12 + text_h + 6;
+  // The title (at font scale 1) above the max label, when there is one.
+  const int title_h = options.color_bar_title.empty() ? 0 : kGlyphHeight + 6;
+  const int bar_top = 12 + title_h + text_h + 6;
   const int bar_bottom = image.height - 12 - text_h - 6;
   if (bar_bottom <= bar_top) return;
   for (int y = bar_top; y <= bar_bottom; ++y) {
@@ -120,7 +122,12 @@ void DrawColorBar(RgbImage& image, int x0, const ColorScale& scale, const MapRen
   const std::string max_label = FormatLabel(scale.hi);
   const std::string min_label = FormatLabel(scale.lo);
   const int center = x0 + kColorBarStripWidth / 2;
-  DrawText(image, center - TextWidth(max_label, text_scale) / 2, 12, max_label, options.label_color, text_scale);
+  if (title_h > 0) {
+    DrawText(image, center - TextWidth(options.color_bar_title, 1) / 2, 8, options.color_bar_title,
+             options.label_color, 1);
+  }
+  DrawText(image, center - TextWidth(max_label, text_scale) / 2, 12 + title_h, max_label, options.label_color,
+           text_scale);
   DrawText(image, center - TextWidth(min_label, text_scale) / 2, bar_bottom + 6, min_label, options.label_color,
            text_scale);
 }

@@ -36,6 +36,9 @@ struct MapRenderOptions {
   std::optional<double> value_min;
   std::optional<double> value_max;
   bool color_bar = true;
+  // Drawn above the colour bar, e.g. "SIGMA (N)": the quantity and its unit
+  // (capitals, digits and ()_/ only, see digit_font.h; ~15 characters fit).
+  std::string color_bar_title;
   Rgb background = {24, 32, 56};      // dark blue: distinct from every grey and from viridis' ends
   Rgb no_data_color = {170, 60, 150};  // vertices whose value is NaN
   Rgb sample_color = {255, 120, 0};

@@ -5,6 +5,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include "clients/render/digit_font.h"
 #include "clients/render/png_encoding.h"
 
 #define STBI_ONLY_PNG
@@ -185,6 +186,29 @@ TEST(RenderMapTest, ColorBarRunsFromMinAtTheBottomToMaxAtTheTop) {
     for (int xx = 100; xx < image->width; ++xx) label_pixels += image->At(xx, y) == o.label_color;
   }
   EXPECT_GT(label_pixels, 20);
+}
+
+// A title goes above the labels, in the label colour, centred on the strip;
+// the rows above the max label are empty without one.
+TEST(RenderMapTest, ColorBarTitleIsDrawnAboveTheLabels) {
+  MapRenderOptions o;
+  o.view_width = 100;
+  o.view_height = 200;
+  o.two_views = false;
+  auto count_title_pixels = [&](const RgbImage& image) {
+    int n = 0;
+    for (int y = 8; y < 8 + kGlyphHeight; ++y) {
+      for (int x = 100; x < image.width; ++x) n += image.At(x, y) == o.label_color;
+    }
+    return n;
+  };
+  auto plain = RenderMap(Sphere(10, 0.5, 0.1), {}, o);
+  o.color_bar_title = "SIGMA (N)";
+  auto titled = RenderMap(Sphere(10, 0.5, 0.1), {}, o);
+  ASSERT_TRUE(plain.ok() && titled.ok());
+  EXPECT_EQ(count_title_pixels(*plain), 0);
+  // "SIGMA (N)": 8 glyphs of 5x7 with ~15 lit pixels each at scale 1.
+  EXPECT_GT(count_title_pixels(*titled), 60);
 }
 
 TEST(RenderMapTest, ViridisColoursTheObject) {

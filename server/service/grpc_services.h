@@ -87,6 +87,8 @@ class MapServiceImpl final : public pb::MapService::CallbackService {
                                    pb::GetMapResponse*) override;
   grpc::ServerUnaryReactor* QueryMap(grpc::CallbackServerContext*, const pb::QueryMapRequest*,
                                      pb::QueryMapResponse*) override;
+  grpc::ServerUnaryReactor* SimulateDrag(grpc::CallbackServerContext*, const pb::SimulateDragRequest*,
+                                         pb::SimulateDragResponse*) override;
 
  private:
   ServiceContext s_;

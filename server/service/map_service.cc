@@ -1,4 +1,5 @@
 #include "absl/strings/str_cat.h"
+#include "clients/haptics/export/simulate_drag_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"
@@ -102,6 +103,34 @@ grpc::ServerUnaryReactor* MapServiceImpl::QueryMap(grpc::CallbackServerContext* 
         out->set_a2(a.size() > 1 ? a[1] : 0.0);
       }
     }
+    return absl::OkStatus();
+  });
+}
+
+grpc::ServerUnaryReactor* MapServiceImpl::SimulateDrag(grpc::CallbackServerContext* context,
+                                                       const pb::SimulateDragRequest* request,
+                                                       pb::SimulateDragResponse* response) {
+  // Builds the map level with its mesh (as GetMap) and a renderer over it: on the pool.
+  return HandleUnaryOnPool(context, s_, Role::kRead, "SimulateDrag", [this, request, response]() -> absl::Status {
+    absl::StatusOr<MapSnapshot> snapshot = s_.coordinator->Map(request->job_id());
+    if (!snapshot.ok()) return snapshot.status();
+    const int finest = snapshot->surface->max_level();
+    const int level = request->has_level() ? request->level() : finest;
+    if (level < 0 || level > finest) {
+      return absl::InvalidArgumentError(absl::StrCat("level must be in 0..", finest, " (unset = finest), got ", level));
+    }
+    absl::StatusOr<std::vector<SampleRecord>> samples = s_.coordinator->reads().ListSamples(request->job_id(), 0);
+    if (!samples.ok()) return samples.status();
+    pb::GetMapResponse map;
+    if (absl::Status s = FillMapLevel(*snapshot, level, *samples, request->job_id(), map.mutable_map()); !s.ok()) {
+      return s;
+    }
+    absl::StatusOr<JobSnapshot> job = s_.coordinator->GetJob(request->job_id());
+    if (!job.ok()) return job.status();
+    FillMesh(snapshot->surface->level(level), level, job->params.object_id, map.mutable_mesh());
+    absl::StatusOr<pb::SimulateDragResponse> drag = haptics::SimulateDragOnMap(map, *request);
+    if (!drag.ok()) return drag.status();
+    *response = *std::move(drag);
     return absl::OkStatus();
   });
 }

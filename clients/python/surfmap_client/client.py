@@ -325,6 +325,16 @@ class SurfmapClient:
         response = self._call("GetMap", self._maps.GetMap, request, timeout)
         return conv.surface_map(response.map, response.mesh if response.HasField("mesh") else None)
 
+    def export_map(self, job_id: int, path: str, format: Optional[str] = None, level: int = -1,
+                   timeout: Optional[float] = None) -> str:
+        """Writes the map as a texture model file for renderers: gltf, glb, ply
+        or texture-json (default from the suffix; docs/texture-model.md).
+        Returns the format written."""
+        from .texture_export import write_texture_file
+        request = pb.GetMapRequest(job_id=job_id, level=level, include_mesh=True)
+        response = self._call("GetMap", self._maps.GetMap, request, timeout)
+        return write_texture_file(response, path, format)
+
     def query_map(self, job_id: int, points: Union[np.ndarray, Sequence[Sequence[float]]],
                   timeout: Optional[float] = None) -> r.MapQuery:
         """The map at any 3D points (N, 3), each projected to the surface."""
