@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "clients/haptics/model_drag.h"
 #include "clients/haptics/texture_renderer.h"
 #include "clients/mapsim/mapping_run.h"
@@ -86,19 +87,26 @@ absl::StatusOr<TextureMap> ModelOf(const mapsim::MappingBench& bench, const maps
   return out;
 }
 
-// The model with its regions' materials swapped: regions ranked by mu, each
-// vertex takes the texture (mu, roughness) of the next region in the ranking
-// (the last takes the first's). Everything else, geometry and boundaries
-// included, stays: only "which material is where" is wrong.
+// The model with its materials swapped: every region takes the texture
+// (mu, roughness) of the region whose mu is farthest from its own, so each
+// place gets the map of another material (a map may split one material into
+// several regions; the farthest is never one of them). Everything else,
+// geometry and boundaries included, stays: only "which material is where"
+// is wrong.
 TextureMap SwappedModel(const TextureMap& model) {
   TextureMap wrong = model;
   const int regions = static_cast<int>(model.regions.size());
   if (regions < 2) return wrong;
-  std::vector<int> rank(regions);
-  std::iota(rank.begin(), rank.end(), 0);
-  std::sort(rank.begin(), rank.end(), [&](int a, int b) { return model.regions[a].mu < model.regions[b].mu; });
   std::vector<int> swap_to(regions);
-  for (int i = 0; i < regions; ++i) swap_to[rank[i]] = rank[(i + 1) % regions];
+  for (int r = 0; r < regions; ++r) {
+    int far = r == 0 ? 1 : 0;
+    for (int q = 0; q < regions; ++q) {
+      if (std::abs(model.regions[q].mu - model.regions[r].mu) > std::abs(model.regions[far].mu - model.regions[r].mu)) {
+        far = q;
+      }
+    }
+    swap_to[r] = far;
+  }
   const int order = model.ar_order;
   for (int v = 0; v < model.vertex_count(); ++v) {
     const int r = model.region[v];
@@ -245,6 +253,12 @@ absl::StatusOr<SceneRealism> RunRealism(const std::string& scene_name, const Rea
   const TextureMap wrong_map = SwappedModel(*model);
   SceneRealism out;
   out.scene = scene_name;
+  for (const haptics::TextureRegion& r : model->regions) {
+    out.region_summary.push_back(absl::StrFormat("r%d mu %.3f sigma %.3f k %s (%d pieces, %d rough)", r.region, r.mu,
+                                                 r.sigma, absl::StrJoin(r.reflection, ",", [](std::string* o, double k) {
+                                                   absl::StrAppend(o, absl::StrFormat("%.2f", k));
+                                                 }), r.piece_count, r.roughness_piece_count));
+  }
   out.map_samples = run->measured();
   out.regions = static_cast<int>(model->regions.size());
   absl::StatusOr<std::unique_ptr<TextureRenderer>> renderer = TextureRenderer::Create(*model);

@@ -58,6 +58,7 @@ struct SceneRealism {
   int regions = 0;            // regions of the model
   int test_drags = 0;
   std::vector<MaterialRealism> materials;
+  std::vector<std::string> region_summary;  // the model's regions, one line each
   double elapsed_s = 0.0;
 };
 

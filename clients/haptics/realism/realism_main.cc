@@ -30,6 +30,7 @@ int main(int argc, char** argv) {
     }
     std::fprintf(stderr, "%s: %d mapping drags, %d regions, %d test drags, %.1f s\n", name.c_str(), r->map_samples,
                  r->regions, r->test_drags, r->elapsed_s);
+    for (const std::string& line : r->region_summary) std::fprintf(stderr, "  %s\n", line.c_str());
     results.push_back(*std::move(r));
   }
   std::printf("%s", surfmap::haptics::RealismTable(results).c_str());
