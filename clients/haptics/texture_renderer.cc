@@ -121,15 +121,27 @@ ContactSample TextureRenderer::Sample(ProbeState& state, const Eigen::Vector3d& 
   state.point = out.surface.position;
   out.arc_length_mm = state.arc_length_mm;
 
+  // The vertices that count: with sharp regions, those of the heaviest
+  // vertex's region (a vertex without a region joins nobody else's).
+  int heaviest = 0;
+  for (int c = 1; c < 3; ++c) {
+    if (w[c] > w[heaviest]) heaviest = c;
+  }
+  if (!map_.region.empty()) out.region = map_.region[t[heaviest]];
+  double weight[3] = {w[0], w[1], w[2]};
+  if (options_.sharp_regions && !map_.region.empty()) {
+    for (int c = 0; c < 3; ++c) {
+      if (map_.region[t[c]] != out.region) weight[c] = 0.0;
+    }
+  }
+
   // Friction coefficient over the vertices that know it.
   double mu_sum = 0.0, mu_weight = 0.0;
-  int heaviest = 0;
   for (int c = 0; c < 3; ++c) {
-    if (w[c] > w[heaviest]) heaviest = c;
     const double mu = map_.mu[t[c]];
-    if (std::isfinite(mu)) {
-      mu_sum += w[c] * mu;
-      mu_weight += w[c];
+    if (std::isfinite(mu) && weight[c] > 0) {
+      mu_sum += weight[c] * mu;
+      mu_weight += weight[c];
     }
   }
   // A point exactly on an edge gives weight 0 to the opposite vertex: when
@@ -145,25 +157,25 @@ ContactSample TextureRenderer::Sample(ProbeState& state, const Eigen::Vector3d& 
   }
   out.mu_known = mu_weight > 0;
   out.mu = out.mu_known ? mu_sum / mu_weight : 0.0;
-  if (!map_.region.empty()) out.region = map_.region[t[heaviest]];
 
   // Roughness model: reflection coefficients and log sigma over the vertices
   // with a fit, amplitude scaled by their share of the weight.
   if (map_.has_roughness()) {
     double k[kMaxArOrder] = {};
-    double log_sigma = 0.0, rough_weight = 0.0;
+    double log_sigma = 0.0, rough_weight = 0.0, total_weight = 0.0;
     for (int c = 0; c < 3; ++c) {
-      if (!std::isfinite(log_sigma_[t[c]]) || w[c] <= 0) continue;
-      rough_weight += w[c];
-      log_sigma += w[c] * log_sigma_[t[c]];
-      for (int j = 0; j < map_.ar_order; ++j) k[j] += w[c] * map_.ReflectionAt(t[c], j);
+      total_weight += weight[c];
+      if (!std::isfinite(log_sigma_[t[c]]) || weight[c] <= 0) continue;
+      rough_weight += weight[c];
+      log_sigma += weight[c] * log_sigma_[t[c]];
+      for (int j = 0; j < map_.ar_order; ++j) k[j] += weight[c] * map_.ReflectionAt(t[c], j);
     }
     if (rough_weight > 0) {
       for (int j = 0; j < map_.ar_order; ++j) k[j] /= rough_weight;
       double a[kMaxArOrder];
       ReflectionToArInPlace(k, map_.ar_order, a);
       UpdateImpulse(a, map_.ar_order, state.impulse);
-      out.sigma = rough_weight * std::exp(log_sigma / rough_weight);
+      out.sigma = rough_weight / total_weight * std::exp(log_sigma / rough_weight);
       out.cell = state.stroke_origin + static_cast<std::int64_t>(std::llround(state.arc_length_mm / map_.grid_step_mm));
       out.roughness_n = texture_.Roughness(out.cell, out.sigma, state.impulse);
     }

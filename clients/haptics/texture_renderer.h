@@ -13,7 +13,7 @@
 // can run in a 1 kHz haptic loop; texture_renderer_benchmark.cc measures it.
 //
 // Interpolation within a triangle: mu linearly over the vertices that know
-// it; roughness in reflection coefficients (any |k| < 1 is a stable model)
+// it (and, with sharp_regions, lie in the heaviest vertex's region); roughness in reflection coefficients (any |k| < 1 is a stable model)
 // and log sigma over the vertices that have a roughness fit, the amplitude
 // scaled by the share of the triangle's weight that has one (a texture fades
 // out towards a region without roughness instead of jumping).
@@ -40,6 +40,12 @@ struct TextureRendererOptions {
   // A probe farther than this from the surface is not in contact: no force,
   // and the stroke ends (touching down again starts a new one).
   double contact_distance_mm = 2.0;
+  // Materials do not blend: in a triangle whose vertices lie in different
+  // regions, only the vertices of the region of the heaviest vertex (the
+  // nearest, in barycentric weight) are interpolated, so the boundary runs
+  // sharp through the triangle instead of a band of mixed friction an edge
+  // wide. Off: plain interpolation over all three vertices.
+  bool sharp_regions = true;
   bool IsValid(std::string* why) const;
 };
 

@@ -72,6 +72,26 @@ TEST(TextureRendererTest, FrictionOpposesTheVelocityWithTheLocalMu) {
   EXPECT_EQ(lifted.tangential_force.norm(), 0.0);
 }
 
+// Materials do not blend: across the boundary triangles (vertices at x = 19
+// are rubber, at x = 20 masonite) the friction jumps from one material's to
+// the other's where the nearest vertex changes; plain interpolation blends.
+TEST(TextureRendererTest, SharpRegionsDoNotBlendMaterials) {
+  auto renderer = SplitPlate();
+  ProbeState state;
+  EXPECT_DOUBLE_EQ(renderer->Sample(state, {19.4, 10.2, 0}, {1, 0, 0}, 5.0).mu, testing::kRubber.mu);
+  state.Reset();
+  EXPECT_DOUBLE_EQ(renderer->Sample(state, {19.6, 10.2, 0}, {1, 0, 0}, 5.0).mu, testing::kMasonite.mu);
+  TextureMap map = testing::FlatPlate(40, 40.0);
+  testing::PaintSplit(map, 20.0, testing::kRubber, testing::kMasonite);
+  TextureRendererOptions blend;
+  blend.sharp_regions = false;
+  auto blended = *TextureRenderer::Create(std::move(map), blend);
+  state.Reset();
+  const double mu = blended->Sample(state, {19.5, 10.5, 0}, {1, 0, 0}, 5.0).mu;
+  EXPECT_GT(mu, testing::kMasonite.mu + 0.01);
+  EXPECT_LT(mu, testing::kRubber.mu - 0.01);
+}
+
 // The texture belongs to the place: slide 10 mm, stop, slide back; each
 // place gives the same roughness force both ways, and standing still keeps it.
 TEST(TextureRendererTest, GoingBackFeelsTheSameTexture) {

@@ -39,10 +39,10 @@ absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapRespo
     if (!v.ok()) return v.status();
     *out = *v;
   }
-  if (!std::isfinite(request.pause_s()) || request.pause_s() < 0 || request.pause_s() > 10) {
-    return absl::InvalidArgumentError(absl::StrCat("pause_s must be in [0, 10], got ", request.pause_s()));
+  options.pause_s = request.has_pause_s() ? request.pause_s() : 0.5;
+  if (!std::isfinite(options.pause_s) || options.pause_s < 0 || options.pause_s > 10) {
+    return absl::InvalidArgumentError(absl::StrCat("pause_s must be in [0, 10] (unset = 0.5), got ", options.pause_s));
   }
-  options.pause_s = request.pause_s();
   const Eigen::Vector3d start = FromVec3(request.position());
   const Eigen::Vector3d direction = FromVec3(request.direction());
   if (!start.allFinite()) return absl::InvalidArgumentError("position is not finite");

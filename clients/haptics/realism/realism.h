@@ -13,9 +13,11 @@
 // plays the model without a rig's disturbances), and then through the
 // renderer over the same executed paths. On each forward pass, the
 // tangential force t = sqrt(|F|^2 - Fn^2) of the cruise samples, split into
-// runs of one true material; per material:
+// runs of one true material less 1 mm at each end (boundary placement is
+// the map score's business; this is about the textures); per material:
 //   mu        mean t / Fn
-//   rms       RMS of the force variation t - (its run's mean), N
+//   std       robust std (1.4826 x median absolute deviation) of the force
+//             variation t - (its run's mean), N
 //   acf       RMS difference of the variation's autocorrelation at lags
 //             1..10 (0.1 mm each), model vs truth
 //   ks, p     two-sample Kolmogorov-Smirnov statistic on the variation
@@ -40,7 +42,7 @@ struct RealismOptions {
 
 struct Figures {
   double mu = 0.0;
-  double rms_n = 0.0;
+  double rms_n = 0.0;         // the robust std above, N
   double acf_distance = 0.0;  // vs truth (0 for the truth itself)
   double ks = 0.0;            // vs truth
   double ks_p = 1.0;
