@@ -7,6 +7,7 @@ import base64
 import json
 import math
 import struct
+from typing import Any
 
 import numpy as np
 
@@ -14,7 +15,7 @@ from surfmap_client import texture_export as te
 from surfmap_client._stubs import pb
 
 
-def _response() -> "pb.GetMapResponse":
+def _response() -> Any:
     # A unit square of two triangles, 4 vertices; vertex 3 unknown.
     m = pb.MapLevel(job_id=7, level=2, vertex_count=4)
     m.mu.extend([0.3, 0.5, 0.31, math.nan])
