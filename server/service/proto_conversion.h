@@ -32,6 +32,12 @@ pb::JobSpec JobParamsToProto(const JobParams& params);
 absl::StatusOr<TraceLimits> TraceLimitsFromProto(const pb::TraceLimits& proto);
 pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits);
 
+// The API's bounds on a client's estimator settings (INVALID_ARGUMENT naming
+// the field and its range beyond them). Why these: the roughness grid has
+// path length / step points, and a 1 um step already resolves any texture a
+// spherical tip can feel; the AR fit keeps at most 20 coefficients.
+inline constexpr double kMinStepMm = 0.001, kMaxStepMm = 10.0;
+inline constexpr int kMaxArOrder = 20;
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 
 // result_json -> estimates; `decoded` (when given) is result_json already
