@@ -57,7 +57,8 @@ class Pki {
   explicit Pki(TempDir dir) : dir_(std::move(dir)) {}
 
   absl::Status Run(const std::string& command) {
-    const std::string line = absl::StrCat("cd '", dir_.path().string(), "' && ", command, " >>openssl.log 2>&1");
+    // The step's own redirections (printf > file) stay inside the subshell.
+    const std::string line = absl::StrCat("cd '", dir_.path().string(), "' && (", command, ") >>openssl.log 2>&1");
     if (std::system(line.c_str()) != 0) {
       return absl::InternalError(absl::StrCat("openssl failed: ", command, "\n", ReadText(File("openssl.log"))));
     }
@@ -165,8 +166,13 @@ TEST(TlsTest, OnlyAClientTrustingTheCaConnectsAndRolesHold) {
                           server->dir() + "/rig.log"));
   ITEST_ASSERT_OK_AND_ASSIGN(exit_code, rig_process->Wait(std::chrono::seconds(120)));
   EXPECT_EQ(exit_code, 0) << rig_process->Output();
-  ITEST_ASSERT_OK_AND_ASSIGN(done, GetJob(stubs, job.job_id()));
-  EXPECT_EQ(done.state(), pb::JOB_STATE_COMPLETED) << done.ShortDebugString();
+  {
+    pb::GetJobRequest get;
+    get.set_job_id(job.job_id());
+    pb::GetJobResponse done;
+    GRPC_ASSERT_OK(stubs.jobs->GetJob(Context(10, kRead).get(), get, &done));
+    EXPECT_EQ(done.job().state(), pb::JOB_STATE_COMPLETED) << done.ShortDebugString();
+  }
   // The rig without --ca-file (plaintext) gets nowhere.
   ITEST_ASSERT_OK_AND_ASSIGN(
       plaintext_rig,
