@@ -59,9 +59,9 @@ def test_ca_file_connects_and_roles_hold(tls_server, pki, lab):
 
 
 def test_plaintext_and_a_wrong_ca_cannot_connect(tls_server, pki):
-    for kwargs in ({}, {"ca_file": pki / "wrong-ca.pem"}):
+    for ca_file in (None, pki / "wrong-ca.pem"):
         with pytest.raises(sc.SurfmapError) as caught:
-            sc.connect(tls_server.address, timeout=3.0, token=READ, **kwargs)
+            sc.connect(tls_server.address, timeout=3.0, token=READ, ca_file=ca_file)
         assert caught.value.code == grpc.StatusCode.UNAVAILABLE
 
 
