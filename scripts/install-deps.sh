@@ -11,6 +11,10 @@ PACKAGES=(
   # glTF export of maps (clients/haptics)
   libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # TLS: libssl-dev for the server's constant-time token check (CRYPTO_memcmp,
+  # SHA-256); openssl makes the throw-away CA and certificates of the TLS tests
+  # and the container's self-signed certificate at first start.
+  libssl-dev openssl
   # clang: the thread-safety analysis (scripts/check-thread-safety.sh), sanitizer
   # builds and fuzzing (scripts/fuzz.sh: libFuzzer and the sanitizer runtimes);
   # llvm-14 for llvm-symbolizer (file:line in sanitizer reports).

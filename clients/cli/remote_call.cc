@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <fstream>
+#include <sstream>
 
 
 namespace surfmap::cli {
@@ -14,7 +16,17 @@ std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options, bool ow
   args.SetInt(GRPC_ARG_KEEPALIVE_TIMEOUT_MS, 10'000);
   args.SetInt(GRPC_ARG_KEEPALIVE_PERMIT_WITHOUT_CALLS, 0);
   if (own_subchannel) args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
-  return grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  if (options.ca_file.empty()) return grpc::CreateCustomChannel(options.server, grpc::InsecureChannelCredentials(), args);
+  // Read at every new channel (the rig makes one after each outage), so a
+  // renewed CA file is picked up. An unreadable file gives empty roots and
+  // every call fails its TLS handshake with the reason; the mains check the
+  // file exists first.
+  std::ifstream in(options.ca_file, std::ios::binary);
+  std::stringstream pem;
+  pem << in.rdbuf();
+  grpc::SslCredentialsOptions tls;
+  tls.pem_root_certs = pem.str();
+  return grpc::CreateCustomChannel(options.server, grpc::SslCredentials(tls), args);
 }
 
 std::shared_ptr<grpc::Channel> ConnectChannel(const RemoteOptions& options) {

@@ -15,13 +15,16 @@ struct RemoteOptions {
   std::string server = "127.0.0.1:50051";  // host:port of surfmapd
   std::string token;                       // sent as `authorization: Bearer <token>` when not empty
   double timeout_s = 30.0;                 // deadline of every unary call; <= 0 = none
+  // PEM file of the CA that signed the server's certificate: when set, the
+  // channel is TLS and verifies the server against this CA only.
+  std::string ca_file;
 };
 
 // The address used when neither --server nor $SURFMAP_SERVER is given.
 inline constexpr std::string_view kDefaultServer = "127.0.0.1:50051";
 
-// An insecure channel (surfmapd listens on loopback or behind a TLS proxy)
-// that accepts messages up to 256 MiB (maps with meshes are large; the
+// A TLS channel when `options.ca_file` is set, else a plaintext one (a
+// surfmapd on loopback), that accepts messages up to 256 MiB (maps with meshes are large; the
 // server's own limit is lower) and sends keepalive pings so a long watch
 // notices a vanished server. `own_subchannel`: a connection of its own, not
 // shared with (nor inheriting the reconnect backoff of) other channels to the

@@ -14,6 +14,9 @@ std::shared_ptr<RemoteCli> AddRemoteOptions(CLI::App& app, int* exit_code) {
       ->envname("SURFMAP_SERVER")
       ->capture_default_str();
   app.add_option("--token", cli->options.token, "Bearer token sent with every call")->envname("SURFMAP_TOKEN");
+  app.add_option("--ca-file", cli->options.ca_file, "Connect with TLS, trusting the CA in this PEM file")
+      ->envname("SURFMAP_CA_FILE")
+      ->check(CLI::ExistingFile);
   app.add_option("--timeout", cli->options.timeout_s, "Deadline of every call, seconds (watch streams: none)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

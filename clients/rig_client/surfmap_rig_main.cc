@@ -1,7 +1,7 @@
 // surfmap-rig: a lab rig as a client of surfmapd.
 //
 //   surfmap-rig --server ADDR (--sim SCENE | --driver "CMD ARGS") [--job ID] [--rig-id NAME]
-//               [--token T] [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
+//               [--token T] [--ca-file CA.pem] [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
 //   surfmap-rig simulate-drag --sim SCENE [--sim-seed N]   # the simulated rig as a driver program
 //   surfmap-rig score --sim SCENE (--job JOB | --map MAP.json) [--points N] [--json OUT.json|-]
 //
@@ -316,6 +316,9 @@ int main(int argc, char** argv) {
       ->envname("SURFMAP_SERVER")
       ->capture_default_str();
   app.add_option("--token", run.remote.token, "Bearer token (role probe or higher)")->envname("SURFMAP_TOKEN");
+  app.add_option("--ca-file", run.remote.ca_file, "Connect with TLS, trusting the CA in this PEM file")
+      ->envname("SURFMAP_CA_FILE")
+      ->check(CLI::ExistingFile);
   app.add_option("--timeout", run.remote.timeout_s, "Deadline of every call, seconds")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();

@@ -10,19 +10,28 @@ namespace pb = ::surfmap::v1;
 
 absl::StatusOr<DragTrace> DragTraceFromProto(const pb::TraceSamples& s, int max_samples) {
   const int n = s.t_size();
-  if (n == 0) return absl::InvalidArgumentError("trace has no samples");
-  if (n > max_samples) {
-    return absl::ResourceExhaustedError(absl::StrCat("trace has ", n, " samples; the limit is ", max_samples));
-  }
   const std::pair<const char*, int> columns[] = {{"x", s.x_size()},   {"y", s.y_size()},   {"z", s.z_size()},
                                                  {"fx", s.fx_size()}, {"fy", s.fy_size()}, {"fz", s.fz_size()},
                                                  {"phases", s.phases_size()}};
+  if (n > max_samples) {
+    return absl::ResourceExhaustedError(absl::StrCat("trace has ", n, " samples; the limit is ", max_samples));
+  }
+  // Every column is bounded, not only `t` (a trace with an empty `t` and a
+  // huge `x` is as large as one with a huge `t`).
+  for (const auto& [name, size] : columns) {
+    if (size > max_samples) {
+      return absl::ResourceExhaustedError(
+          absl::StrCat("trace column '", name, "' has ", size, " values; the limit is ", max_samples));
+    }
+  }
+  if (n == 0 && s.x_size() == 0) return absl::InvalidArgumentError("trace has no samples");
   for (const auto& [name, size] : columns) {
     if (size != n) {
       return absl::InvalidArgumentError(
           absl::StrCat("trace column '", name, "' has ", size, " values but 't' has ", n));
     }
   }
+  if (n == 0) return absl::InvalidArgumentError("trace has no samples");
   DragTrace trace;
   trace.samples.resize(n);
   for (int i = 0; i < n; ++i) {

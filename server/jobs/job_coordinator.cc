@@ -2,6 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "server/base/status_macros.h"
+#include "server/base/utf8_text.h"
 #include "server/jobs/job_watchers.h"
 
 namespace surfmap {
@@ -21,7 +22,8 @@ JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, Coordinator
 
 absl::StatusOr<ObjectRecord> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
                                                           std::string bytes) {
-  if (name.empty() || name.size() > 200) return absl::InvalidArgumentError("object name must have 1..200 characters");
+  // Characters, not bytes: "瓶" is one character of three bytes.
+  SURFMAP_RETURN_IF_ERROR(ValidateName("object name", name, 1, 200));
   if (bytes.empty()) return absl::InvalidArgumentError("mesh is empty (0 bytes)");
   SURFMAP_ASSIGN_OR_RETURN(ControlMesh mesh, ParseControlMesh(bytes, format, name));
   SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());

@@ -1,11 +1,13 @@
 #include "server/jobs/probe_protocol.h"
 
 #include <algorithm>
+#include <optional>
 #include <utility>
 
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
 #include "server/base/status_macros.h"
+#include "server/base/utf8_text.h"
 #include "server/jobs/command_json.h"
 #include "server/jobs/job_watchers.h"
 #include "server/estimate/line_sample.h"
@@ -18,8 +20,7 @@ namespace surfmap {
 namespace {
 
 absl::Status ValidateRigId(const std::string& rig_id) {
-  if (rig_id.empty() || rig_id.size() > 100) return absl::InvalidArgumentError("rig_id must have 1..100 characters");
-  return absl::OkStatus();
+  return ValidateName("rig_id", rig_id, 1, 100);  // characters, valid UTF-8, one line
 }
 
 // An answer to a command (trace or failure) must come from the rig holding
@@ -325,8 +326,12 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
 void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
                                   FailureKind kind, FailureCallback done) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
-  if (reason.empty() || reason.size() > 1000) {
-    return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
+  // A driver's own words may span lines (they are escaped in the log), but
+  // must be UTF-8 and are counted in characters.
+  if (std::optional<size_t> chars = Utf8Length(reason); !chars || *chars < 1 || *chars > 1000) {
+    return done(absl::InvalidArgumentError(
+        chars ? absl::StrCat("failure reason must have 1..1000 characters, got ", *chars)
+              : std::string("failure reason is not valid UTF-8")));
   }
   auto shared_done = std::make_shared<FailureCallback>(std::move(done));
   const bool queued = executors_.probes->Submit([this, command_id, rig_id, reason, kind, shared_done] {

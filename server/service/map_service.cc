@@ -1,10 +1,19 @@
+#include <cmath>
+#include <utility>
+
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "clients/haptics/export/simulate_drag_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"
 
 namespace surfmap {
+namespace {
+
+constexpr double kMaxQueryCoordinateMm = 1e6;  // 1 km
+
+}  // namespace
 
 grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext* context,
                                                     const pb::GetSampleRequest* request,
@@ -78,6 +87,16 @@ grpc::ServerUnaryReactor* MapServiceImpl::QueryMap(grpc::CallbackServerContext* 
       const pb::Vec3& p = request->points(i);
       if (!std::isfinite(p.x()) || !std::isfinite(p.y()) || !std::isfinite(p.z())) {
         return absl::InvalidArgumentError(absl::StrCat("points[", i, "] is not finite"));
+      }
+      // Objects are measured in mm near their origin; a point a kilometre
+      // away is a unit or frame mistake, and squared distances of 1e155 mm
+      // overflow to infinity inside the closest-point search.
+      for (const auto& [axis, value] : {std::pair{"x", p.x()}, std::pair{"y", p.y()}, std::pair{"z", p.z()}}) {
+        if (std::abs(value) > kMaxQueryCoordinateMm) {
+          return absl::InvalidArgumentError(absl::StrFormat(
+              "points[%d].%s = %g mm is outside -%g..%g mm (query points are in the object's frame, in mm)", i,
+              axis, value, kMaxQueryCoordinateMm, kMaxQueryCoordinateMm));
+        }
       }
     }
     absl::StatusOr<MapSnapshot> snapshot = s_.coordinator->Map(request->job_id());

@@ -1,6 +1,8 @@
 #include "absl/strings/str_cat.h"
+#include "server/base/utf8_text.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
+#include "server/service/upload_limits.h"
 
 namespace surfmap {
 
@@ -15,6 +17,10 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
       case pb::MESH_FORMAT_PLY: format = MeshFormat::kPly; break;
       case pb::MESH_FORMAT_UNSPECIFIED: return absl::InvalidArgumentError("format must be OBJ or PLY (UNSPECIFIED is rejected)");
       default: return absl::InvalidArgumentError(absl::StrCat("format: unknown value ", request->format()));
+    }
+    if (absl::Status s = ValidateName("name", request->name(), 1, 200); !s.ok()) return s;
+    if (format == MeshFormat::kObj) {
+      if (absl::Status s = CheckObjPolygonSizes(request->mesh()); !s.ok()) return s;
     }
     absl::StatusOr<ObjectRecord> object = s_.coordinator->UploadObject(request->name(), format, request->mesh());
     if (!object.ok()) return object.status();

@@ -1,4 +1,5 @@
 #include "absl/strings/str_cat.h"
+#include "server/base/utf8_text.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"
@@ -6,10 +7,7 @@
 namespace surfmap {
 namespace {
 
-absl::Status ValidateRigId(const std::string& rig_id) {
-  if (rig_id.empty() || rig_id.size() > 100) return absl::InvalidArgumentError("rig_id must have 1..100 characters");
-  return absl::OkStatus();
-}
+absl::Status ValidateRigId(const std::string& rig_id) { return ValidateName("rig_id", rig_id, 1, 100); }
 
 google::protobuf::Duration DurationFromMs(int64_t ms) {
   google::protobuf::Duration d;
@@ -42,6 +40,27 @@ void FillLeaseResponse(const LeaseOutcome& outcome, pb::LeaseCommandResponse* re
   }
 }
 
+// RESOURCE_EXHAUSTED naming the column when `more` would take any column of
+// `held` past `max_samples` values.
+absl::Status CheckStreamColumns(const pb::TraceSamples& more, const pb::TraceSamples& held, int max_samples) {
+  const struct {
+    const char* name;
+    int held, more;
+  } columns[] = {{"t", held.t_size(), more.t_size()},       {"x", held.x_size(), more.x_size()},
+                 {"y", held.y_size(), more.y_size()},       {"z", held.z_size(), more.z_size()},
+                 {"fx", held.fx_size(), more.fx_size()},    {"fy", held.fy_size(), more.fy_size()},
+                 {"fz", held.fz_size(), more.fz_size()},    {"phases", held.phases_size(), more.phases_size()}};
+  for (const auto& c : columns) {
+    const int64_t total = static_cast<int64_t>(c.held) + c.more;
+    if (total > max_samples) {
+      return absl::ResourceExhaustedError(absl::StrCat("streamed trace: column ", c.name, " would hold ", total,
+                                                       " values; the limit is ", max_samples,
+                                                       " samples per trace (max_trace_samples)"));
+    }
+  }
+  return absl::OkStatus();
+}
+
 // SubmitTraceStream: chunks are concatenated; the first names the command.
 class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTraceChunk> {
  public:
@@ -69,12 +88,16 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
           absl::StrCat("chunk for command ", chunk_.command_id(), " in a stream for command ", command_id_))));
       return;
     }
-    AppendSamples(chunk_.samples(), &samples_);
-    if (samples_.t_size() > s_.config->max_trace_samples) {
-      Finish(ToGrpcStatus(absl::ResourceExhaustedError(
-          absl::StrCat("streamed trace exceeds ", s_.config->max_trace_samples, " samples"))));
+    // Every column is counted, before it is appended: a stream of chunks with
+    // an empty `t` and millions of `x` must be refused at the first chunk
+    // that passes the limit, not after it has been held in memory.
+    if (absl::Status bounded = CheckStreamColumns(chunk_.samples(), samples_, s_.config->max_trace_samples);
+        !bounded.ok()) {
+      Finish(ToGrpcStatus(bounded));
       return;
     }
+    AppendSamples(chunk_.samples(), &samples_);
+    ++chunks_;
     StartRead(&chunk_);
   }
 
@@ -86,6 +109,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   pb::SubmitTraceResponse* response_;
   pb::SubmitTraceChunk chunk_;
   int64_t command_id_ = 0;
+  int64_t chunks_ = 0;
   std::string rig_id_;
   bool lease_next_ = false;
   pb::TraceSamples samples_;  // lives until OnDone, after the submission finished

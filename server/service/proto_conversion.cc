@@ -5,6 +5,7 @@
 
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "server/codec/fit_json.h"
 
 namespace surfmap {
@@ -39,8 +40,24 @@ void AppendSamples(const pb::TraceSamples& more, pb::TraceSamples* into) {
 
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings) {
   FitOptions o;
-  if (settings.step_mm() != 0) o.step_mm = settings.step_mm();
-  if (settings.ar_order() != 0) o.ar_order = settings.ar_order();
+  // Checked here, at the API, before any grid is sized from them: a client's
+  // step of 2e-8 mm would ask every refit for a billion-point grid.
+  if (settings.step_mm() != 0) {
+    if (!(settings.step_mm() >= kMinStepMm && settings.step_mm() <= kMaxStepMm)) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "estimator settings: step_mm must be in %g..%g mm (0 = default %g), got %g", kMinStepMm, kMaxStepMm,
+          FitOptions{}.step_mm, settings.step_mm()));
+    }
+    o.step_mm = settings.step_mm();
+  }
+  if (settings.ar_order() != 0) {
+    if (settings.ar_order() < 1 || settings.ar_order() > kMaxArOrder) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "estimator settings: ar_order must be in 1..%d (0 = default %d), got %d", kMaxArOrder,
+          FitOptions{}.ar_order, settings.ar_order()));
+    }
+    o.ar_order = settings.ar_order();
+  }
   switch (settings.ar_method()) {
     case pb::AR_METHOD_BURG: o.ar_method = ArMethod::kBurg; break;
     case pb::AR_METHOD_LEAST_SQUARES: o.ar_method = ArMethod::kLeastSquares; break;

@@ -34,6 +34,12 @@ absl::StatusOr<Reachability> ReachabilityFromProto(const pb::Reachability& proto
 pb::Reachability ReachabilityToProto(const Reachability& reach);
 pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits);
 
+// The API's bounds on a client's estimator settings (INVALID_ARGUMENT naming
+// the field and its range beyond them). Why these: the roughness grid has
+// path length / step points, and a 1 um step already resolves any texture a
+// spherical tip can feel; the AR fit keeps at most 20 coefficients.
+inline constexpr double kMinStepMm = 0.001, kMaxStepMm = 10.0;
+inline constexpr int kMaxArOrder = 20;
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 
 // result_json -> estimates; `decoded` (when given) is result_json already

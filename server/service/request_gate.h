@@ -8,10 +8,18 @@
 //
 // With no tokens configured every caller has kSteer (a lab on loopback). With
 // tokens, a call must carry `authorization: Bearer <token>` metadata.
+//
+// Tokens are kept as SHA-256 digests and a presented token is compared with
+// every one of them by CRYPTO_memcmp (fixed 32 bytes, no early exit, no
+// lookup in an ordered map): the time a refusal takes says nothing about how
+// close a guess was. Refusals are logged at warn with the peer and the method,
+// never the token.
 #pragma once
 
+#include <array>
 #include <map>
 #include <string>
+#include <vector>
 
 #include <grpcpp/server_context.h>
 #include "absl/status/status.h"
@@ -27,14 +35,23 @@ const char* RoleName(Role role);
 class RequestGate {
  public:
   // token -> role; empty = open access (everyone kSteer).
-  explicit RequestGate(std::map<std::string, Role> tokens = {});
+  explicit RequestGate(const std::map<std::string, Role>& tokens = {});
 
   // OK, or UNAUTHENTICATED (no or unknown token) / PERMISSION_DENIED (role too
   // weak). `method` names the call in the message.
   absl::Status Admit(const grpc::ServerContextBase& context, Role needed, const char* method) const;
 
+  // The role of `token` (constant time over the configured tokens), or false.
+  bool RoleOf(std::string_view token, Role* role) const;
+
  private:
-  std::map<std::string, Role> tokens_;
+  using Digest = std::array<unsigned char, 32>;
+  struct Entry {
+    Digest digest;
+    Role role;
+  };
+  static Digest Hash(std::string_view token);
+  std::vector<Entry> tokens_;
 };
 
 }  // namespace surfmap

@@ -3,12 +3,15 @@
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <set>
 #include <thread>
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
 #include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/security/server_credentials.h>
 #include <spdlog/spdlog.h>
+#include <google/protobuf/descriptor.h>
 #include "absl/strings/str_cat.h"
 #include "server/base/mutex.h"
 #include "server/base/task_queue.h"
@@ -16,6 +19,8 @@
 #include "server/base/worker_pool.h"
 #include "server/jobs/job_coordinator.h"
 #include "server/service/grpc_services.h"
+#include "server/service/startup_checks.h"
+#include "server/service/status_interceptor.h"
 #include "server/service/watch_update_cache.h"
 #include "storage/sqlite_store.h"
 
@@ -35,6 +40,43 @@ absl::Status WritePortFile(const std::string& path, int port) {
   return absl::OkStatus();
 }
 
+// Plaintext, or TLS from the config's PEM files (with client certificates
+// required and verified when a client CA is set).
+absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> ListenCredentials(const ServerConfig& config) {
+  if (!config.tls()) return grpc::InsecureServerCredentials();
+  grpc::SslServerCredentialsOptions options;
+  grpc::SslServerCredentialsOptions::PemKeyCertPair pair;
+  absl::StatusOr<std::string> cert = ReadPemFile("tls_cert_file", config.tls_cert_file);
+  if (!cert.ok()) return cert.status();
+  absl::StatusOr<std::string> key = ReadPemFile("tls_key_file", config.tls_key_file);
+  if (!key.ok()) return key.status();
+  pair.cert_chain = *cert;
+  pair.private_key = *key;
+  options.pem_key_cert_pairs.push_back(pair);
+  if (!config.tls_client_ca_file.empty()) {
+    absl::StatusOr<std::string> ca = ReadPemFile("tls_client_ca_file", config.tls_client_ca_file);
+    if (!ca.ok()) return ca.status();
+    options.pem_root_certs = *ca;
+    options.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+  }
+  return grpc::SslServerCredentials(options);
+}
+
+// Full names of every method this server answers (for the status interceptor).
+std::set<std::string> ServedMethods() {
+  std::set<std::string> methods;
+  const google::protobuf::DescriptorPool* pool = google::protobuf::DescriptorPool::generated_pool();
+  for (const char* service : {"surfmap.v1.ObjectService", "surfmap.v1.JobService", "surfmap.v1.ProbeService",
+                              "surfmap.v1.MapService", "surfmap.v1.TraceService"}) {
+    const google::protobuf::ServiceDescriptor* d = pool->FindServiceByName(service);
+    if (d == nullptr) continue;
+    for (int i = 0; i < d->method_count(); ++i) methods.insert(absl::StrCat("/", service, "/", d->method(i)->name()));
+  }
+  methods.insert({"/grpc.health.v1.Health/Check", "/grpc.health.v1.Health/Watch",
+                  "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo"});
+  return methods;
+}
+
 }  // namespace
 
 absl::Status RunServer(const ServerConfig& config, const std::string& port_file) {
@@ -52,6 +94,9 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   TimerQueue timers;
   WorkerPool probe_pool(config.probe_threads, /*max_queued=*/4096);
   WorkerPool pool(config.worker_threads, /*max_queued=*/4096);
+  if (absl::Status s = CheckDatabaseWritable(config.db_path); !s.ok()) return s;
+  absl::StatusOr<std::shared_ptr<grpc::ServerCredentials>> credentials = ListenCredentials(config);
+  if (!credentials.ok()) return credentials.status();
   absl::StatusOr<std::unique_ptr<SqliteStore>> store = SqliteStore::Open(config.db_path);
   if (!store.ok()) return store.status();
   CoordinatorOptions options;
@@ -72,7 +117,10 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   int port = 0;
-  builder.AddListeningPort(config.listen, grpc::InsecureServerCredentials(), &port);
+  builder.AddListeningPort(config.listen, *credentials, &port);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(MakeStatusInterceptorFactory(ServedMethods()));
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   builder.SetMaxReceiveMessageSize(config.max_message_bytes);
   builder.SetMaxSendMessageSize(config.max_message_bytes);
   builder.RegisterService(&objects);
@@ -84,8 +132,9 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   if (!server || port == 0) return absl::UnavailableError(absl::StrCat("cannot listen on ", config.listen));
 
   const std::string host = config.listen.substr(0, config.listen.rfind(':'));
-  spdlog::info("surfmapd listening on {}:{} db={} auth={}", host, port, config.db_path,
-               config.tokens.empty() ? "open" : "tokens");
+  spdlog::info("surfmapd listening on {}:{} db={} auth={} transport={}", host, port, config.db_path,
+               config.tokens.empty() ? "open" : "tokens",
+               !config.tls() ? "plaintext" : config.tls_client_ca_file.empty() ? "tls" : "tls+client-certificates");
   if (!port_file.empty()) {
     if (absl::Status s = WritePortFile(port_file, port); !s.ok()) return s;
   }

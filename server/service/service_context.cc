@@ -1,6 +1,8 @@
 #include "server/service/service_context.h"
 
+#include <atomic>
 #include <exception>
+#include <memory>
 
 namespace surfmap {
 namespace {
@@ -73,7 +75,19 @@ grpc::ServerUnaryReactor* HandleUnaryAsync(grpc::CallbackServerContext* context,
     FinishUnary(reactor, method, admitted);
     return reactor;
   }
-  start([reactor, method](absl::Status status) { FinishUnary(reactor, method, status); });
+  // `start` may throw after it handed `finish` on (or before): whichever of
+  // the two comes first answers, once.
+  auto answered = std::make_shared<std::atomic<bool>>(false);
+  FinishFn finish = [reactor, method, answered](absl::Status status) {
+    if (!answered->exchange(true)) FinishUnary(reactor, method, status);
+  };
+  absl::Status thrown = RunGuarded(
+      [&]() -> absl::Status {
+        start(finish);
+        return absl::OkStatus();
+      },
+      method);
+  if (!thrown.ok()) finish(thrown);
   return reactor;
 }
 

@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 #include "server/service/json_log_formatter.h"
 #include "server/service/server_runner.h"
+#include "server/service/text_log_formatter.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"surfmapd: robotic mapping of surface friction and roughness (gRPC service)"};
@@ -18,12 +19,16 @@ int main(int argc, char** argv) {
   app.add_option("--config", config_path, "JSON config file (see deploy/surfmapd.example.json)")->check(CLI::ExistingFile);
   app.add_option("--port-file", port_file, "Write the bound port to this file once serving");
   app.add_option("--log-format", log_format, "text or json")->check(CLI::IsMember({"text", "json"}));
-  app.add_option("--log-level", log_level, "trace, debug, info, warn, error");
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error, critical, off");
   CLI11_PARSE(app, argc, argv);
 
   surfmap::ServerConfig config;
   if (!config_path.empty()) {
     std::ifstream in(config_path);
+    if (!in) {
+      std::cerr << "surfmapd: cannot read config file " << config_path << "\n";
+      return 2;
+    }
     std::stringstream text;
     text << in.rdbuf();
     absl::StatusOr<surfmap::ServerConfig> parsed = surfmap::ParseServerConfig(text.str(), config);
@@ -47,7 +52,7 @@ int main(int argc, char** argv) {
   if (config.log_format == "json") {
     logger->set_formatter(std::make_unique<surfmap::JsonLogFormatter>());
   } else {
-    logger->set_pattern("%Y-%m-%dT%H:%M:%S.%e %l %v");
+    logger->set_formatter(surfmap::MakeTextLogFormatter());
   }
   logger->set_level(spdlog::level::from_str(config.log_level));
   spdlog::set_default_logger(logger);

@@ -52,12 +52,13 @@ std::string DefaultSurfmapdPath() {
   return SURFMAPD_PATH;
 }
 
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_subchannel) {
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_subchannel,
+                                           std::shared_ptr<grpc::ChannelCredentials> credentials) {
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(512 << 20);
   args.SetMaxSendMessageSize(-1);
   if (own_subchannel) args.SetInt(GRPC_ARG_USE_LOCAL_SUBCHANNEL_POOL, 1);
-  return grpc::CreateCustomChannel(address, grpc::InsecureChannelCredentials(), args);
+  return grpc::CreateCustomChannel(address, credentials ? credentials : grpc::InsecureChannelCredentials(), args);
 }
 
 std::shared_ptr<grpc::Channel> ConnectedChannel(const std::string& address, bool own_subchannel) {
@@ -93,7 +94,11 @@ ServerProcess::~ServerProcess() {
 
 std::string ServerProcess::address() const { return absl::StrCat("127.0.0.1:", port_); }
 
-std::shared_ptr<grpc::Channel> ServerProcess::NewChannel() const { return ConnectedChannel(address(), true); }
+std::shared_ptr<grpc::Channel> ServerProcess::NewChannel() const {
+  std::shared_ptr<grpc::Channel> channel = MakeChannel(address(), true, options_.channel_credentials);
+  channel->WaitForConnected(std::chrono::system_clock::now() + std::chrono::seconds(20));
+  return channel;
+}
 
 std::string ServerProcess::Log() const {
   std::string all;
@@ -188,7 +193,7 @@ absl::Status ServerProcess::Launch() {
     std::this_thread::sleep_for(std::chrono::milliseconds(10));
   }
 
-  channel_ = MakeChannel(address());
+  channel_ = MakeChannel(address(), false, options_.channel_credentials);
   auto connect_deadline = std::chrono::system_clock::now() + std::chrono::seconds(20);
   if (!channel_->WaitForConnected(connect_deadline)) {
     return absl::UnavailableError(absl::StrCat("surfmapd wrote port ", port_, " but no connection within 20 s\n",

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include <grpcpp/channel.h>
+#include <grpcpp/security/credentials.h>
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "tests/support/temp_dir.h"
@@ -42,6 +43,9 @@ struct ServerOptions {
   // surfmap-rig process keep their address across the restart).
   bool same_port_on_restart = false;
   std::chrono::milliseconds start_timeout{60'000};  // generous: CI machines run tests in parallel
+  // How the test's channels connect: null = plaintext; TLS credentials for a
+  // server whose config sets tls_cert_file/tls_key_file.
+  std::shared_ptr<grpc::ChannelCredentials> channel_credentials;
 };
 
 // How a stopped server ended.
@@ -78,6 +82,7 @@ class ServerProcess {
   absl::StatusOr<ServerExit> WaitForExit(std::chrono::milliseconds timeout);
 
   bool running() const { return pid_ > 0; }
+  pid_t pid() const { return pid_; }
   int port() const { return port_; }
   std::string address() const;              // "127.0.0.1:<port>"
   const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
@@ -110,7 +115,9 @@ class ServerProcess {
 // A channel to `address` that accepts large responses (maps with meshes) and
 // sends any size (so the server, not the client, enforces its limit).
 // `own_subchannel`: do not share a TCP connection with other channels.
-std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_subchannel = false);
+// `credentials`: null = plaintext.
+std::shared_ptr<grpc::Channel> MakeChannel(const std::string& address, bool own_subchannel = false,
+                                           std::shared_ptr<grpc::ChannelCredentials> credentials = nullptr);
 
 // MakeChannel, then waits (up to 20 s) until it is connected. Tests that open
 // many connections at once use this: gRPC 1.51 sometimes reports a fresh

@@ -54,17 +54,24 @@ const LOADER_OPTIONS = {
 };
 
 /**
- * @param {{address: string, token?: string, timeoutMs?: number, protoPath?: string}} options
+ * @param {{address: string, token?: string, timeoutMs?: number, protoPath?: string, caPem?: Buffer}} options
+ *   caPem: PEM of the CA that signed surfmapd's certificate; when given the
+ *   channel is TLS and trusts that CA only (the server's --ca-file).
  */
-export function createSurfmapClient({ address, token = '', timeoutMs = 10000, protoPath = DEFAULT_PROTO_PATH }) {
+export function createSurfmapClient({
+  address,
+  token = '',
+  timeoutMs = 10000,
+  protoPath = DEFAULT_PROTO_PATH,
+  caPem = null,
+}) {
   const definition = protoLoader.loadSync(protoPath, LOADER_OPTIONS);
   const pkg = grpc.loadPackageDefinition(definition).surfmap.v1;
 
   // Bearer token on every call, streaming included (the server's RequestGate
-  // wants role "read" or higher). It goes in per-call metadata because grpc-js
-  // refuses call credentials on an insecure channel (loopback lab use; TLS
-  // plugs in at the server's RequestGate and here, together).
-  const credentials = grpc.credentials.createInsecure();
+  // wants role "read" or higher). It goes in per-call metadata, which works
+  // on both channels (grpc-js refuses call credentials on an insecure one).
+  const credentials = caPem ? grpc.credentials.createSsl(caPem) : grpc.credentials.createInsecure();
   const metadata = () => {
     const md = new grpc.Metadata();
     if (token) md.set('authorization', `Bearer ${token}`);

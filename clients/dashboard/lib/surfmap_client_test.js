@@ -2,7 +2,10 @@
 // on every unary call and sends the bearer token (checked against small
 // in-process gRPC servers built from the same proto).
 import assert from 'node:assert/strict';
+import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
+import os from 'node:os';
+import path from 'node:path';
 import { test } from 'node:test';
 import grpc from '@grpc/grpc-js';
 import protoLoader from '@grpc/proto-loader';
@@ -80,5 +83,46 @@ test('the bearer token goes with every call', async () => {
   } finally {
     client.close();
     server.forceShutdown();
+  }
+});
+
+test('with caPem the channel is TLS, and trusts that CA only', async () => {
+  // A throw-away CA and a server certificate for 127.0.0.1, made by openssl.
+  const dir = fs.mkdtempSync(path.join(os.tmpdir(), 'dashboard-tls-'));
+  const openssl = (...args) => execFileSync('openssl', args, { cwd: dir, stdio: 'ignore' });
+  openssl('req', '-x509', '-newkey', 'rsa:2048', '-nodes', '-keyout', 'ca.key', '-out', 'ca.pem', '-days', '1',
+    '-subj', '/CN=dashboard-test-ca');
+  openssl('req', '-x509', '-newkey', 'rsa:2048', '-nodes', '-keyout', 'wrong.key', '-out', 'wrong.pem', '-days', '1',
+    '-subj', '/CN=dashboard-wrong-ca');
+  fs.writeFileSync(path.join(dir, 'server.ext'), 'subjectAltName=IP:127.0.0.1,DNS:localhost\n');
+  openssl('req', '-newkey', 'rsa:2048', '-nodes', '-keyout', 'server.key', '-out', 'server.csr', '-subj', '/CN=localhost');
+  openssl('x509', '-req', '-in', 'server.csr', '-CA', 'ca.pem', '-CAkey', 'ca.key', '-CAcreateserial', '-out',
+    'server.pem', '-days', '1', '-extfile', 'server.ext');
+  const read = (name) => fs.readFileSync(path.join(dir, name));
+
+  const definition = protoLoader.loadSync(DEFAULT_PROTO_PATH, { keepCase: true });
+  const pkg = grpc.loadPackageDefinition(definition).surfmap.v1;
+  const server = new grpc.Server();
+  server.addService(pkg.ObjectService.service, { ListObjects: (call, done) => done(null, { objects: [] }) });
+  const credentials = grpc.ServerCredentials.createSsl(null, [
+    { private_key: read('server.key'), cert_chain: read('server.pem') },
+  ]);
+  const port = await new Promise((resolve, reject) => {
+    server.bindAsync('127.0.0.1:0', credentials, (err, p) => (err ? reject(err) : resolve(p)));
+  });
+  const address = `127.0.0.1:${port}`;
+  const trusting = createSurfmapClient({ address, timeoutMs: 5000, caPem: read('ca.pem') });
+  const plaintext = createSurfmapClient({ address, timeoutMs: 2000 });
+  const wrong = createSurfmapClient({ address, timeoutMs: 2000, caPem: read('wrong.pem') });
+  try {
+    assert.deepEqual(await trusting.call('ListObjects', {}), { objects: [] });
+    await assert.rejects(plaintext.call('ListObjects', {}), (err) => err.code === grpc.status.UNAVAILABLE
+      || err.code === grpc.status.DEADLINE_EXCEEDED);
+    await assert.rejects(wrong.call('ListObjects', {}), (err) => err.code === grpc.status.UNAVAILABLE
+      || err.code === grpc.status.DEADLINE_EXCEEDED);
+  } finally {
+    for (const c of [trusting, plaintext, wrong]) c.close();
+    server.forceShutdown();
+    fs.rmSync(dir, { recursive: true, force: true });
   }
 });

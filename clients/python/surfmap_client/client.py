@@ -36,13 +36,14 @@ PathOrBytes = Union[str, os.PathLike, bytes]
 
 def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[str] = None,
             root_certificates: Optional[Union[bytes, str, os.PathLike]] = None, tls: bool = False,
-            wait_ready: bool = True) -> "SurfmapClient":
+            wait_ready: bool = True, ca_file: Optional[Union[str, os.PathLike]] = None) -> "SurfmapClient":
     """Opens a channel to surfmapd at ``address`` ("host:port").
 
     ``timeout``: default deadline of every call, seconds. ``token``: sent as
     ``authorization: Bearer <token>`` on every call (servers configured with
     tokens require it). ``root_certificates`` (PEM bytes or a file path)
-    switches to TLS with those roots; ``tls=True`` alone uses the system roots.
+    switches to TLS with those roots; ``ca_file`` (a PEM file path, like the
+    CLI's ``--ca-file``) does the same; ``tls=True`` alone uses the system roots.
     With ``wait_ready`` the channel is connected within ``timeout`` or
     SurfmapError(UNAVAILABLE) is raised.
     """
@@ -51,6 +52,10 @@ def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[st
     options = [("grpc.max_receive_message_length", DEFAULT_MAX_MESSAGE_BYTES),
                ("grpc.max_send_message_length", DEFAULT_MAX_MESSAGE_BYTES)]
     credentials = None
+    if ca_file is not None:
+        if root_certificates is not None:
+            raise invalid_argument("connect", "give ca_file or root_certificates, not both")
+        root_certificates = ca_file
     if root_certificates is not None or tls:
         roots = root_certificates
         if isinstance(roots, (str, os.PathLike)):
