@@ -47,7 +47,7 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& params) {
   std::string why;
   if (!params.IsValid(&why)) return absl::InvalidArgumentError("job: " + why);
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> surface,
-                           registry_->surfaces().Get(params.object_id, params.finest_level));
+                           registry_->surfaces().Get(params.object_id, params.finest_level, params.site_spacing_mm));
   SURFMAP_ASSIGN_OR_RETURN(SamplingPlan plan, SamplingPlan::Create(PlanLevels(*surface), PlanOptionsFor(params)));
   NewJob job;
   job.object_id = params.object_id;
