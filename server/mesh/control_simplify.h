@@ -21,7 +21,7 @@ struct ControlMeshChoice {
 inline constexpr int kMinControlVertices = 6;
 
 // The control mesh for sites about `spacing_mm` apart: `dense` itself if it
-// has at most (area / spacing^2) x 1.5 vertices (the hand-made control meshes
+// has at most (area / spacing^2) x 3 vertices (the hand-made control meshes
 // of the scenes are used as they are), else `dense` simplified to about
 // area / spacing^2 vertices (then a regular triangulation's mean edge is
 // ~1.07 x spacing). The result passes ValidateControlMesh; when a

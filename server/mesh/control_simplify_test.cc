@@ -1,6 +1,9 @@
 #include "server/mesh/control_simplify.h"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
+#include <string>
 
 #include "gtest/gtest.h"
 #include "server/mesh/dense_surface.h"
@@ -51,6 +54,23 @@ TEST(ControlSimplify, CoarseMeshIsUsedAsIs) {
   EXPECT_FALSE(choice->simplified);
   EXPECT_EQ(choice->mesh.positions, octahedron.positions);
   EXPECT_FALSE(ControlMeshForSpacing(octahedron, 0.0).ok());
+}
+
+// The bundled scenes' meshes were designed as control meshes: at the default
+// spacing (the 20 mm drag) they must be planned as they always were.
+TEST(ControlSimplify, BundledSceneMeshesAreKeptAtTheDefaultSpacing) {
+  for (const char* name : {"banded_vase", "bottle", "dotted_egg", "plate", "strip_block", "torus_handle"}) {
+    SCOPED_TRACE(name);
+    std::ifstream in(std::string(SURFMAP_SOURCE_DIR) + "/clients/scenes/" + name + ".obj");
+    ASSERT_TRUE(in);
+    std::ostringstream bytes;
+    bytes << in.rdbuf();
+    absl::StatusOr<ControlMesh> mesh = ParseControlMesh(bytes.str(), MeshFormat::kObj, name);
+    ASSERT_TRUE(mesh.ok()) << mesh.status();
+    absl::StatusOr<ControlMeshChoice> choice = ControlMeshForSpacing(*mesh, 20.0);
+    ASSERT_TRUE(choice.ok()) << choice.status();
+    EXPECT_FALSE(choice->simplified) << mesh->positions.size() << " vertices, target " << choice->target_vertices;
+  }
 }
 
 TEST(ControlSimplify, ProjectedLoopSurfaceLiesOnTheDenseMesh) {

@@ -142,7 +142,7 @@ TEST(ScannedMesh, UploadsWithUnitsAreRepairedAndPlannedAtTheSpacing) {
 
   // Closer sites than the drag: a warning. A drag longer than the object: refused.
   pb::JobSpec close = MakeJobSpec(dense.object().object_id(), options);
-  close.set_site_spacing_mm(5.0);
+  close.set_site_spacing_mm(10.0);
   ITEST_ASSERT_OK_AND_ASSIGN(warned, CreateJobFull(stubs, close));
   ASSERT_EQ(warned.warnings_size(), 1);
   EXPECT_NE(warned.warnings(0).find("closer than 3/4 of the drag"), std::string::npos) << warned.warnings(0);
@@ -186,10 +186,10 @@ TEST(ScannedMesh, DenseObjectIsMappedEndToEndOnItsTrueSurface) {
   Stubs stubs(server->channel());
   ITEST_ASSERT_OK_AND_ASSIGN(scan, MakeScanLikeMesh());
   const Scene scene = DenseScene(scan);
-  // The rig touches the scan itself: level 0 of its Loop surface (edges of
-  // ~2 mm; the Loop limit of a dense mesh lies within its noise of it).
+  // The rig touches the scan itself, refined once (82k triangles; the Loop
+  // limit of a dense mesh lies within its bumps' curvature of it).
   SimulatedRigOptions rig_options;
-  rig_options.surface_level = 0;
+  rig_options.surface_level = 1;
   ITEST_ASSERT_OK_AND_ASSIGN(rig, SimulatedRig::Create(scene, rig_options));
   ITEST_ASSERT_OK_AND_ASSIGN(
       uploaded, Upload(stubs, "pebble", pb::MESH_FORMAT_OBJ, WriteObjScaled(scan, 1000.0, kStrayVertices),
@@ -208,7 +208,7 @@ TEST(ScannedMesh, DenseObjectIsMappedEndToEndOnItsTrueSurface) {
   EXPECT_GE(done.progress().measured(), created.estimate().level0_sites() * 9 / 10);
 
   SurfaceScoreOptions score_options;
-  score_options.truth_level = 0;  // the dense mesh is the truth (level 4 of it would be 5M triangles)
+  score_options.truth_level = 1;  // the dense mesh refined once is the truth (level 4 would be 5M triangles)
   score_options.points = 2000;
   ITEST_ASSERT_OK_AND_ASSIGN(scorer, SurfaceScorer::Create(scene, score_options));
   const int64_t job_id = created.job().job_id();
@@ -230,9 +230,14 @@ TEST(ScannedMesh, DenseObjectIsMappedEndToEndOnItsTrueSurface) {
   std::cout << FormatSurfaceScore(score, "dense pebble, adaptive L0-1, default spacing") << "\n";
   std::cout << "samples " << done.progress().measured() << " (level-0 sites " << created.estimate().level0_sites()
             << ")\n";
-  // Thresholds: see the README's numbers for this test.
-  EXPECT_GE(score.classified_right, 0.9);
-  EXPECT_LE(score.mu_rmse, 0.1);
+  // Measured 2026-11-24: 99.05 % classified right, mu RMSE 0.049 with 105
+  // samples (69 level-0 sites). The floors leave room for the seeds' noise
+  // but fail a map whose sites are off the surface (drags refused or on the
+  // wrong side) or a plan that missed the cap's boundary: 95 % (the bottle
+  // reaches 99.7 %) and the bottle test's 0.075 map tolerance (a 20 mm drag
+  // across the boundary reads a mix, carried into the map near it).
+  EXPECT_GE(score.classified_right, 0.95);
+  EXPECT_LE(score.mu_rmse, 0.075);
 }
 
 }  // namespace
