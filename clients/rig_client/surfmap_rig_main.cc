@@ -3,7 +3,7 @@
 //   surfmap-rig --server ADDR (--sim SCENE | --driver "CMD ARGS") [--job ID] [--rig-id NAME]
 //               [--token T] [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
 //   surfmap-rig simulate-drag --sim SCENE [--sim-seed N]   # the simulated rig as a driver program
-//   surfmap-rig score --sim SCENE --map MAP.json [--json OUT.json|-]
+//   surfmap-rig score --sim SCENE (--job JOB | --map MAP.json) [--points N] [--json OUT.json|-]
 //
 // The rig leases probe commands, executes them on a RigDriver, spools each
 // trace and returns it (RigLoop). `--sim SCENE` drives the simulated rig on a
@@ -36,6 +36,7 @@
 #include "clients/rig_client/duration_text.h"
 #include "clients/rig_client/external_driver.h"
 #include "clients/rig_client/map_score.h"
+#include "clients/rig_client/served_map_score.h"
 #include "clients/rig_client/probe_endpoint.h"
 #include "clients/rig_client/rig_loop.h"
 #include "clients/rig_client/realtime_driver.h"
@@ -291,15 +292,57 @@ int RunSimulateDrag(const SimulateDragArgs& args) {
 struct ScoreArgs {
   std::string sim;
   std::string map;
+  int64_t job_id = 0;
+  int points = 5000;
+  std::uint64_t seed = 1;
   std::string json;
 };
 
-int RunScore(const ScoreArgs& args) {
+// Writes the score's JSON (to args.json, or stdout for '-') and its table.
+int ReportScore(const ScoreArgs& args, const nlohmann::json& result, const std::string& table) {
+  if (args.json == "-") {
+    std::cout << result.dump(1) << "\n";
+    return 0;
+  }
+  std::cout << table;
+  if (!args.json.empty()) {
+    std::ofstream out(args.json, std::ios::binary | std::ios::trunc);
+    out << result.dump(1) << "\n";
+    out.close();
+    if (!out) {
+      std::cerr << "surfmap-rig score: " << args.json << ": cannot write file\n";
+      return 2;
+    }
+  }
+  return 0;
+}
+
+// The job's map as the server answers QueryMap, on the scene's true surface.
+int RunServedScore(const ScoreArgs& args, const surfmap::Scene& scene, const surfmap::cli::RemoteOptions& remote) {
+  surfmap::SurfaceScoreOptions options;
+  options.points = args.points;
+  options.seed = args.seed;
+  absl::StatusOr<surfmap::SurfaceScore> score =
+      surfmap::rig::ScoreServedMap(scene, surfmap::cli::ConnectChannel(remote), remote, args.job_id, options);
+  if (!score.ok()) {
+    std::cerr << "surfmap-rig score: job " << args.job_id << ": " << score.status().message() << "\n";
+    return 1;
+  }
+  nlohmann::json result = surfmap::SurfaceScoreToJson(*score);
+  result["scene"] = args.sim;
+  result["job_id"] = args.job_id;
+  return ReportScore(args, result,
+                     surfmap::FormatSurfaceScore(*score, absl::StrCat("job ", args.job_id, " vs scene '", args.sim,
+                                                                      "' (QueryMap)")));
+}
+
+int RunScore(const ScoreArgs& args, const surfmap::cli::RemoteOptions& remote) {
   absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(args.sim);
   if (!scene.ok()) {
     std::cerr << "surfmap-rig score: --sim " << args.sim << ": " << scene.status().message() << "\n";
     return 2;
   }
+  if (args.job_id > 0) return RunServedScore(args, *scene, remote);
   std::ifstream in(args.map, std::ios::binary);
   if (!in) {
     std::cerr << "surfmap-rig score: " << args.map << ": cannot open file\n";
@@ -320,22 +363,8 @@ int RunScore(const ScoreArgs& args) {
     std::cerr << "surfmap-rig score: " << args.map << ": " << score.status().message() << "\n";
     return 1;
   }
-  const nlohmann::json result = surfmap::rig::MapScoreToJson(*score, args.sim);
-  if (args.json == "-") {
-    std::cout << result.dump(1) << "\n";
-    return 0;
-  }
-  std::cout << surfmap::rig::FormatMapScore(*score, args.sim);
-  if (!args.json.empty()) {
-    std::ofstream out(args.json, std::ios::binary | std::ios::trunc);
-    out << result.dump(1) << "\n";
-    out.close();
-    if (!out) {
-      std::cerr << "surfmap-rig score: " << args.json << ": cannot write file\n";
-      return 2;
-    }
-  }
-  return 0;
+  return ReportScore(args, surfmap::rig::MapScoreToJson(*score, args.sim),
+                     surfmap::rig::FormatMapScore(*score, args.sim));
 }
 
 }  // namespace
@@ -387,15 +416,30 @@ int main(int argc, char** argv) {
   simulate_cmd->add_option("--sim-seed", simulate.sim_seed, "Seed mixed into the simulated rig's noise");
 
   ScoreArgs score;
-  CLI::App* score_cmd = app.add_subcommand("score", "Compare a map file with the scene's truth");
+  CLI::App* score_cmd = app.add_subcommand(
+      "score", "Compare a job's map (--job: through QueryMap, on the true surface) or a map file (--map: its "
+               "vertices) with the scene's truth");
   score_cmd->add_option("--sim", score.sim, "The scene the map was measured on")->required();
-  score_cmd->add_option("--map", score.map, "Map file from `surfmap map get --format json`")
-      ->required()
-      ->check(CLI::ExistingFile);
+  CLI::Option* map_option = score_cmd->add_option("--map", score.map, "Map file from `surfmap map get --format json`")
+                                ->check(CLI::ExistingFile);
+  CLI::Option* job_option =
+      score_cmd->add_option("--job", score.job_id, "A job on --server: its map read with QueryMap")
+          ->check(CLI::PositiveNumber);
+  map_option->excludes(job_option);
+  score_cmd->add_option("--points", score.points, "--job: random points on the true surface")
+      ->check(CLI::Range(100, 1'000'000))
+      ->capture_default_str();
+  score_cmd->add_option("--seed", score.seed, "--job: which points")->capture_default_str();
   score_cmd->add_option("--json", score.json, "Also write the score as JSON to this file ('-': JSON on stdout only)");
 
   CLI11_PARSE(app, argc, argv);
-  if (score_cmd->parsed()) return RunScore(score);
+  if (score_cmd->parsed()) {
+    if (score.map.empty() && score.job_id == 0) {
+      std::cerr << "surfmap-rig score: give --job JOB (the server's map) or --map FILE\n";
+      return 2;
+    }
+    return RunScore(score, run.remote);
+  }
   if (simulate_cmd->parsed()) return RunSimulateDrag(simulate);
   return RunRig(run);
 }

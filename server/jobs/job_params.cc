@@ -1,9 +1,12 @@
 #include "server/jobs/job_params.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
+#include "server/map/map_level.h"
+#include "server/plan/reachability_json.h"
 
 namespace surfmap {
 namespace {
@@ -66,6 +69,8 @@ bool JobParams::IsValid(std::string* why) const {
   if (object_id <= 0) return fail("object_id must be positive");
   if (coarsest_level < 0 || coarsest_level > 6) return fail("coarsest_level must be in 0..6");
   if (finest_level < coarsest_level || finest_level > 6) return fail("finest_level must be in coarsest_level..6");
+  if (map_level < finest_level || map_level > 6) return fail("map_level must be in finest_level..6");
+  if (std::string reach_why; !reach.IsValid(&reach_why)) return fail("reach: " + reach_why);
   if (!std::isfinite(threshold) || threshold <= 0) return fail("threshold must be a positive number");
   if (budget < 0) return fail("budget must be >= 0 (0 = unlimited)");
   if (!(probe.segment_length_mm >= 1 && probe.segment_length_mm <= 200)) return fail("segment length must be in [1, 200] mm");
@@ -92,7 +97,28 @@ SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
   o.max_retries = p.max_retries;
   o.probe = p.probe;
   o.seed = p.seed;
+  o.reach = p.reach;
   return o;
+}
+
+void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
+  // The median edge of level 0 (limit positions: within a fraction of an
+  // edge of the control mesh's), halved per level.
+  ControlMesh mesh;
+  mesh.positions = control.limit_positions;
+  mesh.triangles = control.triangles;
+  const int auto_map = MapLevelFor(mesh);
+  if (p.finest_level == kAutoLevel) {
+    const int map = p.map_level == kAutoLevel ? auto_map : p.map_level;
+    p.finest_level = std::max(p.coarsest_level, map - 1);
+  }
+  if (p.map_level == kAutoLevel) p.map_level = std::max(p.finest_level, auto_map);
+}
+
+std::vector<const SurfaceLevel*> JobPlanLevels(const LoopSurface& surface, const JobParams& p) {
+  std::vector<const SurfaceLevel*> levels;
+  for (int k = 0; k <= std::min(p.finest_level, surface.max_level()); ++k) levels.push_back(&surface.level(k));
+  return levels;
 }
 
 nlohmann::json JobParamsToJson(const JobParams& p) {
@@ -101,6 +127,8 @@ nlohmann::json JobParamsToJson(const JobParams& p) {
           {"mode", std::string(PlanModeName(p.mode))},
           {"coarsest_level", p.coarsest_level},
           {"finest_level", p.finest_level},
+          {"map_level", p.map_level},
+          {"reach", ReachabilityToJson(p.reach)},
           {"threshold", p.threshold},
           {"budget", p.budget},
           {"probe",
@@ -130,6 +158,13 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
     else return absl::InvalidArgumentError(absl::StrCat("job params: unknown mode '", mode, "'"));
     p.coarsest_level = j.at("coarsest_level").get<int>();
     p.finest_level = j.at("finest_level").get<int>();
+    // Jobs stored before map levels: the map was on the plan's finest level.
+    p.map_level = j.contains("map_level") ? j.at("map_level").get<int>() : p.finest_level;
+    if (j.contains("reach")) {
+      absl::StatusOr<Reachability> reach = ReachabilityFromJson(j.at("reach"));
+      if (!reach.ok()) return absl::InvalidArgumentError(absl::StrCat("job params: ", reach.status().message()));
+      p.reach = *reach;
+    }
     p.threshold = j.at("threshold").get<double>();
     p.budget = j.at("budget").get<int>();
     p.probe.segment_length_mm = j.at("probe").at("segment_length_mm").get<double>();

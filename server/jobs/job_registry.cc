@@ -101,9 +101,9 @@ size_t JobRegistry::loaded_jobs() {
 absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& record) {
   SURFMAP_ASSIGN_OR_RETURN(JobParams params, StoredParams(record));
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> surface,
-                           surfaces_.Get(params.object_id, params.finest_level, params.site_spacing_mm));
+                           surfaces_.Get(params.object_id, params.map_level, params.site_spacing_mm));
   SURFMAP_ASSIGN_OR_RETURN(PlanRecord plan_record, store_->GetPlan(record.id));
-  SURFMAP_ASSIGN_OR_RETURN(SamplingPlan plan, RestoreStoredPlan(plan_record, PlanLevels(*surface)));
+  SURFMAP_ASSIGN_OR_RETURN(SamplingPlan plan, RestoreStoredPlan(plan_record, JobPlanLevels(*surface, params)));
   if (record.state == JobState::kCancelled) plan.Cancel();
   // The job row's time changes only with its state; traces and failures since
   // then are newer changes, each with an event written in its transaction.
@@ -152,7 +152,7 @@ void JobRegistry::Reload(const std::shared_ptr<JobRuntime>& runtime) {
   absl::StatusOr<PlanRecord> plan_record = record.ok() ? store_->GetPlan(runtime->job_id)
                                                        : absl::StatusOr<PlanRecord>(record.status());
   absl::StatusOr<SamplingPlan> plan = plan_record.ok()
-                                          ? RestoreStoredPlan(*plan_record, PlanLevels(*runtime->surface))
+                                          ? RestoreStoredPlan(*plan_record, JobPlanLevels(*runtime->surface, runtime->params))
                                           : absl::StatusOr<SamplingPlan>(plan_record.status());
   {
     MutexLock lock(&runtime->mu);

@@ -19,7 +19,7 @@
 #include "absl/base/thread_annotations.h"
 #include "server/base/mutex.h"
 #include "server/jobs/job_params.h"
-#include "server/map/friction_map.h"
+#include "server/map/region_map.h"
 #include "server/mesh/loop_surface.h"
 #include "server/plan/sampling_plan.h"
 #include "storage/records.h"
@@ -29,7 +29,7 @@ namespace surfmap {
 // The map at one moment: immutable, shared with readers.
 struct MapSnapshot {
   std::shared_ptr<const LoopSurface> surface;
-  std::shared_ptr<const FrictionMap> map;  // null before the first sample
+  std::shared_ptr<const RegionMap> map;    // null before the first sample
   int64_t measured_revision = 0;           // JobRuntime::measured_revision it reflects
 };
 
@@ -79,7 +79,7 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   bool reloading ABSL_GUARDED_BY(mu) = false;
 
   // The map, rebuilt lazily on the pool.
-  std::optional<FrictionMap> map_builder ABSL_GUARDED_BY(map_mu);  // holds the surface's Laplacian
+  std::optional<RegionMap> map_builder ABSL_GUARDED_BY(map_mu);  // holds the map level's factorisation
   MapSnapshot map_snapshot ABSL_GUARDED_BY(map_mu);
 
   Mutex watchers_mu ABSL_ACQUIRED_AFTER(mu);

@@ -44,7 +44,7 @@ absl::StatusOr<PlanEstimate> EstimatePlan(const JobParams& params, const LoopSur
       e.expected_sites = budget > 0 ? budget : finest_vertices;
       break;
     case PlanMode::kBoundary: {
-      const int default_budget = DefaultSampleBudget(PlanLevels(surface));
+      const int default_budget = DefaultSampleBudget(JobPlanLevels(surface, params));
       e.max_sites = default_budget > 0 ? default_budget : finest_vertices;
       e.expected_sites = e.max_sites;
       break;

@@ -8,6 +8,7 @@
 #include "server/base/status_macros.h"
 #include "server/jobs/command_json.h"
 #include "server/jobs/job_watchers.h"
+#include "server/estimate/line_sample.h"
 #include "server/jobs/stored_plan.h"
 #include "server/jobs/stored_trace.h"
 #include "server/jobs/trace_plausibility.h"
@@ -238,6 +239,7 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
     PlanJournalEntry answer;
     answer.sequence = context.probe.sequence;
     answer.fit = TextureOf(fit);
+    answer.line = LineSampleOf(fit);  // the plan and the map use the whole drag
     absl::Status recorded = ApplyPlanJournalEntry(answer, runtime.plan);
     if (recorded.code() == absl::StatusCode::kNotFound) {
       // The plan has this command's answer already: the same trace is being
@@ -321,7 +323,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
 // ---------------------------------------------------------------- failures
 
 void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
-                                  ProbeFailureKind kind, FailureCallback done) {
+                                  FailureKind kind, FailureCallback done) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (reason.empty() || reason.size() > 1000) {
     return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
@@ -341,7 +343,7 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
 }
 
 absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const std::string& rig_id,
-                                         const std::string& reason, ProbeFailureKind kind, FailureCallback& done) {
+                                         const std::string& reason, FailureKind kind, FailureCallback& done) {
   JobRuntime& runtime = *context.runtime;
   MutexLock lock(&runtime.mu);
   SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
@@ -354,6 +356,7 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
   answer.kind = PlanJournalEntry::Kind::kFailure;
   answer.sequence = context.probe.sequence;
   answer.reason = reason;
+  answer.failure = kind;
   SURFMAP_RETURN_IF_ERROR(ApplyPlanJournalEntry(answer, runtime.plan));
   // Read before TakePlanChangeLocked: it re-issues a re-queued site at once
   // (pending -> issued), so afterwards a retry no longer looks pending.
@@ -369,8 +372,7 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
   std::move(write).MoveInto(request);
   request.events.push_back(Event("probe_failed", {{"command_id", context.record.id},
                                                   {"reason", reason},
-                                                  {"kind", kind == ProbeFailureKind::kUnreachable ? "unreachable"
-                                                                                                  : "transient"},
+                                                  {"kind", std::string(FailureKindName(kind))},
                                                   {"rig", rig_id},
                                                   {"will_retry", will_retry}}));
   std::shared_ptr<JobRuntime> runtime_ptr = context.runtime;

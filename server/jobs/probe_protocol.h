@@ -40,8 +40,8 @@ struct SubmitOutcome {
   std::shared_ptr<const TraceFit> decoded_fit;   // fit.result_json decoded; null for a retry
 };
 
-// Why a rig could not measure a command (see FailureKind in the API).
-enum class ProbeFailureKind { kTransient, kUnreachable };
+// Why a rig could not measure a command: the plan's FailureKind
+// (sampling_plan.h; FailureKind in the API). Unreachable is final at once.
 
 class ProbeProtocol {
  public:
@@ -66,7 +66,7 @@ class ProbeProtocol {
   using FailureCallback = std::function<void(absl::StatusOr<bool>)>;  // will the site be retried?
   // Runs on the pool (reads the command, may load the job).
   void ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
-                     ProbeFailureKind kind, FailureCallback done);
+                     FailureKind kind, FailureCallback done);
 
  private:
   struct CommandContext {
@@ -95,7 +95,7 @@ class ProbeProtocol {
   // On the completion queue, once the write finished.
   void ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr<AcceptTraceResult> result, SubmitCallback done);
   absl::Status QueueFailure(const CommandContext& context, const std::string& rig_id, const std::string& reason,
-                            ProbeFailureKind kind, FailureCallback& done);
+                            FailureKind kind, FailureCallback& done);
 
   Store* const store_;
   JobRegistry* const registry_;

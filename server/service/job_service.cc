@@ -33,10 +33,17 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     absl::StatusOr<JobParams> params =
         JobParamsFromProto(request->spec(), static_cast<int64_t>(s_.config->default_lease_s * 1000));
     if (!params.ok()) return params.status();
-    // The surface the job will plan on (cached: CreateJob reuses it), so the
-    // estimate can refuse a job before anything is stored.
+    // The levels and the surface the job will plan on (cached: CreateJob
+    // reuses them), so the estimate can refuse a job before anything is stored.
+    if (params->finest_level == kAutoLevel || params->map_level == kAutoLevel) {
+      absl::StatusOr<std::shared_ptr<const LoopSurface>> control =
+          s_.coordinator->Surface(params->object_id, 0, params->site_spacing_mm);
+      if (!control.ok()) return control.status();
+      ResolveAutoLevels((*control)->level(0), *params);
+    }
+    if (std::string why; !params->IsValid(&why)) return absl::InvalidArgumentError("job: " + why);
     absl::StatusOr<std::shared_ptr<const LoopSurface>> surface =
-        s_.coordinator->Surface(params->object_id, params->finest_level, params->site_spacing_mm);
+        s_.coordinator->Surface(params->object_id, params->map_level, params->site_spacing_mm);
     if (!surface.ok()) return surface.status();
     absl::StatusOr<PlanEstimate> estimate = EstimatePlan(*params, **surface);
     if (!estimate.ok()) return estimate.status();

@@ -95,6 +95,7 @@ grpc::ServerUnaryReactor* MapServiceImpl::QueryMap(grpc::CallbackServerContext* 
       out->set_distance_mm(point.distance);
       out->set_mu(value->mu);
       out->set_mu_uncertainty(value->mu_std);
+      out->set_region(value->region);
       if (value->has_roughness) {
         std::vector<double> a = ReflectionToAr(value->reflection);
         out->set_sigma(value->sigma);

@@ -175,11 +175,11 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::ReportFailure(grpc::CallbackServerCo
                                                           const pb::ReportFailureRequest* request,
                                                           pb::ReportFailureResponse* response) {
   return HandleUnaryAsync(context, s_, Role::kProbe, "ReportFailure", [this, request, response](FinishFn finish) {
-    ProbeFailureKind kind;
+    FailureKind kind;
     switch (request->kind()) {
       case pb::FAILURE_KIND_UNSPECIFIED:  // rigs from before kinds existed
-      case pb::FAILURE_KIND_TRANSIENT: kind = ProbeFailureKind::kTransient; break;
-      case pb::FAILURE_KIND_UNREACHABLE: kind = ProbeFailureKind::kUnreachable; break;
+      case pb::FAILURE_KIND_TRANSIENT: kind = FailureKind::kTransient; break;
+      case pb::FAILURE_KIND_UNREACHABLE: kind = FailureKind::kUnreachable; break;
       default: return finish(absl::InvalidArgumentError(absl::StrCat("kind: unknown value ", request->kind())));
     }
     s_.coordinator->probes().ReportFailure(

@@ -1,10 +1,12 @@
 #include "server/service/proto_builders.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "absl/strings/str_cat.h"
 #include "server/estimate/roughness.h"
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include "server/codec/fit_json.h"
 #include "server/estimate/fit_trace.h"
@@ -143,6 +145,42 @@ absl::Status AddRecomputedSeries(const SampleRecord& record, pb::Sample* sample)
   return absl::OkStatus();
 }
 
+namespace {
+
+// The map's material regions with their pooled estimates and areas (on the
+// map level: each triangle's area shared equally by its corners).
+void FillRegions(const RegionMap& map, pb::MapLevel* out) {
+  const SurfaceLevel& level = map.level();
+  std::vector<double> area(map.regions().size(), 0.0);
+  for (const auto& t : level.triangles) {
+    const auto& x = level.limit_positions;
+    const double third = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm() / 6.0;
+    for (int i = 0; i < 3; ++i) {
+      const int r = map.region()[t[i]];
+      if (r >= 0) area[r] += third;
+    }
+  }
+  for (int r = 0; r < static_cast<int>(map.regions().size()); ++r) {
+    const TextureRegion& region = map.regions()[r];
+    pb::MapRegion* o = out->add_regions();
+    o->set_region(r);
+    o->set_mu(region.statistics.mu);
+    o->set_mu_se(region.statistics.mu_se);
+    o->set_mu_spread(region.statistics.spread);
+    o->set_piece_count(static_cast<int>(region.pieces.size()));
+    o->set_roughness_piece_count(region.roughness_pieces);
+    if (region.has_roughness()) {
+      o->mutable_reflection()->Assign(region.reflection.begin(), region.reflection.end());
+      const std::vector<double> a = ReflectionToAr(region.reflection);
+      o->mutable_ar_coefficients()->Assign(a.begin(), a.end());
+      o->set_sigma(region.sigma);
+    }
+    o->set_area_mm2(area[r]);
+  }
+}
+
+}  // namespace
+
 absl::Status FillMapLevel(const MapSnapshot& snapshot, int level, const std::vector<SampleRecord>& samples,
                           int64_t job_id, pb::MapLevel* out) {
   const SurfaceLevel& surface_level = snapshot.surface->level(level);
@@ -151,23 +189,29 @@ absl::Status FillMapLevel(const MapSnapshot& snapshot, int level, const std::vec
   out->set_level(level);
   out->set_vertex_count(n);
   if (snapshot.map) {
-    const FrictionMap& map = *snapshot.map;
-    out->mutable_mu()->Reserve(n);
-    out->mutable_mu_uncertainty()->Reserve(n);
-    for (int v = 0; v < n; ++v) {
-      out->add_mu(map.mu()[v]);
-      out->add_mu_uncertainty(map.mu_std()[v]);
-    }
+    // A coarser level's vertices are a prefix of the map level's.
+    const RegionMap& map = *snapshot.map;
+    out->mutable_mu()->Assign(map.mu().begin(), map.mu().begin() + n);
+    out->mutable_mu_uncertainty()->Assign(map.mu_std().begin(), map.mu_std().begin() + n);
+    out->mutable_region()->Assign(map.region().begin(), map.region().begin() + n);
+    out->mutable_boundary_probability()->Assign(map.boundary_probability().begin(),
+                                                map.boundary_probability().begin() + n);
     if (map.roughness_order() > 0) {
+      // 0 where the vertex's region has no roughness (no pure piece long
+      // enough for a fit): the arrays stay per vertex.
       std::vector<double> k(map.roughness_order());
       for (int v = 0; v < n; ++v) {
         for (int j = 0; j < map.roughness_order(); ++j) k[j] = map.reflection()[j][v];
-        std::vector<double> a = ReflectionToAr(k);
-        out->add_sigma(std::exp(map.log_sigma()[v]));
+        const bool has = std::isfinite(map.log_sigma()[v]) && std::all_of(k.begin(), k.end(), [](double x) {
+                           return std::isfinite(x);
+                         });
+        const std::vector<double> a = has ? ReflectionToAr(k) : std::vector<double>{};
+        out->add_sigma(has ? std::exp(map.log_sigma()[v]) : 0.0);
         out->add_a1(a.size() > 0 ? a[0] : 0.0);
         out->add_a2(a.size() > 1 ? a[1] : 0.0);
       }
     }
+    FillRegions(map, out);
   }
   return AppendSamples(samples, out->mutable_samples());
 }

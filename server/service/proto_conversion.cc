@@ -1,6 +1,9 @@
 #include "server/service/proto_conversion.h"
 
+#include <algorithm>
 #include <cmath>
+#include <tuple>
+
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
@@ -69,13 +72,34 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     case pb::SAMPLING_MODE_ADAPTIVE: p.mode = PlanMode::kAdaptive; break;
     case pb::SAMPLING_MODE_UNIFORM: p.mode = PlanMode::kUniform; break;
     case pb::SAMPLING_MODE_UNCERTAINTY: p.mode = PlanMode::kUncertainty; break;
-    case pb::SAMPLING_MODE_UNSPECIFIED:
-      return absl::InvalidArgumentError(
-          "spec.mode must be ADAPTIVE, UNIFORM or UNCERTAINTY (UNSPECIFIED is rejected)");
+    case pb::SAMPLING_MODE_UNSPECIFIED:  // the default job
+    case pb::SAMPLING_MODE_BOUNDARY: p.mode = PlanMode::kBoundary; break;
     default: return absl::InvalidArgumentError(absl::StrCat("spec.mode: unknown value ", spec.mode()));
   }
+  if (spec.threshold() != 0 && p.mode != PlanMode::kAdaptive) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.threshold is read only by ADAPTIVE; this job's mode is ",
+                                                   std::string(PlanModeName(p.mode)), " (leave threshold at 0)"));
+  }
+  if (p.mode == PlanMode::kUncertainty && spec.budget() <= 0) {
+    return absl::InvalidArgumentError("spec.budget must be > 0 for UNCERTAINTY (it stops only at the budget)");
+  }
   p.coarsest_level = spec.coarsest_level();
-  p.finest_level = spec.finest_level();
+  p.finest_level = spec.has_finest_level() ? spec.finest_level() : kAutoLevel;
+  p.map_level = spec.has_map_level() ? spec.map_level() : kAutoLevel;
+  for (auto [name, has, value] : {std::tuple{"finest_level", spec.has_finest_level(), spec.finest_level()},
+                                  std::tuple{"map_level", spec.has_map_level(), spec.map_level()}}) {
+    if (has && (value < 0 || value > 6)) {
+      return absl::InvalidArgumentError(absl::StrCat("spec.", name, " must be in 0..6 (unset: chosen from the mesh), got ", value));
+    }
+  }
+  if (spec.has_finest_level() && spec.has_map_level() && spec.map_level() < spec.finest_level()) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.map_level ", spec.map_level(),
+                                                   " must be at least finest_level ", spec.finest_level()));
+  }
+  if (spec.has_finest_level() && spec.coarsest_level() > spec.finest_level()) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.coarsest_level ", spec.coarsest_level(),
+                                                   " must be at most finest_level ", spec.finest_level()));
+  }
   p.threshold = spec.threshold() != 0 ? spec.threshold() : p.threshold;
   p.budget = spec.budget();
   if (spec.has_probe()) {
@@ -112,9 +136,41 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     if (!limits.ok()) return limits.status();
     p.limits = *limits;
   }
+  if (spec.has_reach()) {
+    absl::StatusOr<Reachability> reach = ReachabilityFromProto(spec.reach());
+    if (!reach.ok()) return reach.status();
+    p.reach = *reach;
+  }
+  // Levels left to the server are resolved against the mesh at CreateJob;
+  // everything else is checked now, with stand-ins that pass.
+  JobParams check = p;
+  if (check.finest_level == kAutoLevel) check.finest_level = std::max(check.coarsest_level, 0);
+  if (check.map_level == kAutoLevel) check.map_level = std::max(check.finest_level, 0);
   std::string why;
-  if (!p.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
+  if (!check.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
   return p;
+}
+
+absl::StatusOr<Reachability> ReachabilityFromProto(const pb::Reachability& proto) {
+  Reachability r;
+  if (proto.has_approach_direction()) r.approach_direction = FromProto(proto.approach_direction());
+  if (proto.max_angle_deg() != 0) r.max_angle_deg = proto.max_angle_deg();
+  if (proto.has_support_point()) r.support_point = FromProto(proto.support_point());
+  if (proto.has_support_normal()) r.support_normal = FromProto(proto.support_normal());
+  if (proto.support_clearance_mm() != 0) r.support_clearance_mm = proto.support_clearance_mm();
+  std::string why;
+  if (!r.IsValid(&why)) return absl::InvalidArgumentError("spec.reach: " + why);
+  return r;
+}
+
+pb::Reachability ReachabilityToProto(const Reachability& r) {
+  pb::Reachability proto;
+  if (r.approach_direction) *proto.mutable_approach_direction() = ToProto(*r.approach_direction);
+  proto.set_max_angle_deg(r.max_angle_deg);
+  if (r.support_point) *proto.mutable_support_point() = ToProto(*r.support_point);
+  if (r.support_normal) *proto.mutable_support_normal() = ToProto(*r.support_normal);
+  proto.set_support_clearance_mm(r.support_clearance_mm);
+  return proto;
 }
 
 namespace {
@@ -165,11 +221,14 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   spec.set_property(p.property == TextureProperty::kFriction    ? pb::PROPERTY_FRICTION
                     : p.property == TextureProperty::kRoughness ? pb::PROPERTY_ROUGHNESS
                                                                 : pb::PROPERTY_BOTH);
-  spec.set_mode(p.mode == PlanMode::kAdaptive  ? pb::SAMPLING_MODE_ADAPTIVE
-                : p.mode == PlanMode::kUniform ? pb::SAMPLING_MODE_UNIFORM
-                                                       : pb::SAMPLING_MODE_UNCERTAINTY);
+  spec.set_mode(p.mode == PlanMode::kAdaptive      ? pb::SAMPLING_MODE_ADAPTIVE
+                : p.mode == PlanMode::kUniform     ? pb::SAMPLING_MODE_UNIFORM
+                : p.mode == PlanMode::kUncertainty ? pb::SAMPLING_MODE_UNCERTAINTY
+                                                   : pb::SAMPLING_MODE_BOUNDARY);
   spec.set_coarsest_level(p.coarsest_level);
   spec.set_finest_level(p.finest_level);
+  spec.set_map_level(p.map_level);
+  *spec.mutable_reach() = ReachabilityToProto(p.reach);
   spec.set_threshold(p.threshold);
   spec.set_budget(p.budget);
   spec.mutable_probe()->set_segment_length_mm(p.probe.segment_length_mm);
@@ -182,6 +241,43 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   *spec.mutable_trace_limits() = TraceLimitsToProto(p.limits);
   return spec;
 }
+
+namespace {
+
+void FillRoughness(const ArFit& r, pb::RoughnessEstimate* re) {
+  for (double a : r.a) re->add_ar_coefficients(a);
+  for (double e : r.a_stderr) re->add_ar_stderr(e);
+  for (double k : r.reflection) re->add_reflection(k);
+  re->set_sigma(r.sigma);
+  re->set_stationary(r.stationary);
+  re->set_acf_decay_mm(r.acf_decay_mm);
+  re->set_dominant_wavelength_mm(r.dominant_wavelength_mm.value_or(0.0));
+  re->set_below_noise_floor(r.below_noise_floor);
+}
+
+pb::DragPiece DragPieceToProto(const DragPiece& piece) {
+  pb::DragPiece out;
+  out.set_start_mm(piece.start_mm);
+  out.set_end_mm(piece.end_mm);
+  out.set_starts_at_change(piece.starts_at_change);
+  out.set_ends_at_change(piece.ends_at_change);
+  out.set_mu(piece.mu);
+  out.set_mu_std(piece.mu_std);
+  out.set_mu_se(piece.mu_se);
+  out.set_pair_count(piece.pair_count);
+  switch (piece.roughness_state) {
+    case PieceRoughness::kFitted:
+      out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_FITTED);
+      FillRoughness(piece.roughness, out.mutable_roughness());
+      break;
+    case PieceRoughness::kTooShort: out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_TOO_SHORT); break;
+    case PieceRoughness::kFitFailed: out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_FIT_FAILED); break;
+  }
+  out.set_roughness_note(piece.roughness_note);
+  return out;
+}
+
+}  // namespace
 
 absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* decoded) {
   TraceFit parsed;
@@ -212,17 +308,10 @@ absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* deco
   fe->set_pair_count(f.n_pairs);
   fe->set_window_start_mm(f.window_start_mm);
   fe->set_window_end_mm(f.window_end_mm);
-  const ArFit& r = fit->roughness;
-  pb::RoughnessEstimate* re = out.mutable_roughness();
-  for (double a : r.a) re->add_ar_coefficients(a);
-  for (double e : r.a_stderr) re->add_ar_stderr(e);
-  for (double k : r.reflection) re->add_reflection(k);
-  re->set_sigma(r.sigma);
-  re->set_stationary(r.stationary);
-  re->set_acf_decay_mm(r.acf_decay_mm);
-  re->set_dominant_wavelength_mm(r.dominant_wavelength_mm.value_or(0.0));
-  re->set_below_noise_floor(r.below_noise_floor);
+  FillRoughness(fit->roughness, out.mutable_roughness());
   out.set_noise_std(fit->noise_std);
+  for (const ChangePoint& change : fit->changes) out.add_change_s_mm(change.s_mm);
+  for (const DragPiece& piece : fit->pieces) *out.add_pieces() = DragPieceToProto(piece);
   return out;
 }
 

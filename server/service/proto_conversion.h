@@ -30,6 +30,8 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
 pb::JobSpec JobParamsToProto(const JobParams& params);
 // Unset fields take TraceLimits' defaults; INVALID_ARGUMENT naming the field.
 absl::StatusOr<TraceLimits> TraceLimitsFromProto(const pb::TraceLimits& proto);
+absl::StatusOr<Reachability> ReachabilityFromProto(const pb::Reachability& proto);
+pb::Reachability ReachabilityToProto(const Reachability& reach);
 pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits);
 
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);

@@ -222,7 +222,7 @@ async function main() {
   const address = `127.0.0.1:${port}`;
   const objectId = Number(await cli(surfmap, address, ['object', 'upload', bottle, '--name', 'bottle']));
   const jobId = Number(await cli(surfmap, address, ['job', 'create', '--object', String(objectId), '--property', 'friction',
-    '--mode', 'adaptive', '--coarsest', '0', '--finest', '1', '--threshold', '2', '--seed', '2001']));
+    '--mode', 'adaptive', '--coarsest', '0', '--finest', '1', '--map-level', '1', '--threshold', '2', '--seed', '2001']));
   await check(`bottle uploaded (object ${objectId}) and friction job created (job ${jobId})`, () => {
     assert.ok(objectId > 0 && jobId > 0);
   });

@@ -181,17 +181,20 @@ class SurfmapClient:
     # ------------------------------------------------------------ jobs
 
     def create_job(self, object_id: int, property: Union[r.Property, str] = r.Property.FRICTION,
-                   mode: Union[r.SamplingMode, str] = r.SamplingMode.ADAPTIVE, *,
+                   mode: Union[r.SamplingMode, str] = r.SamplingMode.BOUNDARY, *,
                    coarsest_level: Optional[int] = None, finest_level: Optional[int] = None,
+                   map_level: Optional[int] = None,
                    threshold: Optional[float] = None, budget: Optional[int] = None,
                    segment_length_mm: Optional[float] = None, speed_mm_s: Optional[float] = None,
                    normal_force_n: Optional[float] = None, seed: Optional[int] = None,
                    max_retries: Optional[int] = None, lease_s: Optional[float] = None,
                    timeout: Optional[float] = None) -> r.JobInfo:
         """Creates a mapping job. Settings left None take the server's defaults
-        (levels 0..3, threshold 1, unlimited budget, the paper's 20 mm drag at
-        10 mm/s and 5 N, seed 1, 2 retries, 60 s lease); the returned JobInfo
-        shows the values applied."""
+        (the boundary-seeking mode with its budget of 1.5 samples per control
+        vertex; levels chosen from the mesh: the map on ~2 mm edges, the plan
+        one level coarser; threshold 1 (ADAPTIVE only: other modes refuse
+        one); the paper's 20 mm drag at 10 mm/s and 5 N, seed 1, 2 retries,
+        60 s lease); the returned JobInfo shows the values applied."""
         try:
             prop = conv.PROPERTY_TO_PROTO[r.Property(property)]
             sampling = conv.MODE_TO_PROTO[r.SamplingMode(mode)]
@@ -200,6 +203,7 @@ class SurfmapClient:
         spec = pb.JobSpec(object_id=object_id, property=prop, mode=sampling)
         # Zero means "server default" in the proto, so unset settings stay zero.
         for field_name, value in (("coarsest_level", coarsest_level), ("finest_level", finest_level),
+                                  ("map_level", map_level),
                                   ("threshold", threshold), ("budget", budget), ("seed", seed),
                                   ("max_retries", max_retries)):
             if value is not None:

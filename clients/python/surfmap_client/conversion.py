@@ -17,6 +17,7 @@ _PROPERTY = {
     pb.PROPERTY_BOTH: r.Property.BOTH,
 }
 _MODE = {
+    pb.SAMPLING_MODE_BOUNDARY: r.SamplingMode.BOUNDARY,
     pb.SAMPLING_MODE_ADAPTIVE: r.SamplingMode.ADAPTIVE,
     pb.SAMPLING_MODE_UNIFORM: r.SamplingMode.UNIFORM,
     pb.SAMPLING_MODE_UNCERTAINTY: r.SamplingMode.UNCERTAINTY,
@@ -58,8 +59,9 @@ def job_spec(m) -> r.JobSpec:
     probe = r.ProbeParameters(m.probe.segment_length_mm, m.probe.speed_mm_s, m.probe.normal_force_n)
     lease_s = m.lease.seconds + m.lease.nanos * 1e-9
     return r.JobSpec(m.object_id, _PROPERTY.get(m.property, r.Property.FRICTION),
-                     _MODE.get(m.mode, r.SamplingMode.ADAPTIVE), m.coarsest_level, m.finest_level, m.threshold,
-                     m.budget, probe, m.seed, m.max_retries, lease_s)
+                     _MODE.get(m.mode, r.SamplingMode.BOUNDARY), m.coarsest_level, m.finest_level, m.threshold,
+                     m.budget, probe, m.seed, m.max_retries, lease_s,
+                     m.map_level if m.HasField("map_level") else m.finest_level)
 
 
 def job_progress(m) -> r.JobProgress:
@@ -123,9 +125,14 @@ def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
     if mesh_message is not None and len(mesh_message.positions) > 0:
         mm = mesh(mesh_message)
         positions, normals, triangles = mm.positions, mm.normals, mm.triangles
+    regions = tuple(r.MapRegion(g.region, g.mu, g.mu_se, g.mu_spread, g.piece_count, g.roughness_piece_count,
+                                tuple(g.reflection), tuple(g.ar_coefficients), g.sigma, g.area_mm2)
+                    for g in m.regions)
     return r.SurfaceMap(job_id=m.job_id, level=m.level, vertex_count=m.vertex_count,
                         samples=tuple(sample(s) for s in m.samples), positions=positions, normals=normals,
-                        triangles=triangles, **arrays)
+                        triangles=triangles, region=np.array(m.region, dtype=np.int64),
+                        boundary_probability=np.array(m.boundary_probability, dtype=float), regions=regions,
+                        **arrays)
 
 
 def map_query(m) -> r.MapQuery:
@@ -133,7 +140,7 @@ def map_query(m) -> r.MapQuery:
     column = lambda name: np.array([getattr(x, name) for x in v], dtype=float)  # noqa: E731
     return r.MapQuery(vec_array([x.surface_point for x in v]), vec_array([x.normal for x in v]),
                       column("distance_mm"), column("mu"), column("mu_uncertainty"), column("sigma"),
-                      column("a1"), column("a2"))
+                      column("a1"), column("a2"), np.array([x.region for x in v], dtype=np.int64))
 
 
 def trace(m) -> r.Trace:

@@ -27,9 +27,10 @@ class Property(str, enum.Enum):
 class SamplingMode(str, enum.Enum):
     """How a job chooses its sites."""
 
-    ADAPTIVE = "adaptive"        # the paper's threshold rule
-    UNIFORM = "uniform"          # every vertex of the finest level
-    UNCERTAINTY = "uncertainty"  # next site where the map is most uncertain
+    BOUNDARY = "boundary"        # the default: goes looking for boundaries (drags across them)
+    ADAPTIVE = "adaptive"        # the paper's threshold rule (the only mode that reads threshold)
+    UNIFORM = "uniform"          # every vertex of coarsest_level, nothing more
+    UNCERTAINTY = "uncertainty"  # next site where the harmonic map is most uncertain (needs a budget)
 
 
 class ArMethod(str, enum.Enum):
@@ -109,13 +110,14 @@ class JobSpec:
     property: Property
     mode: SamplingMode
     coarsest_level: int
-    finest_level: int
+    finest_level: int             # the plan's finest level
     threshold: float
     budget: int                   # 0 = unlimited
     probe: ProbeParameters
     seed: int
     max_retries: int
     lease_s: float
+    map_level: int = -1           # the level the map is evaluated on (>= finest_level)
 
 
 @dataclass(frozen=True)
@@ -261,12 +263,29 @@ class JobEvent:
 
 
 @dataclass(frozen=True)
+class MapRegion:
+    """A material region of the map: the drag pieces grouped together."""
+
+    region: int
+    mu: float
+    mu_se: float
+    mu_spread: float
+    piece_count: int
+    roughness_piece_count: int
+    reflection: Tuple[float, ...]        # empty without roughness
+    ar_coefficients: Tuple[float, ...]   # a1..ap, empty without roughness
+    sigma: float                         # N; 0 without roughness
+    area_mm2: float
+
+
+@dataclass(frozen=True)
 class SurfaceMap:
     """The map at one subdivision level, as arrays.
 
     Per vertex (N = vertex_count): ``mu``, ``mu_uncertainty`` (standard
-    deviation), ``sigma`` (roughness innovation std, N), ``a1``, ``a2``; NaN
-    where unknown. ``positions``/``normals``/``triangles`` are present when
+    deviation), ``sigma`` (roughness innovation std, N), ``a1``, ``a2`` (0
+    where the region has no roughness), ``region`` (index into ``regions``,
+    -1 without data) and ``boundary_probability``. ``positions``/``normals``/``triangles`` are present when
     the map was fetched with its mesh, else None. Per measured sample (S):
     ``sample_positions`` (S, 3), ``sample_drag_directions`` (S, 3),
     ``sample_sites`` (S, 2) as (level, vertex), ``sample_mu`` (S,), and the
@@ -282,6 +301,9 @@ class SurfaceMap:
     a1: np.ndarray
     a2: np.ndarray
     samples: Tuple[Sample, ...]
+    region: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    boundary_probability: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    regions: Tuple[MapRegion, ...] = ()
     positions: Optional[np.ndarray] = None
     normals: Optional[np.ndarray] = None
     triangles: Optional[np.ndarray] = None
@@ -313,6 +335,7 @@ class MapQuery:
     sigma: np.ndarray
     a1: np.ndarray
     a2: np.ndarray
+    region: Optional[np.ndarray] = None  # (N,) MapRegion index, -1 without data
 
 
 @dataclass(frozen=True)
