@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "server/mesh/obj_reader.h"
 #include "server/mesh/parsed_mesh.h"
 #include "server/mesh/ply_reader.h"
@@ -20,8 +21,9 @@ absl::StatusOr<ControlMesh> ParseControlMesh(std::string_view bytes, MeshFormat 
   if (!parsed.ok()) return parsed.status();
   // Strict: a repeat is a defect that only an upload (ParseAndRepairMesh) repairs.
   if (parsed->polygons_with_repeated_vertex > 0) {
-    return absl::InvalidArgumentError(absl::StrFormat("%s: %s repeats a vertex index", source,
-                                                      parsed->first_repeated_vertex_polygon));
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "%s: triangle %d (%s) repeats a vertex index (%s)", source, parsed->first_repeated_vertex_triangle,
+        parsed->first_repeated_vertex_polygon, absl::StrJoin(parsed->first_repeated_vertex_indices, ", ")));
   }
   const absl::Status valid = ValidateTriangleMesh(parsed->mesh, [&](int t) {
     return absl::StrCat("triangle ", t, " (", parsed->triangle_origin[t], ")");

@@ -58,7 +58,7 @@ TEST(MeshRepair, RepeatedVertexPolygonIsFixedAndReported) {
   // The strict reader still refuses it, naming the line.
   absl::StatusOr<ControlMesh> strict = ParseControlMesh(obj, MeshFormat::kObj, "quad.obj");
   ASSERT_FALSE(strict.ok());
-  EXPECT_THAT(std::string(strict.status().message()), HasSubstr("face on line 5 repeats a vertex"));
+  EXPECT_THAT(std::string(strict.status().message()), HasSubstr("triangle 0 (face on line 5) repeats a vertex index (0, 1, 2, 2, 3)"));
 }
 
 TEST(MeshRepair, DuplicateVerticesDuplicateAndDegenerateFacesAreRepaired) {

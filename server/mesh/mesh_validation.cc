@@ -42,7 +42,11 @@ void AppendFanTriangles(const std::vector<int>& input, const std::string& origin
   }
   while (polygon.size() > 1 && polygon.back() == polygon.front()) polygon.pop_back();
   if (polygon.size() != input.size()) {
-    if (out.polygons_with_repeated_vertex++ == 0) out.first_repeated_vertex_polygon = origin;
+    if (out.polygons_with_repeated_vertex++ == 0) {
+      out.first_repeated_vertex_polygon = origin;
+      out.first_repeated_vertex_triangle = static_cast<int>(out.mesh.triangles.size());
+      out.first_repeated_vertex_indices = input;
+    }
     if (polygon.size() < 3) {
       ++out.polygons_dropped;
       return;

@@ -22,6 +22,8 @@ struct ParsedMesh {
   // triangulation. The first such polygon's origin, for messages.
   int polygons_with_repeated_vertex = 0;
   std::string first_repeated_vertex_polygon;
+  int first_repeated_vertex_triangle = 0;           // the index its first triangle would have had
+  std::vector<int> first_repeated_vertex_indices;  // as listed
   // Of those, polygons left with fewer than 3 distinct vertices (no face).
   int polygons_dropped = 0;
   // A polygon repeating a vertex NOT in a row (a pinched polygon) cannot be
