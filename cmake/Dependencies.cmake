@@ -8,6 +8,7 @@ find_package(spdlog CONFIG REQUIRED)
 find_package(SQLite3 REQUIRED)
 find_package(OpenSSL REQUIRED)  # constant-time token comparison (libcrypto)
 find_package(tinyobjloader CONFIG REQUIRED)
+find_package(meshoptimizer CONFIG REQUIRED)
 find_package(Protobuf REQUIRED)
 find_package(gRPC CONFIG REQUIRED)
 # glTF export of maps (clients/haptics): Debian's libtinygltf-dev ships it as a shared library.

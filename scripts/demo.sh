@@ -7,7 +7,7 @@
 # completes, writes the map (out/demo/bottle_map.{png,ply,json}), scores it
 # against the scene's truth and stops the server.
 #
-# Usage: scripts/demo.sh [--no-deps] [--no-build] [--rigs N] [--dashboard]
+# Usage: scripts/demo.sh [--no-deps] [--no-build] [--rigs N] [--dashboard] [--realtime]
 #   --no-deps    skip scripts/install-deps.sh (it needs root or sudo)
 #   --no-build   use the binaries already in the build directory
 #   --rigs N     simulated rigs in parallel (default 2)
@@ -15,6 +15,9 @@
 #                DEMO_DASHBOARD_LISTEN (default 127.0.0.1:8080) before the rigs
 #                run, print its URL, and keep surfmapd and the dashboard up after
 #                the mapping until Ctrl-C
+#   --realtime   the simulated rigs take each drag's real time (2 x 20 mm at
+#                10 mm/s + pause: ~4.5 s a drag; the bottle takes ~4 min with
+#                2 rigs), so the dashboard and `surfmap watch` run at lab pace
 # Environment: SURFMAP_BUILD_DIR (default build); DEMO_JOB_ARGS adds options to
 # `surfmap job create` to try other plans (e.g. "--mode adaptive --finest 1
 # --threshold 4", the paper's rule); the default is the server's default job.
@@ -26,14 +29,16 @@ INSTALL_DEPS=1
 BUILD=1
 RIGS=2
 DASHBOARD=0
+REALTIME=()
 for arg in "$@"; do
   case "$arg" in
     --no-deps) INSTALL_DEPS=0 ;;
     --no-build) BUILD=0 ;;
     --dashboard) DASHBOARD=1 ;;
+    --realtime) REALTIME=(--realtime) ;;
     --rigs=*) RIGS=${arg#--rigs=} ;;
     --rigs) RIGS=__next__ ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *)
       if [ "$RIGS" = "__next__" ]; then RIGS=$arg; else echo "demo: unknown argument '$arg'" >&2; exit 2; fi ;;
   esac
@@ -146,9 +151,9 @@ fi
 for i in $(seq 1 "$RIGS"); do
   name=rig-$i
   if [ "$i" = 1 ]; then
-    "$RIG" --sim bottle --job "$JOB" --rig-id "$name" &
+    "$RIG" --sim bottle --job "$JOB" --rig-id "$name" "${REALTIME[@]}" &
   else
-    "$RIG" --sim bottle --job "$JOB" --rig-id "$name" --quiet >"$OUT/$name.log" 2>&1 &
+    "$RIG" --sim bottle --job "$JOB" --rig-id "$name" --quiet "${REALTIME[@]}" >"$OUT/$name.log" 2>&1 &
   fi
   RIG_PIDS+=($!)
 done

@@ -7,7 +7,7 @@ PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libeigen3-dev libosd-dev libsqlite3-dev sqlite3
-  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtinyobjloader-dev libstb-dev
+  libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtinyobjloader-dev libstb-dev libmeshoptimizer-dev
   # glTF export of maps (clients/haptics)
   libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -60,8 +60,32 @@ struct CreateArgs {
   std::optional<uint64_t> seed;
   std::optional<double> lease_s;
   std::optional<int> max_retries;
+  std::optional<double> spacing_mm;
   bool json = false;
 };
+
+// The plan's size and robot time, and the server's warnings, on stderr (stdout
+// keeps only the id for scripts).
+void PrintPlanEstimate(const pb::CreateJobResponse& response) {
+  const pb::PlanEstimate& e = response.estimate();
+  auto hours = [](const google::protobuf::Duration& d) {
+    const double s = static_cast<double>(d.seconds()) + d.nanos() * 1e-9;
+    char text[64];
+    if (s >= 3600) {
+      std::snprintf(text, sizeof(text), "%.1f h", s / 3600);
+    } else {
+      std::snprintf(text, sizeof(text), "%.0f min", s / 60);
+    }
+    return std::string(text);
+  };
+  std::fprintf(stderr,
+               "plan: %d level-0 sites (%s control mesh of %d vertices, %.3g mm apart), about %d in all (at most %d)\n"
+               "robot time: %.1f s per drag (%.1f s approach + the passes) -> level 0 %s, expected %s\n",
+               e.level0_sites(), e.simplified() ? "simplified" : "the object's", e.control_vertices(),
+               e.control_spacing_mm(), e.expected_sites(), e.max_sites(), e.seconds_per_drag(), e.approach_s(),
+               hours(e.level0_time()).c_str(), hours(e.expected_time()).c_str());
+  for (const std::string& w : response.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+}
 
 // Unset options stay zero: the server applies its defaults to zero fields.
 pb::JobSpec SpecFromArgs(const CreateArgs& a) {
@@ -84,6 +108,7 @@ pb::JobSpec SpecFromArgs(const CreateArgs& a) {
   if (a.force) spec.mutable_probe()->set_normal_force_n(*a.force);
   if (a.seed) spec.set_seed(*a.seed);
   if (a.max_retries) spec.set_max_retries(*a.max_retries);
+  if (a.spacing_mm) spec.set_site_spacing_mm(*a.spacing_mm);
   if (a.lease_s) {
     *spec.mutable_lease() = TimeUtil::MillisecondsToDuration(static_cast<int64_t>(std::llround(*a.lease_s * 1000.0)));
   }
@@ -178,6 +203,10 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
       ->check(CLI::PositiveNumber);
   create->add_option("--max-retries", a->max_retries, "Attempts per site after a failure (default 2)")
       ->check(CLI::NonNegativeNumber);
+  create->add_option("--spacing-mm", a->spacing_mm,
+                     "Target distance between level-0 sites, mm (default: the drag length); a denser mesh is "
+                     "simplified to it")
+      ->check(CLI::PositiveNumber);
   create->add_flag("--json", a->json, "Print the JobInfo as JSON instead of the id");
   create->callback([cli, a] {
     auto stub = pb::JobService::NewStub(cli->Channel());
@@ -190,6 +219,7 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
     } else {
       std::printf("%lld\n", static_cast<long long>(response.job().job_id()));
     }
+    PrintPlanEstimate(response);
   });
 
   auto list_object = std::make_shared<int64_t>(0);

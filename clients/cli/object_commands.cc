@@ -18,6 +18,7 @@ std::string_view FormatName(pb::MeshFormat format) {
   switch (format) {
     case pb::MESH_FORMAT_OBJ: return "obj";
     case pb::MESH_FORMAT_PLY: return "ply";
+    case pb::MESH_FORMAT_STL: return "stl";
     default: return "?";
   }
 }
@@ -34,6 +35,8 @@ void PrintObjectTable(const google::protobuf::RepeatedPtrField<pb::ObjectInfo>& 
 struct UploadArgs {
   std::string file;
   std::string name;
+  std::string units;     // mm, cm, m, in; empty = not stated (the server assumes mm)
+  double scale = 0;      // mm per file unit; 0 = not given
   bool json = false;
 };
 
@@ -45,8 +48,23 @@ void RunUpload(RemoteCli& cli, const UploadArgs& args) {
     request.set_format(pb::MESH_FORMAT_OBJ);
   } else if (ext == ".ply") {
     request.set_format(pb::MESH_FORMAT_PLY);
+  } else if (ext == ".stl") {
+    request.set_format(pb::MESH_FORMAT_STL);
   } else {
-    return FailUsage(cli, args.file + ": unknown mesh format '" + ext + "' (expected .obj or .ply)");
+    return FailUsage(cli, args.file + ": unknown mesh format '" + ext + "' (expected .obj, .ply or .stl)");
+  }
+  if (args.scale != 0) {
+    request.set_scale(args.scale);
+  } else if (args.units == "mm") {
+    request.set_units(pb::LENGTH_UNIT_MM);
+  } else if (args.units == "cm") {
+    request.set_units(pb::LENGTH_UNIT_CM);
+  } else if (args.units == "m") {
+    request.set_units(pb::LENGTH_UNIT_M);
+  } else if (args.units == "in") {
+    request.set_units(pb::LENGTH_UNIT_IN);
+  } else if (!args.units.empty()) {
+    return FailUsage(cli, "--units must be mm, cm, m or in, got '" + args.units + "'");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) return FailUsage(cli, args.file + ": cannot open file");
@@ -57,11 +75,21 @@ void RunUpload(RemoteCli& cli, const UploadArgs& args) {
   pb::UploadObjectResponse response;
   auto stub = pb::ObjectService::NewStub(cli.Channel());
   if (!CallRpc(cli, "UploadObject", *stub, &pb::ObjectService::Stub::UploadObject, request, &response)) return;
+  // The id (or the ObjectInfo) on stdout for scripts; what was done to the
+  // mesh on stderr, for the person uploading it.
   if (args.json) {
     std::printf("%s\n", MessageToJson(response.object()).c_str());
   } else {
     std::printf("%lld\n", static_cast<long long>(response.object().object_id()));
   }
+  const pb::Vec3& e = response.extent_mm();
+  std::fprintf(stderr, "object %lld: %d vertices, %d faces, %.4g x %.4g x %.4g mm, area %.4g mm^2 (x %g mm per unit)\n",
+               static_cast<long long>(response.object().object_id()), response.object().control_vertex_count(),
+               response.object().control_face_count(), e.x(), e.y(), e.z(), response.area_mm2(), response.scale_mm());
+  for (const pb::MeshRepair& r : response.repairs()) {
+    std::fprintf(stderr, "repaired: %s x %d (%s)\n", r.kind().c_str(), r.count(), r.detail().c_str());
+  }
+  for (const std::string& w : response.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
 }
 
 }  // namespace
@@ -71,9 +99,13 @@ void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   object->require_subcommand(1);
 
   auto upload_args = std::make_shared<UploadArgs>();
-  CLI::App* upload = object->add_subcommand("upload", "Upload a control mesh (.obj or .ply, mm); prints its id");
+  CLI::App* upload = object->add_subcommand(
+      "upload", "Upload a mesh (.obj, .ply or .stl); prints its id, and repairs and warnings on stderr");
   upload->add_option("file", upload_args->file, "Mesh file")->required()->check(CLI::ExistingFile);
   upload->add_option("--name", upload_args->name, "Object name (default: the file name without extension)");
+  upload->add_option("--units", upload_args->units, "The file's length unit: mm, cm, m or in (default: mm, unchecked)");
+  upload->add_option("--scale", upload_args->scale, "mm per file unit (instead of --units)")
+      ->check(CLI::PositiveNumber);
   upload->add_flag("--json", upload_args->json, "Print the ObjectInfo as JSON");
   upload->callback([cli, upload_args] { RunUpload(*cli, *upload_args); });
 

@@ -23,9 +23,11 @@
 #include <memory>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 #include "absl/strings/str_cat.h"
+#include "proto/surfmap/v1/surfmap.grpc.pb.h"
 #include "clients/cli/map_json.h"
 #include "clients/cli/progress_line.h"
 #include "clients/cli/remote_call.h"
@@ -37,6 +39,8 @@
 #include "clients/rig_client/served_map_score.h"
 #include "clients/rig_client/probe_endpoint.h"
 #include "clients/rig_client/rig_loop.h"
+#include "clients/rig_client/realtime_driver.h"
+#include "clients/rig_client/scene_guard.h"
 #include "clients/rig_client/simulated_driver.h"
 #include "clients/rig_client/trace_spool.h"
 
@@ -79,6 +83,7 @@ struct RunArgs {
   std::string retry_for = "5min";
   int max_commands = 0;
   bool quiet = false;
+  bool realtime = false;        // --sim: each drag takes its real duration
 };
 
 absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const std::string& scene_name,
@@ -90,10 +95,60 @@ absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const st
   return surfmap::SimulatedRig::Create(*std::move(scene), options);
 }
 
-// Where a robot's RigDriver is constructed: the simulated rig, or an
-// external driver program (its log lines go to `log`).
-absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> MakeDriver(const RunArgs& args,
-                                                               std::function<void(const std::string&)> log) {
+// The job's object as the server has it, for the simulated rig's scene check.
+absl::StatusOr<surfmap::rig::MeshFingerprint> FetchJobObject(const surfmap::cli::RemoteOptions& remote,
+                                                             int64_t job_id) {
+  std::shared_ptr<grpc::Channel> channel = surfmap::cli::ConnectChannel(remote);
+  auto jobs = pb::JobService::NewStub(channel);
+  auto objects = pb::ObjectService::NewStub(channel);
+  pb::GetJobRequest job_request;
+  job_request.set_job_id(job_id);
+  pb::GetJobResponse job;
+  {
+    grpc::ClientContext context;
+    surfmap::cli::PrepareContext(remote, &context);
+    grpc::Status status = jobs->GetJob(&context, job_request, &job);
+    if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetJob: ", status.error_message()));
+  }
+  pb::GetObjectRequest object_request;
+  object_request.set_object_id(job.job().spec().object_id());
+  pb::GetObjectResponse object;
+  pb::GetMeshRequest mesh_request;
+  mesh_request.set_object_id(job.job().spec().object_id());
+  mesh_request.set_level(0);
+  pb::GetMeshResponse mesh;
+  {
+    grpc::ClientContext context;
+    surfmap::cli::PrepareContext(remote, &context);
+    grpc::Status status = objects->GetObject(&context, object_request, &object);
+    if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetObject: ", status.error_message()));
+  }
+  {
+    grpc::ClientContext context;
+    surfmap::cli::PrepareContext(remote, &context);
+    grpc::Status status = objects->GetMesh(&context, mesh_request, &mesh);
+    if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetMesh: ", status.error_message()));
+  }
+  surfmap::rig::MeshFingerprint out;
+  out.name = absl::StrCat("job ", job_id, "'s object ", object.object().object_id(), " (\"", object.object().name(),
+                          "\")");
+  for (const pb::Vec3& p : mesh.positions()) out.limit_positions.emplace_back(p.x(), p.y(), p.z());
+  out.triangle_indices.assign(mesh.triangle_indices().begin(), mesh.triangle_indices().end());
+  return out;
+}
+
+// The drivers the loop calls through, outermost last: each layer holds a
+// reference to the one before.
+struct DriverStack {
+  std::vector<std::unique_ptr<surfmap::RigDriver>> layers;
+  surfmap::RigDriver& top() { return *layers.back(); }
+};
+
+// Where a robot's RigDriver is constructed: the simulated rig (checked
+// against each job's object, optionally at real pace), or an external driver
+// program (its log lines go to `log`).
+absl::StatusOr<DriverStack> MakeDriver(const RunArgs& args, std::function<void(const std::string&)> log) {
+  DriverStack stack;
   if (!args.driver.empty()) {
     surfmap::rig::ExternalDriverOptions options;
     options.command = args.driver;
@@ -103,11 +158,18 @@ absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> MakeDriver(const RunArgs& ar
     absl::StatusOr<std::unique_ptr<surfmap::rig::ExternalDriver>> driver =
         surfmap::rig::ExternalDriver::Start(std::move(options));
     if (!driver.ok()) return driver.status();
-    return std::unique_ptr<surfmap::RigDriver>(std::move(*driver));
+    stack.layers.push_back(std::move(*driver));
+    return stack;
   }
   absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_seed);
   if (!rig.ok()) return rig.status();
-  return std::unique_ptr<surfmap::RigDriver>(std::move(*rig));
+  surfmap::rig::MeshFingerprint scene = surfmap::rig::SceneFingerprint(**rig);
+  stack.layers.push_back(std::move(*rig));
+  stack.layers.push_back(std::make_unique<surfmap::rig::SceneGuardDriver>(
+      stack.top(), std::move(scene),
+      [remote = args.remote](int64_t job_id) { return FetchJobObject(remote, job_id); }));
+  if (args.realtime) stack.layers.push_back(std::make_unique<surfmap::rig::RealtimeDriver>(stack.top(), &g_stop));
+  return stack;
 }
 
 std::string HostName() {
@@ -167,7 +229,7 @@ int RunRig(const RunArgs& args) {
     std::fprintf(stderr, "%s\n", line.c_str());
   };
   // Declared after the display: destroyed first (an external driver logs how it ended).
-  absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> driver =
+  absl::StatusOr<DriverStack> driver =
       MakeDriver(args, [&](const std::string& line) { hooks.on_event(options.rig_id + " " + line); });
   if (!driver.ok()) {
     std::cerr << "surfmap-rig: " << (args.driver.empty() ? "--sim " + args.sim : std::string("--driver")) << ": "
@@ -186,7 +248,7 @@ int RunRig(const RunArgs& args) {
     }
   };
   InstallStopHandlers();
-  surfmap::rig::RigLoop loop(endpoint, **driver, **spool, options, &g_stop, hooks);
+  surfmap::rig::RigLoop loop(endpoint, driver->top(), **spool, options, &g_stop, hooks);
   surfmap::rig::RigLoopSummary summary = loop.Run();
   display.Finish();
   std::printf("%s\n", summary.Format(options.rig_id).c_str());
@@ -346,6 +408,9 @@ int main(int argc, char** argv) {
   app.add_option("--max-commands", run.max_commands, "Stop after this many commands (0 = until the job ends)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet", run.quiet, "No progress line (the summary line is still printed)");
+  app.add_flag("--realtime", run.realtime,
+               "With --sim: each drag takes as long as at the commanded speed (sleeps for the trace's duration), "
+               "so a dashboard or `surfmap watch` can be followed as in a lab");
 
   SimulateDragArgs simulate;
   CLI::App* simulate_cmd = app.add_subcommand(

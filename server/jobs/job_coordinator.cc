@@ -4,6 +4,7 @@
 #include "server/base/status_macros.h"
 #include "server/base/utf8_text.h"
 #include "server/jobs/job_watchers.h"
+#include "server/mesh/mesh_units.h"
 
 namespace surfmap {
 namespace {
@@ -22,24 +23,55 @@ JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, Coordinator
 
 absl::StatusOr<ObjectRecord> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
                                                           std::string bytes) {
+  SURFMAP_ASSIGN_OR_RETURN(UploadedObject uploaded, UploadObject(name, format, std::move(bytes), UploadOptions{}));
+  return std::move(uploaded.object);
+}
+
+absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
+                                                            std::string bytes, const UploadOptions& options) {
   // Characters, not bytes: "瓶" is one character of three bytes.
   SURFMAP_RETURN_IF_ERROR(ValidateName("object name", name, 1, 200));
   if (bytes.empty()) return absl::InvalidArgumentError("mesh is empty (0 bytes)");
-  SURFMAP_ASSIGN_OR_RETURN(ControlMesh mesh, ParseControlMesh(bytes, format, name));
+  SURFMAP_ASSIGN_OR_RETURN(RepairedMesh repaired, ParseAndRepairMesh(bytes, format, name, options.mm_per_unit));
+  const ControlMesh& mesh = repaired.mesh;
+  UploadedObject out;
+  out.mm_per_unit = options.mm_per_unit;
+  out.extent_mm = BoundingBoxSize(mesh);
+  out.area_mm2 = SurfaceArea(mesh);
+  out.repairs = std::move(repaired.repairs);
+  if (options.unit_stated) {
+    SURFMAP_RETURN_IF_ERROR(CheckObjectSize(out.extent_mm, options.unit_text, &out.warnings));
+  } else {
+    // Uploads from before units existed are taken as mm, as they always were;
+    // an implausible size is only a warning for them.
+    std::vector<std::string> size_warnings;
+    const absl::Status plausible = CheckObjectSize(out.extent_mm, "mm (units not given)", &size_warnings);
+    if (!plausible.ok()) out.warnings.emplace_back(plausible.message());
+    for (std::string& w : size_warnings) out.warnings.push_back(std::move(w));
+  }
   SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());
   NewObject object;
   object.name = name;
-  object.mesh_format = format == MeshFormat::kPly ? "ply" : "obj";
-  object.mesh_bytes = std::move(bytes);
+  // A clean file in mm is stored as it came; anything changed is stored as
+  // the repaired mesh in mm (OBJ, coordinates exact: shortest round trip).
+  if (out.repairs.empty() && options.mm_per_unit == 1.0 && format != MeshFormat::kStl) {
+    object.mesh_format = format == MeshFormat::kPly ? "ply" : "obj";
+    object.mesh_bytes = std::move(bytes);
+  } else {
+    object.mesh_format = "obj";
+    object.mesh_bytes = WriteObj(mesh);
+  }
   object.control_vertices = static_cast<int64_t>(mesh.positions.size());
   object.control_faces = static_cast<int64_t>(mesh.triangles.size());
   SURFMAP_ASSIGN_OR_RETURN(int64_t id, store_->CreateObject(object));
-  return store_->GetObject(id, /*include_mesh=*/false);
+  SURFMAP_ASSIGN_OR_RETURN(out.object, store_->GetObject(id, /*include_mesh=*/false));
+  return out;
 }
 
-absl::StatusOr<std::shared_ptr<const LoopSurface>> JobCoordinator::Surface(int64_t object_id, int level) {
+absl::StatusOr<std::shared_ptr<const LoopSurface>> JobCoordinator::Surface(int64_t object_id, int level,
+                                                                           double site_spacing_mm) {
   if (level < 0 || level > 6) return absl::InvalidArgumentError(absl::StrCat("level must be in 0..6, got ", level));
-  return registry_.surfaces().Get(object_id, level);
+  return registry_.surfaces().Get(object_id, level, site_spacing_mm);
 }
 
 absl::StatusOr<std::shared_ptr<const LoopSurface>> JobCoordinator::JobSurface(int64_t job_id) {

@@ -58,9 +58,20 @@
 #include "server/jobs/job_steering.h"
 #include "server/jobs/probe_protocol.h"
 #include "server/mesh/control_mesh.h"
+#include "server/mesh/mesh_repair.h"
 #include "storage/store.h"
 
 namespace surfmap {
+
+// What an upload made of the file.
+struct UploadedObject {
+  ObjectRecord object;
+  std::vector<MeshRepairNote> repairs;
+  std::vector<std::string> warnings;
+  double mm_per_unit = 1.0;
+  Eigen::Vector3d extent_mm = Eigen::Vector3d::Zero();
+  double area_mm2 = 0.0;
+};
 
 struct CoordinatorOptions {
   int64_t default_lease_ms = 60'000;
@@ -78,7 +89,19 @@ class JobCoordinator {
   // The mesh is parsed, validated and refined to level 1 before it is stored,
   // so a stored object always has a usable surface.
   absl::StatusOr<ObjectRecord> UploadObject(const std::string& name, MeshFormat format, std::string bytes);
-  absl::StatusOr<std::shared_ptr<const LoopSurface>> Surface(int64_t object_id, int level);
+  // With units: innocuous defects are repaired (mesh_repair.h) and the mesh
+  // is scaled to mm; its size is checked (mesh_units.h): refused when
+  // implausible in units the caller stated, a warning when `unit_stated` is
+  // false (mm assumed). A repaired or scaled mesh is stored as OBJ in mm.
+  struct UploadOptions {
+    double mm_per_unit = 1.0;
+    std::string unit_text = "mm";
+    bool unit_stated = false;
+  };
+  absl::StatusOr<UploadedObject> UploadObject(const std::string& name, MeshFormat format, std::string bytes,
+                                              const UploadOptions& options);
+  absl::StatusOr<std::shared_ptr<const LoopSurface>> Surface(int64_t object_id, int level,
+                                                             double site_spacing_mm = 0);
 
   // ---- Jobs ----
   absl::StatusOr<JobSnapshot> CreateJob(const JobParams& params) { return steering_.CreateJob(params); }

@@ -76,6 +76,7 @@ bool JobParams::IsValid(std::string* why) const {
   if (!(probe.segment_length_mm >= 1 && probe.segment_length_mm <= 200)) return fail("segment length must be in [1, 200] mm");
   if (!(probe.speed_mm_per_s > 0 && probe.speed_mm_per_s <= 500)) return fail("speed must be in (0, 500] mm/s");
   if (!(probe.normal_force_n > 0 && probe.normal_force_n <= 100)) return fail("normal force must be in (0, 100] N");
+  if (!(site_spacing_mm >= 0 && site_spacing_mm <= 1000)) return fail("site spacing must be in [0, 1000] mm");
   if (max_retries < 0 || max_retries > 100) return fail("max_retries must be in 0..100");
   if (lease_ms < 100 || lease_ms > 86'400'000) return fail("lease must be between 0.1 s and 24 h");
   std::string fit_why;
@@ -138,7 +139,8 @@ nlohmann::json JobParamsToJson(const JobParams& p) {
           {"max_retries", p.max_retries},
           {"lease_ms", p.lease_ms},
           {"fit", FitOptionsToJson(p.fit)},
-          {"limits", TraceLimitsToJson(p.limits)}};
+          {"limits", TraceLimitsToJson(p.limits)},
+          {"site_spacing_mm", p.site_spacing_mm}};
 }
 
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
@@ -174,6 +176,7 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
     absl::StatusOr<FitOptions> fit = FitOptionsFromJson(j.at("fit"));
     if (!fit.ok()) return fit.status();
     p.fit = *fit;
+    p.site_spacing_mm = j.value("site_spacing_mm", 0.0);  // absent in jobs stored before it existed
     if (j.contains("limits")) {  // jobs stored before limits existed take the defaults
       absl::StatusOr<TraceLimits> limits = TraceLimitsFromJson(j.at("limits"));
       if (!limits.ok()) return limits.status();

@@ -40,6 +40,10 @@ struct JobParams {
   int64_t lease_ms = 60'000;
   FitOptions fit;                // estimator settings for fits on arrival
   TraceLimits limits;            // plausibility of submitted traces
+  // Target distance between level-0 sites (SurfaceCache simplifies a denser
+  // mesh to it); 0 = the object's mesh as it is (jobs stored before spacing
+  // existed, and in-process callers). The API's default is the drag length.
+  double site_spacing_mm = 0;
   Reachability reach;            // sites a rig cannot reach are not planned
 
   // Names the first invalid field. kAutoLevel levels are invalid here:

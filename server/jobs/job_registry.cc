@@ -101,7 +101,7 @@ size_t JobRegistry::loaded_jobs() {
 absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& record) {
   SURFMAP_ASSIGN_OR_RETURN(JobParams params, StoredParams(record));
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> surface,
-                           surfaces_.Get(params.object_id, params.map_level));
+                           surfaces_.Get(params.object_id, params.map_level, params.site_spacing_mm));
   SURFMAP_ASSIGN_OR_RETURN(PlanRecord plan_record, store_->GetPlan(record.id));
   SURFMAP_ASSIGN_OR_RETURN(SamplingPlan plan, RestoreStoredPlan(plan_record, JobPlanLevels(*surface, params)));
   if (record.state == JobState::kCancelled) plan.Cancel();

@@ -47,13 +47,13 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested) {
   JobParams params = requested;
   if (params.finest_level == kAutoLevel || params.map_level == kAutoLevel) {
     SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> control,
-                             registry_->surfaces().Get(params.object_id, 0));
+                             registry_->surfaces().Get(params.object_id, 0, params.site_spacing_mm));
     ResolveAutoLevels(control->level(0), params);
   }
   std::string why;
   if (!params.IsValid(&why)) return absl::InvalidArgumentError("job: " + why);
   SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> surface,
-                           registry_->surfaces().Get(params.object_id, params.map_level));
+                           registry_->surfaces().Get(params.object_id, params.map_level, params.site_spacing_mm));
   SURFMAP_ASSIGN_OR_RETURN(SamplingPlan plan,
                            SamplingPlan::Create(JobPlanLevels(*surface, params), PlanOptionsFor(params)));
   NewJob job;

@@ -2,11 +2,13 @@
 
 #include "absl/strings/str_cat.h"
 #include "server/mesh/control_mesh.h"
+#include "server/mesh/control_simplify.h"
+#include "server/mesh/dense_surface.h"
 
 namespace surfmap {
 
-absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Get(int64_t object_id, int level) {
-  const Key key{object_id, level};
+absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Get(int64_t object_id, int level, double site_spacing_mm) {
+  const Key key{object_id, level, site_spacing_mm};
   {
     MutexLock lock(&mu_);
     // Another caller may be building it: wait for that build, then look again.
@@ -20,7 +22,7 @@ absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Get(int64_t obj
     }
     building_[key] = 1;
   }
-  absl::StatusOr<std::shared_ptr<const LoopSurface>> built = Build(object_id, level);
+  absl::StatusOr<std::shared_ptr<const LoopSurface>> built = Build(object_id, level, site_spacing_mm);
   MutexLock lock(&mu_);
   building_.erase(key);
   if (built.ok()) {
@@ -45,14 +47,26 @@ void SurfaceCache::KeepLocked(const Key& key, std::shared_ptr<const LoopSurface>
   }
 }
 
-absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Build(int64_t object_id, int level) {
+absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Build(int64_t object_id, int level,
+                                                                       double site_spacing_mm) {
   absl::StatusOr<ObjectRecord> object = store_->GetObject(object_id, /*include_mesh=*/true);
   if (!object.ok()) return object.status();
-  MeshFormat format = object->mesh_format == "ply" ? MeshFormat::kPly : MeshFormat::kObj;
+  MeshFormat format = object->mesh_format == "ply" ? MeshFormat::kPly : MeshFormat::kObj;  // uploads store ply or obj
   absl::StatusOr<ControlMesh> mesh = ParseControlMesh(object->mesh_bytes, format, absl::StrCat("object ", object_id));
   if (!mesh.ok()) {
     return absl::DataLossError(absl::StrCat("stored mesh of object ", object_id, " no longer parses: ",
                                             mesh.status().message()));
+  }
+  if (site_spacing_mm > 0) {
+    absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(*mesh, site_spacing_mm);
+    if (!control.ok()) return control.status();
+    if (control->simplified) {
+      const DenseSurface dense(*mesh);
+      absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
+          LoopSurface::Create(control->mesh, level, dense.Projection());
+      if (!surface.ok()) return surface.status();
+      return std::shared_ptr<const LoopSurface>(std::move(*surface));
+    }
   }
   absl::StatusOr<std::unique_ptr<LoopSurface>> surface = LoopSurface::Create(*mesh, level);
   if (!surface.ok()) return surface.status();

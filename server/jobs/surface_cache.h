@@ -1,5 +1,8 @@
-// SurfaceCache: an object's Loop surface, refined once per (object, level) and
-// shared by every job on it. Refining a large mesh takes long: it happens on
+// SurfaceCache: an object's Loop surface, refined once per (object, level,
+// site spacing) and shared by every job on it. With a spacing, a dense mesh is
+// simplified to a control mesh for sites about that far apart and the
+// surface's positions and normals are projected onto the dense mesh
+// (control_simplify.h, dense_surface.h); spacing 0 is the object's own mesh. Refining a large mesh takes long: it happens on
 // the caller's thread (a pool thread), outside any job lock, and concurrent
 // callers for the same surface wait for the one build instead of repeating it.
 //
@@ -13,6 +16,7 @@
 #include <list>
 #include <map>
 #include <memory>
+#include <tuple>
 #include <utility>
 
 #include "absl/base/thread_annotations.h"
@@ -29,11 +33,12 @@ class SurfaceCache {
 
   // The object's surface refined to `level`. NOT_FOUND for an unknown object;
   // DATA_LOSS if the stored mesh does not parse (it was validated on upload).
-  absl::StatusOr<std::shared_ptr<const LoopSurface>> Get(int64_t object_id, int level) ABSL_LOCKS_EXCLUDED(mu_);
+  absl::StatusOr<std::shared_ptr<const LoopSurface>> Get(int64_t object_id, int level, double site_spacing_mm = 0)
+      ABSL_LOCKS_EXCLUDED(mu_);
 
  private:
-  using Key = std::pair<int64_t, int>;
-  absl::StatusOr<std::shared_ptr<const LoopSurface>> Build(int64_t object_id, int level);
+  using Key = std::tuple<int64_t, int, double>;
+  absl::StatusOr<std::shared_ptr<const LoopSurface>> Build(int64_t object_id, int level, double site_spacing_mm);
   void KeepLocked(const Key& key, std::shared_ptr<const LoopSurface> surface) ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_);
 
   Store* store_;

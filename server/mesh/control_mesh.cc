@@ -5,16 +5,26 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "absl/strings/str_join.h"
 #include "server/mesh/obj_reader.h"
 #include "server/mesh/parsed_mesh.h"
 #include "server/mesh/ply_reader.h"
+#include "server/mesh/stl_reader.h"
 
 namespace surfmap {
 
 absl::StatusOr<ControlMesh> ParseControlMesh(std::string_view bytes, MeshFormat format, std::string_view source) {
   absl::StatusOr<ParsedMesh> parsed =
-      format == MeshFormat::kPly ? ReadPly(bytes, source) : ReadObj(bytes, source);
+      format == MeshFormat::kPly   ? ReadPly(bytes, source)
+      : format == MeshFormat::kStl ? ReadStl(bytes, source)
+                                   : ReadObj(bytes, source);
   if (!parsed.ok()) return parsed.status();
+  // Strict: a repeat is a defect that only an upload (ParseAndRepairMesh) repairs.
+  if (parsed->polygons_with_repeated_vertex > 0) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "%s: triangle %d (%s) repeats a vertex index (%s)", source, parsed->first_repeated_vertex_triangle,
+        parsed->first_repeated_vertex_polygon, absl::StrJoin(parsed->first_repeated_vertex_indices, ", ")));
+  }
   const absl::Status valid = ValidateTriangleMesh(parsed->mesh, [&](int t) {
     return absl::StrCat("triangle ", t, " (", parsed->triangle_origin[t], ")");
   });
@@ -23,9 +33,18 @@ absl::StatusOr<ControlMesh> ParseControlMesh(std::string_view bytes, MeshFormat 
 }
 
 absl::StatusOr<ControlMesh> ParseControlMeshAuto(std::string_view bytes, std::string_view source) {
-  // "ply" followed by a line end is the PLY magic; everything else is taken as OBJ.
-  const bool is_ply = bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n";
-  return ParseControlMesh(bytes, is_ply ? MeshFormat::kPly : MeshFormat::kObj, source);
+  return ParseControlMesh(bytes, GuessMeshFormat(bytes), source);
+}
+
+MeshFormat GuessMeshFormat(std::string_view bytes) {
+  // "ply" followed by a line end is the PLY magic; a binary STL's size is
+  // exactly 84 + 50 x its triangle count; "solid" starts an ASCII STL (and,
+  // against the standard, some binary headers, which the size test catches
+  // first); everything else is taken as OBJ.
+  if (bytes.substr(0, 4) == "ply\n" || bytes.substr(0, 5) == "ply\r\n") return MeshFormat::kPly;
+  if (IsBinaryStl(bytes)) return MeshFormat::kStl;
+  if (bytes.substr(0, 5) == "solid") return MeshFormat::kStl;
+  return MeshFormat::kObj;
 }
 
 absl::Status ValidateControlMesh(const ControlMesh& mesh) {

@@ -17,7 +17,7 @@ struct ControlMesh {
   std::vector<std::array<int, 3>> triangles;  // counter-clockwise seen from outside
 };
 
-enum class MeshFormat { kObj, kPly };
+enum class MeshFormat { kObj, kPly, kStl };
 
 // Parses mesh bytes. `source` names the input in error messages (a file name
 // or "upload"). Errors (INVALID_ARGUMENT): syntax, NaN/inf coordinates,
@@ -32,11 +32,14 @@ enum class MeshFormat { kObj, kPly };
 // vertex with float/double x, y, z; element face with an integer list
 // vertex_indices (or vertex_index); other elements and properties, lists
 // included, are skipped. Data must end exactly after the last element.
+// STL: ASCII or binary (stl_reader.h); bit-identical corners are one vertex.
 absl::StatusOr<ControlMesh> ParseControlMesh(std::string_view bytes, MeshFormat format,
                                              std::string_view source);
 
 // Guesses the format from the first bytes ("ply" magic) and parses.
 absl::StatusOr<ControlMesh> ParseControlMeshAuto(std::string_view bytes, std::string_view source);
+// PLY by its magic, STL binary by its size or ASCII by "solid", else OBJ.
+MeshFormat GuessMeshFormat(std::string_view bytes);
 
 // Rejects: empty mesh, non-finite coordinates, out-of-range or repeated
 // indices in a face, unreferenced vertices (they would be sampling sites with

@@ -121,6 +121,11 @@ const SurfaceLevel& LoopSurface::level(int k) const {
 }
 
 absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level) {
+  return Create(control, max_level, LimitProjection());
+}
+
+absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level,
+                                                                 const LimitProjection& projection) {
   if (max_level < 0 || max_level > kMaxLevel) {
     return absl::InvalidArgumentError(
         absl::StrFormat("subdivision level %d is out of range 0..%d", max_level, kMaxLevel));
@@ -290,6 +295,9 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
     }
   }
   refiner.reset();  // release OpenSubdiv's tables before the search tree is built
+  if (projection) {
+    for (int v = 0; v < num_finest; ++v) projection(finest.limit_positions[v], finest.limit_normals[v]);
+  }
 
   for (int k = 0; k < max_level; ++k) {
     SurfaceLevel& level = impl.levels[k];

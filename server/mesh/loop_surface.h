@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <functional>
 #include <memory>
 #include <vector>
 
@@ -72,6 +73,16 @@ class LoopSurface {
   // Cost: a 10k-triangle mesh to level 3 takes ~0.3 s of computation plus
   // first-touch of ~150 MB (see loop_surface_benchmark.cc).
   static absl::StatusOr<std::unique_ptr<LoopSurface>> Create(const ControlMesh& control, int max_level);
+
+  // Moves a limit vertex onto the true surface when the control mesh is a
+  // simplification of a denser one (dense_surface.h): called with the limit
+  // position and unit normal of every finest vertex, which it replaces. The
+  // levels' limit positions and normals, closest points and drag paths are
+  // then on the true surface; the topology (sites, edges) is the control
+  // mesh's.
+  using LimitProjection = std::function<void(Eigen::Vector3d& position, Eigen::Vector3d& normal)>;
+  static absl::StatusOr<std::unique_ptr<LoopSurface>> Create(const ControlMesh& control, int max_level,
+                                                             const LimitProjection& projection);
   ~LoopSurface();
 
   int max_level() const;

@@ -34,7 +34,24 @@ struct EdgeUse {
 
 }  // namespace
 
-void AppendFanTriangles(const std::vector<int>& polygon, const std::string& origin, ParsedMesh& out) {
+void AppendFanTriangles(const std::vector<int>& input, const std::string& origin, ParsedMesh& out) {
+  std::vector<int> polygon;
+  polygon.reserve(input.size());
+  for (const int v : input) {
+    if (polygon.empty() || polygon.back() != v) polygon.push_back(v);
+  }
+  while (polygon.size() > 1 && polygon.back() == polygon.front()) polygon.pop_back();
+  if (polygon.size() != input.size()) {
+    if (out.polygons_with_repeated_vertex++ == 0) {
+      out.first_repeated_vertex_polygon = origin;
+      out.first_repeated_vertex_triangle = static_cast<int>(out.mesh.triangles.size());
+      out.first_repeated_vertex_indices = input;
+    }
+    if (polygon.size() < 3) {
+      ++out.polygons_dropped;
+      return;
+    }
+  }
   for (std::size_t i = 1; i + 1 < polygon.size(); ++i) {
     out.mesh.triangles.push_back({polygon[0], polygon[i], polygon[i + 1]});
     out.triangle_origin.push_back(origin);

@@ -17,6 +17,17 @@ struct ParsedMesh {
   // For each triangle: where its polygon came from, e.g. "face on line 12"
   // (OBJ) or "face 7" (PLY). Same length as mesh.triangles.
   std::vector<std::string> triangle_origin;
+  // Polygons that listed the same vertex twice in a row (e.g. "f 1 2 2 3", a
+  // quad collapsed by the writer): the repeat was dropped before
+  // triangulation. The first such polygon's origin, for messages.
+  int polygons_with_repeated_vertex = 0;
+  std::string first_repeated_vertex_polygon;
+  int first_repeated_vertex_triangle = 0;           // the index its first triangle would have had
+  std::vector<int> first_repeated_vertex_indices;  // as listed
+  // Of those, polygons left with fewer than 3 distinct vertices (no face).
+  int polygons_dropped = 0;
+  // A polygon repeating a vertex NOT in a row (a pinched polygon) cannot be
+  // triangulated into a manifold: kept as is, so validation rejects it.
 };
 
 // The checks of ValidateControlMesh, with `describe_triangle(t)` naming
@@ -26,6 +37,7 @@ absl::Status ValidateTriangleMesh(const ControlMesh& mesh,
 
 // Appends the fan triangulation (v0, vi, vi+1) of `polygon` to `out`, each
 // triangle tagged with `origin`. The caller checks polygon.size() >= 3.
+// Repeats in a row (cyclically) are dropped first and counted in `out`.
 void AppendFanTriangles(const std::vector<int>& polygon, const std::string& origin, ParsedMesh& out);
 
 }  // namespace surfmap

@@ -6,6 +6,7 @@
 #include "server/service/proto_builders.h"
 #include "server/service/job_watch_reactor.h"
 #include "server/service/proto_conversion.h"
+#include "server/jobs/plan_estimate.h"
 
 namespace surfmap {
 namespace {
@@ -32,9 +33,31 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     absl::StatusOr<JobParams> params =
         JobParamsFromProto(request->spec(), static_cast<int64_t>(s_.config->default_lease_s * 1000));
     if (!params.ok()) return params.status();
+    // The levels and the surface the job will plan on (cached: CreateJob
+    // reuses them), so the estimate can refuse a job before anything is stored.
+    if (params->finest_level == kAutoLevel || params->map_level == kAutoLevel) {
+      absl::StatusOr<std::shared_ptr<const LoopSurface>> control =
+          s_.coordinator->Surface(params->object_id, 0, params->site_spacing_mm);
+      if (!control.ok()) return control.status();
+      ResolveAutoLevels((*control)->level(0), *params);
+    }
+    if (std::string why; !params->IsValid(&why)) return absl::InvalidArgumentError("job: " + why);
+    absl::StatusOr<std::shared_ptr<const LoopSurface>> surface =
+        s_.coordinator->Surface(params->object_id, params->map_level, params->site_spacing_mm);
+    if (!surface.ok()) return surface.status();
+    absl::StatusOr<PlanEstimate> estimate = EstimatePlan(*params, **surface);
+    if (!estimate.ok()) return estimate.status();
+    absl::StatusOr<ObjectRecord> object = s_.coordinator->reads().GetObject(params->object_id);
+    if (!object.ok()) return object.status();
     absl::StatusOr<JobSnapshot> job = s_.coordinator->CreateJob(*params);
     if (!job.ok()) return job.status();
     *response->mutable_job() = JobInfoToProto(*job);
+    *response->mutable_estimate() =
+        PlanEstimateToProto(*estimate, estimate->control_vertices < object->control_vertices);
+    for (const std::string& w : estimate->warnings) response->add_warnings(w);
+    spdlog::info("rpc=CreateJob job_id={} level0_sites={} expected_sites={} expected_robot_s={:.0f} warnings={}",
+                 job->record.id, estimate->level0_sites, estimate->expected_sites, estimate->expected_seconds,
+                 estimate->warnings.size());
     spdlog::info("rpc=CreateJob job_id={} object_id={} mode={} levels={}..{} initial_sites={}", job->record.id,
                  params->object_id, std::string(PlanModeName(params->mode)), params->coarsest_level, params->finest_level,
                  job->progress.pending + job->progress.issued);

@@ -2,6 +2,7 @@
 #include "server/base/utf8_text.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
+#include "server/mesh/mesh_units.h"
 #include "server/service/upload_limits.h"
 
 namespace surfmap {
@@ -15,18 +16,53 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
     switch (request->format()) {
       case pb::MESH_FORMAT_OBJ: format = MeshFormat::kObj; break;
       case pb::MESH_FORMAT_PLY: format = MeshFormat::kPly; break;
-      case pb::MESH_FORMAT_UNSPECIFIED: return absl::InvalidArgumentError("format must be OBJ or PLY (UNSPECIFIED is rejected)");
+      case pb::MESH_FORMAT_STL: format = MeshFormat::kStl; break;
+      case pb::MESH_FORMAT_UNSPECIFIED:
+        return absl::InvalidArgumentError("format must be OBJ, PLY or STL (UNSPECIFIED is rejected)");
       default: return absl::InvalidArgumentError(absl::StrCat("format: unknown value ", request->format()));
     }
     if (absl::Status s = ValidateName("name", request->name(), 1, 200); !s.ok()) return s;
     if (format == MeshFormat::kObj) {
       if (absl::Status s = CheckObjPolygonSizes(request->mesh()); !s.ok()) return s;
     }
-    absl::StatusOr<ObjectRecord> object = s_.coordinator->UploadObject(request->name(), format, request->mesh());
-    if (!object.ok()) return object.status();
-    *response->mutable_object() = ObjectInfoToProto(*object);
-    spdlog::info("rpc=UploadObject object_id={} name=\"{}\" vertices={} faces={}", object->id, object->name,
-                 object->control_vertices, object->control_faces);
+    JobCoordinator::UploadOptions options;
+    if (request->has_scale()) {
+      options.mm_per_unit = request->scale();
+      options.unit_text = absl::StrCat("scale ", request->scale(), " mm per unit");
+      options.unit_stated = true;
+    } else if (request->units() != pb::LENGTH_UNIT_UNSPECIFIED) {
+      LengthUnit unit;
+      switch (request->units()) {
+        case pb::LENGTH_UNIT_MM: unit = LengthUnit::kMm; break;
+        case pb::LENGTH_UNIT_CM: unit = LengthUnit::kCm; break;
+        case pb::LENGTH_UNIT_M: unit = LengthUnit::kM; break;
+        case pb::LENGTH_UNIT_IN: unit = LengthUnit::kIn; break;
+        default: return absl::InvalidArgumentError(absl::StrCat("units: unknown value ", request->units()));
+      }
+      options.mm_per_unit = MmPerUnit(unit);
+      options.unit_text = LengthUnitName(unit);
+      options.unit_stated = true;
+    }
+    absl::StatusOr<UploadedObject> uploaded =
+        s_.coordinator->UploadObject(request->name(), format, request->mesh(), options);
+    if (!uploaded.ok()) return uploaded.status();
+    const ObjectRecord& object = uploaded->object;
+    *response->mutable_object() = ObjectInfoToProto(object);
+    for (const MeshRepairNote& r : uploaded->repairs) {
+      pb::MeshRepair* repair = response->add_repairs();
+      repair->set_kind(r.kind);
+      repair->set_count(r.count);
+      repair->set_detail(r.detail);
+    }
+    for (const std::string& w : uploaded->warnings) response->add_warnings(w);
+    response->set_scale_mm(uploaded->mm_per_unit);
+    response->mutable_extent_mm()->set_x(uploaded->extent_mm.x());
+    response->mutable_extent_mm()->set_y(uploaded->extent_mm.y());
+    response->mutable_extent_mm()->set_z(uploaded->extent_mm.z());
+    response->set_area_mm2(uploaded->area_mm2);
+    spdlog::info("rpc=UploadObject object_id={} name=\"{}\" vertices={} faces={} scale={} repairs={} warnings={}",
+                 object.id, object.name, object.control_vertices, object.control_faces, uploaded->mm_per_unit,
+                 uploaded->repairs.size(), uploaded->warnings.size());
     return absl::OkStatus();
   });
 }

@@ -63,6 +63,27 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   return out;
 }
 
+pb::PlanEstimate PlanEstimateToProto(const PlanEstimate& e, bool simplified) {
+  pb::PlanEstimate out;
+  out.set_level0_sites(e.level0_sites);
+  out.set_expected_sites(e.expected_sites);
+  out.set_max_sites(e.max_sites);
+  out.set_control_spacing_mm(e.control_spacing_mm);
+  out.set_simplified(simplified);
+  out.set_control_vertices(e.control_vertices);
+  out.set_seconds_per_drag(e.seconds_per_drag);
+  out.set_approach_s(e.approach_s);
+  auto duration = [](double seconds) {
+    google::protobuf::Duration d;
+    d.set_seconds(static_cast<int64_t>(seconds));
+    d.set_nanos(static_cast<int32_t>((seconds - static_cast<double>(d.seconds())) * 1e9));
+    return d;
+  };
+  *out.mutable_level0_time() = duration(e.level0_seconds);
+  *out.mutable_expected_time() = duration(e.expected_seconds);
+  return out;
+}
+
 absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCommand* decoded_probe,
                                        const TraceFit* decoded_fit) {
   const TraceRecord& trace = record.trace;

@@ -7,6 +7,7 @@
 #include "absl/status/statusor.h"
 #include "proto/surfmap/v1/surfmap.pb.h"
 #include "server/jobs/job_coordinator.h"
+#include "server/jobs/plan_estimate.h"
 
 namespace surfmap {
 
@@ -19,6 +20,8 @@ pb::JobProgress ProgressToProto(const PlanProgress& progress, const LeasedCounts
 // The job with its progress (and leased count when the snapshot has one).
 pb::JobInfo JobInfoToProto(const JobSnapshot& job);
 pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
+// `simplified`: the job's control mesh has fewer vertices than the object's mesh.
+pb::PlanEstimate PlanEstimateToProto(const PlanEstimate& estimate, bool simplified);
 
 // A sample: the command's site and drag (and the rig that measured it) with
 // the trace's fit. `probe` and `decoded_fit`, when given, are

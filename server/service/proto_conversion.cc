@@ -1,6 +1,7 @@
 #include "server/service/proto_conversion.h"
 
 #include <algorithm>
+#include <cmath>
 #include <tuple>
 
 #include <nlohmann/json.hpp>
@@ -123,6 +124,11 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     if (spec.probe().speed_mm_s() != 0) p.probe.speed_mm_per_s = spec.probe().speed_mm_s();
     if (spec.probe().normal_force_n() != 0) p.probe.normal_force_n = spec.probe().normal_force_n();
   }
+  // Sites about a drag apart by default: closer, neighbouring drags overlap.
+  if (!std::isfinite(spec.site_spacing_mm()) || spec.site_spacing_mm() < 0) {
+    return absl::InvalidArgumentError("spec.site_spacing_mm must be >= 0 (0 = the drag length)");
+  }
+  p.site_spacing_mm = spec.site_spacing_mm() > 0 ? spec.site_spacing_mm() : p.probe.segment_length_mm;
   p.seed = spec.seed() != 0 ? spec.seed() : 1;
   p.max_retries = spec.max_retries() != 0 ? spec.max_retries() : p.max_retries;
   p.lease_ms = default_lease_ms;
@@ -228,6 +234,7 @@ pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits) {
 pb::JobSpec JobParamsToProto(const JobParams& p) {
   pb::JobSpec spec;
   spec.set_object_id(p.object_id);
+  spec.set_site_spacing_mm(p.site_spacing_mm);
   spec.set_property(p.property == TextureProperty::kFriction    ? pb::PROPERTY_FRICTION
                     : p.property == TextureProperty::kRoughness ? pb::PROPERTY_ROUGHNESS
                                                                 : pb::PROPERTY_BOTH);

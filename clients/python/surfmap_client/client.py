@@ -89,13 +89,20 @@ def _mesh_format(data: bytes, name_hint: str, explicit: Optional[str]) -> int:
         fmt = explicit.lower()
     elif name_hint.lower().endswith(".ply") or data[:3] == b"ply":
         fmt = "ply"
+    elif name_hint.lower().endswith(".stl"):
+        fmt = "stl"
     else:
         fmt = "obj"
     if fmt == "obj":
         return pb.MESH_FORMAT_OBJ
     if fmt == "ply":
         return pb.MESH_FORMAT_PLY
-    raise invalid_argument("UploadObject", f"mesh format must be 'obj' or 'ply', got {explicit!r}")
+    if fmt == "stl":
+        return pb.MESH_FORMAT_STL
+    raise invalid_argument("UploadObject", f"mesh format must be 'obj', 'ply' or 'stl', got {explicit!r}")
+
+
+_UNITS = {"mm": pb.LENGTH_UNIT_MM, "cm": pb.LENGTH_UNIT_CM, "m": pb.LENGTH_UNIT_M, "in": pb.LENGTH_UNIT_IN}
 
 
 class SurfmapClient:
@@ -149,12 +156,16 @@ class SurfmapClient:
     # ------------------------------------------------------------ objects
 
     def upload_object(self, mesh: PathOrBytes, name: Optional[str] = None, format: Optional[str] = None,
-                      timeout: Optional[float] = None) -> r.ObjectInfo:
-        """Uploads a control mesh (OBJ or PLY, mm): a file path or the file's bytes.
+                      timeout: Optional[float] = None, units: Optional[str] = None,
+                      scale: Optional[float] = None) -> r.ObjectInfo:
+        """Uploads a mesh (OBJ, PLY or STL): a file path or the file's bytes.
 
-        The format comes from ``format`` ("obj"/"ply"), else the file suffix or
-        a leading "ply" magic, else OBJ. ``name`` defaults to the file's stem
-        ("object" for bytes).
+        The format comes from ``format`` ("obj"/"ply"/"stl"), else the file
+        suffix or a leading "ply" magic, else OBJ. ``name`` defaults to the
+        file's stem ("object" for bytes). ``units`` ("mm", "cm", "m", "in") or
+        ``scale`` (mm per file unit) say what the coordinates are; the server
+        refuses an implausible size in stated units, repairs innocuous defects
+        and stores the object in mm (README: "Bring your own mesh").
         """
         if isinstance(mesh, (bytes, bytearray)):
             data, hint = bytes(mesh), ""
@@ -168,6 +179,12 @@ class SurfmapClient:
             hint, default_name = path.name, path.stem
         request = pb.UploadObjectRequest(name=name if name is not None else default_name,
                                          format=_mesh_format(data, hint, format), mesh=data)
+        if scale is not None:
+            request.scale = scale
+        elif units is not None:
+            if units not in _UNITS:
+                raise invalid_argument("UploadObject", f"units must be one of {sorted(_UNITS)}, got {units!r}")
+            request.units = _UNITS[units]
         return conv.object_info(self._call("UploadObject", self._objects.UploadObject, request, timeout).object)
 
     def get_object(self, object_id: int, timeout: Optional[float] = None) -> r.ObjectInfo:

@@ -92,5 +92,8 @@ def test_local_argument_errors_are_surfmap_errors(client, tmp_path):
     assert caught.value.code == grpc.StatusCode.INVALID_ARGUMENT
     assert "missing.obj" in caught.value.message
     with pytest.raises(sc.SurfmapError) as caught:
-        client.upload_object(b"v 0 0 0\n", format="stl")
-    assert "stl" in caught.value.message
+        client.upload_object(b"v 0 0 0\n", format="3mf")
+    assert "3mf" in caught.value.message
+    with pytest.raises(sc.SurfmapError) as caught:
+        client.upload_object(b"v 0 0 0\n", units="furlong")
+    assert "furlong" in caught.value.message
