@@ -9,8 +9,14 @@ PACKAGES=(
   libeigen3-dev libosd-dev libsqlite3-dev sqlite3
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtinyobjloader-dev libstb-dev
   libgtest-dev libgmock-dev libbenchmark-dev
+  # clang: the thread-safety analysis (scripts/check-thread-safety.sh), sanitizer
+  # builds and fuzzing (scripts/fuzz.sh: libFuzzer and the sanitizer runtimes);
+  # llvm-14 for llvm-symbolizer (file:line in sanitizer reports).
+  clang-14 libclang-rt-14-dev libfuzzer-14-dev llvm-14
   # Python client (clients/python): Debian's runtime and test packages, no PyPI.
   python3 python3-grpcio python3-protobuf python3-numpy python3-matplotlib python3-pytest
+  # Its checks: lint and types, and `pip install -e` into a venv (tests/test_packaging.py).
+  flake8 mypy python3-venv python3-setuptools
   # Dashboard (clients/dashboard): Node.js runs its server; Chromium drives its browser test.
   nodejs chromium
 )

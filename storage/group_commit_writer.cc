@@ -14,19 +14,17 @@ GroupCommitWriter::GroupCommitWriter(std::unique_ptr<SqliteConnection> db,
 
 GroupCommitWriter::~GroupCommitWriter() {
   {
-    std::lock_guard<std::mutex> lock(mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;
   }
-  wake_.notify_all();
   thread_.join();
 }
 
 void GroupCommitWriter::Submit(Work work, Done done) {
   {
-    std::lock_guard<std::mutex> lock(mu_);
+    MutexLock lock(&mu_);
     if (!stopping_) {
       queue_.push_back(Pending{std::move(work), std::move(done), absl::OkStatus()});
-      wake_.notify_one();
       return;
     }
   }
@@ -34,7 +32,7 @@ void GroupCommitWriter::Submit(Work work, Done done) {
 }
 
 GroupCommitStats GroupCommitWriter::stats() const {
-  std::lock_guard<std::mutex> lock(mu_);
+  MutexLock lock(&mu_);
   return stats_;
 }
 
@@ -44,8 +42,8 @@ void GroupCommitWriter::Loop() {
   while (true) {
     std::deque<Pending> batch;
     {
-      std::unique_lock<std::mutex> lock(mu_);
-      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return HasWorkOrStopping(); });
       if (queue_.empty()) return;  // stopping and drained
       while (!queue_.empty() && batch.size() < max_batch) {
         batch.push_back(std::move(queue_.front()));
@@ -56,7 +54,7 @@ void GroupCommitWriter::Loop() {
     int64_t failed = 0;
     for (const Pending& p : batch) failed += p.status.ok() ? 0 : 1;
     {
-      std::lock_guard<std::mutex> lock(mu_);
+      MutexLock lock(&mu_);
       stats_.transactions += 1;
       stats_.writes += static_cast<int64_t>(batch.size());
       stats_.failed_writes += failed;

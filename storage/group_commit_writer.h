@@ -17,17 +17,17 @@
 // run in submission order and see the effects of earlier writes of the batch.
 #pragma once
 
-#include <condition_variable>
 #include <cstdint>
 #include <deque>
 #include <functional>
 #include <future>
 #include <memory>
-#include <mutex>
 #include <thread>
 
+#include "absl/base/thread_annotations.h"
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
+#include "server/base/mutex.h"
 #include "storage/sqlite_connection.h"
 
 namespace surfmap {
@@ -62,7 +62,8 @@ class GroupCommitWriter {
   GroupCommitWriter& operator=(const GroupCommitWriter&) = delete;
 
   // Queues a write. After shutdown began, `done` gets Unavailable at once.
-  void Submit(Work work, Done done);
+  // Never waits: the lock it takes is held only to push onto the queue.
+  void Submit(Work work, Done done) ABSL_LOCKS_EXCLUDED(mu_);
 
   // Typed form: `work` produces a value, `done` receives it once durable.
   template <typename T>
@@ -103,16 +104,16 @@ class GroupCommitWriter {
   };
 
   void Loop();
+  bool HasWorkOrStopping() const ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return stopping_ || !queue_.empty(); }
   void RunBatch(std::deque<Pending>& batch);
 
   std::unique_ptr<SqliteConnection> db_;
   const GroupCommitOptions options_;
 
-  mutable std::mutex mu_;
-  std::condition_variable wake_;
-  std::deque<Pending> queue_;  // guarded by mu_
-  bool stopping_ = false;      // guarded by mu_
-  GroupCommitStats stats_;     // guarded by mu_
+  mutable Mutex mu_;
+  std::deque<Pending> queue_ ABSL_GUARDED_BY(mu_);
+  bool stopping_ ABSL_GUARDED_BY(mu_) = false;
+  GroupCommitStats stats_ ABSL_GUARDED_BY(mu_);
 
   std::thread thread_;  // last: starts after everything above is initialized
 };

@@ -68,6 +68,8 @@ struct PlanRecord {
 };
 
 // One probe command: measure the site (level, vertex) of the job's object.
+// Once done (answered by a trace), a command is never leased again, so its
+// lease_owner names the rig that measured it.
 struct CommandRecord {
   int64_t id = 0;
   int64_t job_id = 0;
@@ -184,7 +186,11 @@ struct AcceptTraceRequest {
   int64_t command_id = 0;
   int64_t job_id = 0;               // must be the command's job
   std::string lease_owner;          // if not empty, must hold the command's lease
-  std::vector<StoredSample> samples;  // at least one
+  // The trace: at least one sample, given either as samples or already
+  // encoded (EncodeSamples), so a caller can pay for the encoding outside its
+  // own locks. Exactly one of the two is non-empty.
+  std::vector<StoredSample> samples;
+  std::string encoded_samples;
   std::optional<NewFit> fit;        // stored as version 1
   // The plan change, one of: a new checkpoint (the whole plan state after
   // this trace; the journal is cleared), or a journal entry appended to the
@@ -208,12 +214,46 @@ struct AcceptTraceResult {
   int64_t fit_id = 0;               // 0 if no fit was stored
   int64_t plan_revision = 0;        // the plan's revision after the write
   std::vector<int64_t> new_command_ids;  // empty when already_accepted
-  // True if a trace for this command already existed: nothing was written and
-  // the ids are the stored ones (a rig's retry after a lost reply).
+  // True if this rig's identical trace for this command was already stored
+  // (a retry after a lost reply): nothing was written, everything below is
+  // what the first write stored.
   bool already_accepted = false;
-  std::optional<CommandRecord> next_command;  // lease_next: the command leased, if one was ready
-  std::optional<FitRecord> fit;     // the fit as stored (not when already_accepted)
-  int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (0 when already_accepted)
+  // lease_next: the command leased, if one was ready. For a retry: the
+  // command the first write leased to this rig, while its lease holds.
+  std::optional<CommandRecord> next_command;
+  std::optional<FitRecord> fit;     // the fit version 1 as stored (also for a retry)
+  int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (also for a retry)
+};
+
+// A trace refused as implausible for its command: kept, out of the map.
+struct RejectedTraceRecord {
+  int64_t id = 0;
+  int64_t command_id = 0;
+  int64_t job_id = 0;
+  std::string rig_id;
+  std::string check_name;     // which check refused it ("offset", "friction", ...)
+  std::string message;        // the refusal as the rig heard it
+  int64_t n_samples = 0;
+  std::vector<StoredSample> samples;  // empty when listed without samples
+  int64_t received_unix_ms = 0;
+};
+
+struct NewRejectedTrace {
+  int64_t command_id = 0;
+  int64_t job_id = 0;
+  std::string rig_id;
+  std::string check_name;
+  std::string message;
+  std::string encoded_samples;  // EncodeSamples
+  std::vector<NewEvent> events;
+};
+
+// A trace with the command it answers and one of its fits, read in one
+// snapshot (one read transaction): the three always belong together.
+struct SampleRecord {
+  TraceRecord trace;   // without samples unless asked for
+  CommandRecord command;  // done: lease_owner is the rig that measured the trace
+  FitRecord fit;
 };
 
 // A rig could not measure a leased command: the command is marked failed and

@@ -106,9 +106,29 @@ CREATE TABLE plan_journal (
 ) WITHOUT ROWID;
 )sql";
 
+// Version 3: traces refused as implausible for their command, kept (out of
+// the map) so an operator can see what a rig sent and why it was refused.
+constexpr char kRejectedTraces[] = R"sql(
+CREATE TABLE rejected_traces (
+  id                INTEGER PRIMARY KEY,
+  command_id        INTEGER NOT NULL REFERENCES commands (id),
+  job_id            INTEGER NOT NULL REFERENCES jobs (id),
+  rig_id            TEXT    NOT NULL,
+  check_name        TEXT    NOT NULL,
+  message           TEXT    NOT NULL,
+  n_samples         INTEGER NOT NULL CHECK (n_samples > 0),
+  sample_encoding   INTEGER NOT NULL,
+  received_unix_ms  INTEGER NOT NULL,
+  samples           BLOB    NOT NULL
+);
+CREATE INDEX rejected_traces_by_job ON rejected_traces (job_id, id);
+CREATE INDEX rejected_traces_by_command ON rejected_traces (command_id);
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
     {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
+    {3, "traces refused as implausible, kept out of the map", kRejectedTraces},
 };
 
 }  // namespace

@@ -27,6 +27,7 @@ namespace surfmap {
 struct SqliteStoreOptions {
   GroupCommitOptions writer;   // group commit on, batches of up to 256 writes
   int read_connections = 4;    // at most this many concurrent reads
+  int bulk_read_connections = 2;  // of which at most this many large reads (samples, meshes)
   int busy_timeout_ms = 5000;  // waiting for another process's lock
   int page_size = 16384;       // for a new file; see SqliteOpenOptions
   // Time source for created/updated/received stamps (ms since the epoch).
@@ -55,7 +56,8 @@ class SqliteStore : public Store {
   absl::StatusOr<CreatedJob> CreateJob(const NewJob& job) override;
   absl::StatusOr<JobRecord> GetJob(int64_t job_id) override;
   absl::StatusOr<std::vector<JobRecord>> ListJobs(int64_t object_id) override;
-  absl::StatusOr<JobRecord> UpdateJobState(const JobStateChange& change) override;
+  absl::StatusOr<std::vector<JobRecord>> ListActiveJobs() override;
+  void UpdateJobStateAsync(JobStateChange change, JobCallback done) override;
   absl::StatusOr<PlanRecord> GetPlan(int64_t job_id) override;
 
   void LeaseNextCommandAsync(const LeaseRequest& request, LeaseCallback done) override;
@@ -68,7 +70,17 @@ class SqliteStore : public Store {
   absl::StatusOr<TraceRecord> GetTrace(int64_t trace_id, bool include_samples) override;
   absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
                                                       bool include_samples) override;
+  absl::StatusOr<std::vector<TraceRecord>> ListTracesPage(int64_t job_id, int64_t after_trace_id, int limit,
+                                                          bool include_samples) override;
   absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) override;
+
+  absl::StatusOr<SampleRecord> ReadSample(int64_t trace_id, int32_t fit_version, bool include_samples) override;
+  absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) override;
+  void SyncAsync(std::function<void(absl::Status)> done) override;
+
+  void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) override;
+  absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) override;
+  absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) override;
 
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;

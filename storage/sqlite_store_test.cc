@@ -1,5 +1,6 @@
 #include "storage/sqlite_store.h"
 
+#include <algorithm>
 #include <cmath>
 #include <future>
 #include <atomic>
@@ -9,6 +10,7 @@
 #include <set>
 #include <thread>
 
+#include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
 #include "storage/store_test_support_for_test.h"
 #include "storage/temp_db_dir_for_test.h"
@@ -386,7 +388,7 @@ TEST_F(SqliteStoreTest, AcceptTraceCanLeaseTheNextCommandInTheSameWrite) {
   EXPECT_EQ(TableCounts(), before);
 }
 
-TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {
+TEST_F(SqliteStoreTest, AnIdenticalRetryFromTheSameRigIsAlreadyAccepted) {
   CreatedJob job = Job(2);
   CommandRecord command = Lease(job.job.id, "rig-a");
   AcceptTraceRequest request = MakeTestAccept(command, 50);
@@ -395,20 +397,179 @@ TEST_F(SqliteStoreTest, AcceptTraceIsIdempotentOnCommandId) {
   ASSERT_TRUE(first.ok()) << first.status();
   auto after_first = TableCounts();
 
-  // The rig retries (its reply was lost), even with different content.
-  request.samples = MakeTestSamples(10, 99);
+  // The rig retries with the same samples (its reply was lost).
+  now_ms_ += 5'000;
   absl::StatusOr<AcceptTraceResult> retry = store_->AcceptTrace(request);
   ASSERT_TRUE(retry.ok()) << retry.status();
   EXPECT_TRUE(retry->already_accepted);
   EXPECT_EQ(retry->trace_id, first->trace_id);
   EXPECT_EQ(retry->fit_id, first->fit_id);
+  ASSERT_TRUE(retry->fit.has_value()) << "a retry answers with the stored fit";
+  EXPECT_EQ(retry->fit->id, first->fit->id);
+  EXPECT_EQ(retry->fit->mu, first->fit->mu);
+  EXPECT_EQ(retry->accepted_unix_ms, first->accepted_unix_ms) << "the first acceptance's time, not now";
   EXPECT_EQ(retry->plan_revision, first->plan_revision);
   EXPECT_EQ(TableCounts(), after_first);
-  EXPECT_EQ(store_->GetTrace(first->trace_id, true)->n_samples, 50);
 
   // Same command under the wrong job is an error, not a silent success.
-  request.job_id = job.job.id + 1;
-  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kInvalidArgument);
+  AcceptTraceRequest wrong_job = request;
+  wrong_job.job_id = job.job.id + 1;
+  EXPECT_EQ(store_->AcceptTrace(wrong_job).status().code(), absl::StatusCode::kInvalidArgument);
+
+  // Still a retry after the job was cancelled: the trace is stored, so saying
+  // "not accepted" would be false.
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{job.job.id, JobState::kCancelled, {}}).ok());
+  retry = store_->AcceptTrace(request);
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  EXPECT_TRUE(retry->already_accepted);
+}
+
+TEST_F(SqliteStoreTest, ARepeatedSubmissionWithOtherSamplesIsRefusedAndChangesNothing) {
+  CreatedJob job = Job(2);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 50);
+  ASSERT_TRUE(store_->AcceptTrace(request).ok());
+  auto after_first = TableCounts();
+  request.samples = MakeTestSamples(50, 99);  // same length, other values
+  absl::StatusOr<AcceptTraceResult> other = store_->AcceptTrace(request);
+  EXPECT_EQ(other.status().code(), absl::StatusCode::kAlreadyExists) << other.status();
+  EXPECT_NE(other.status().message().find("differ"), std::string::npos) << other.status();
+  EXPECT_NE(other.status().message().find("rig-a"), std::string::npos) << other.status();
+  request.samples = MakeTestSamples(10, 1);  // other length
+  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kAlreadyExists);
+  EXPECT_EQ(TableCounts(), after_first);
+}
+
+TEST_F(SqliteStoreTest, ALateTraceFromAnExpiredLesseeIsRefusedNamingTheRigThatMeasured) {
+  CreatedJob job = Job(1);
+  CommandRecord first_lease = Lease(job.job.id, "rig-a", kStartMs, 1'000);
+  // rig-a's lease expires; rig-b leases the command again.
+  CommandRecord second_lease = Lease(job.job.id, "rig-b", kStartMs + 2'000);
+  ASSERT_EQ(second_lease.id, first_lease.id);
+  AcceptTraceRequest from_a = MakeTestAccept(first_lease, 50);
+  from_a.lease_owner = "rig-a";
+  // Before rig-b answers: rig-a no longer holds the lease.
+  absl::StatusOr<AcceptTraceResult> early = store_->AcceptTrace(from_a);
+  EXPECT_EQ(early.status().code(), absl::StatusCode::kFailedPrecondition) << early.status();
+  EXPECT_NE(early.status().message().find("expired"), std::string::npos) << early.status();
+  // rig-b answers; then rig-a's late trace must not be acknowledged.
+  AcceptTraceRequest from_b = MakeTestAccept(second_lease, 60);
+  from_b.lease_owner = "rig-b";
+  absl::StatusOr<AcceptTraceResult> accepted = store_->AcceptTrace(from_b);
+  ASSERT_TRUE(accepted.ok()) << accepted.status();
+  auto after_b = TableCounts();
+  absl::StatusOr<AcceptTraceResult> late = store_->AcceptTrace(from_a);
+  EXPECT_EQ(late.status().code(), absl::StatusCode::kAlreadyExists) << late.status();
+  EXPECT_NE(late.status().message().find("rig-b"), std::string::npos) << late.status();
+  EXPECT_EQ(TableCounts(), after_b);
+  // rig-b's own retry is still recognised.
+  absl::StatusOr<AcceptTraceResult> retry = store_->AcceptTrace(from_b);
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  EXPECT_TRUE(retry->already_accepted);
+}
+
+TEST_F(SqliteStoreTest, ARetryWithLeaseNextGetsBackTheCommandTheFirstWriteLeased) {
+  CreatedJob job = Job(3);
+  CommandRecord command = Lease(job.job.id, "rig-a");
+  AcceptTraceRequest request = MakeTestAccept(command, 50);
+  request.lease_next = LeaseRequest{job.job.id, "rig-a", kStartMs, 30'000};
+  absl::StatusOr<AcceptTraceResult> first = store_->AcceptTrace(request);
+  ASSERT_TRUE(first.ok()) << first.status();
+  ASSERT_TRUE(first->next_command.has_value());
+  auto after_first = TableCounts();
+  absl::StatusOr<AcceptTraceResult> retry = store_->AcceptTrace(request);
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  ASSERT_TRUE(retry->next_command.has_value());
+  EXPECT_EQ(retry->next_command->id, first->next_command->id) << "a second command would be orphaned";
+  EXPECT_EQ(TableCounts(), after_first);
+  EXPECT_EQ(store_->CountLeasedCommands(job.job.id, kStartMs)->total, 1);
+}
+
+TEST_F(SqliteStoreTest, SamplesAreReadWithTheirCommandAndFitInOneSnapshot) {
+  CreatedJob job = Job(3);
+  std::vector<int64_t> traces;
+  for (int i = 0; i < 2; ++i) {
+    CommandRecord command = Lease(job.job.id, absl::StrCat("rig-", i));
+    absl::StatusOr<AcceptTraceResult> r = store_->AcceptTrace(MakeTestAccept(command, 20 + i));
+    ASSERT_TRUE(r.ok()) << r.status();
+    traces.push_back(r->trace_id);
+  }
+  absl::StatusOr<std::vector<SampleRecord>> samples = store_->ReadJobSamples(job.job.id, 0);
+  ASSERT_TRUE(samples.ok()) << samples.status();
+  ASSERT_EQ(samples->size(), 2u);
+  for (size_t i = 0; i < 2; ++i) {
+    const SampleRecord& s = (*samples)[i];
+    EXPECT_EQ(s.trace.id, traces[i]);
+    EXPECT_EQ(s.command.id, s.trace.command_id);
+    EXPECT_EQ(s.command.lease_owner, absl::StrCat("rig-", i)) << "the rig that measured it";
+    EXPECT_EQ(s.fit.trace_id, s.trace.id);
+    EXPECT_EQ(s.fit.version, 1);
+    EXPECT_TRUE(s.trace.samples.empty());
+  }
+  ASSERT_TRUE(store_->AddFits({TraceRefit{traces[0], MakeTestFit(0.7)}}).ok());
+  samples = store_->ReadJobSamples(job.job.id, 0);
+  ASSERT_TRUE(samples.ok());
+  EXPECT_EQ((*samples)[0].fit.version, 2) << "latest fit per trace";
+  EXPECT_EQ((*samples)[1].fit.version, 1);
+  samples = store_->ReadJobSamples(job.job.id, 2);
+  ASSERT_TRUE(samples.ok());
+  EXPECT_EQ(samples->size(), 1u) << "only traces with a fit of version 2";
+
+  absl::StatusOr<SampleRecord> one = store_->ReadSample(traces[1], 0, /*include_samples=*/true);
+  ASSERT_TRUE(one.ok()) << one.status();
+  EXPECT_EQ(one->trace.samples.size(), 21u);
+  EXPECT_EQ(one->fit.version, 1);
+  EXPECT_EQ(store_->ReadSample(traces[1], 5, false).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->ReadSample(999, 0, false).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->ReadJobSamples(999, 0).status().code(), absl::StatusCode::kNotFound);
+}
+
+TEST_F(SqliteStoreTest, TracesPageInIdOrder) {
+  CreatedJob job = Job(5);
+  for (int i = 0; i < 5; ++i) {
+    CommandRecord command = Lease(job.job.id, "rig");
+    ASSERT_TRUE(store_->AcceptTrace(MakeTestAccept(command, 10 + i)).ok());
+  }
+  std::vector<int64_t> seen;
+  int64_t after = 0;
+  for (;;) {
+    absl::StatusOr<std::vector<TraceRecord>> page = store_->ListTracesPage(job.job.id, after, 2, true);
+    ASSERT_TRUE(page.ok()) << page.status();
+    if (page->empty()) break;
+    EXPECT_LE(page->size(), 2u);
+    for (const TraceRecord& t : *page) {
+      EXPECT_EQ(static_cast<int64_t>(t.samples.size()), t.n_samples);
+      seen.push_back(t.id);
+      after = t.id;
+    }
+  }
+  EXPECT_EQ(seen.size(), 5u);
+  EXPECT_TRUE(std::is_sorted(seen.begin(), seen.end()));
+  EXPECT_EQ(store_->ListTracesPage(job.job.id, 0, 0, false).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+TEST_F(SqliteStoreTest, ActiveJobsAreTheRunningAndPausedOnes) {
+  CreatedJob running = Job(1), paused = Job(1), cancelled = Job(1);
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{paused.job.id, JobState::kPaused, {}}).ok());
+  ASSERT_TRUE(store_->UpdateJobState(JobStateChange{cancelled.job.id, JobState::kCancelled, {}}).ok());
+  absl::StatusOr<std::vector<JobRecord>> active = store_->ListActiveJobs();
+  ASSERT_TRUE(active.ok()) << active.status();
+  ASSERT_EQ(active->size(), 2u);
+  EXPECT_EQ((*active)[0].id, running.job.id);
+  EXPECT_EQ((*active)[1].id, paused.job.id);
+}
+
+TEST_F(SqliteStoreTest, SyncRunsAfterEveryEarlierWrite) {
+  CreatedJob job = Job(20);
+  std::vector<std::future<void>> done;
+  std::atomic<int> completed{0};
+  for (int i = 0; i < 20; ++i) {
+    store_->LeaseNextCommandAsync(LeaseRequest{job.job.id, "rig", kStartMs, 60'000},
+                                  [&](absl::StatusOr<std::optional<CommandRecord>>) { completed.fetch_add(1); });
+  }
+  std::promise<int> at_sync;
+  store_->SyncAsync([&](absl::Status s) { at_sync.set_value(s.ok() ? completed.load() : -1); });
+  EXPECT_EQ(at_sync.get_future().get(), 20);
 }
 
 TEST_F(SqliteStoreTest, AcceptTraceThatFailsHalfWayLeavesDatabaseUnchanged) {
@@ -596,7 +757,11 @@ TEST_F(SqliteStoreTest, ConcurrentLeasingNeverHandsACommandOutTwice) {
   }
   EXPECT_EQ(total, static_cast<size_t>(kCommands));
   EXPECT_EQ(distinct.size(), static_cast<size_t>(kCommands));
-  for (const CommandRecord& c : *store_->ListCommands(job.job.id)) {
+  // Held in a variable: `*store_->ListCommands(...)` in a range-for would
+  // iterate a temporary that is already destroyed (ThreadSanitizer found it).
+  absl::StatusOr<std::vector<CommandRecord>> commands = store_->ListCommands(job.job.id);
+  ASSERT_TRUE(commands.ok()) << commands.status();
+  for (const CommandRecord& c : *commands) {
     EXPECT_EQ(c.state, CommandState::kLeased);
     EXPECT_EQ(c.attempt, 1);
   }
@@ -792,9 +957,11 @@ TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
   }
   EXPECT_GE(store_->background_checkpoints(), 2);
   // The WAL file keeps its high-water size; without restarts it would hold
-  // all 8.6 MB.
+  // all 8.6 MB. The bound is the inline threshold plus one batch (here one
+  // ~70 KB trace) and some pages of slack; before the writer took its turn
+  // from a running background pass, a loaded machine went past 4 MB.
   const auto wal_bytes = std::filesystem::file_size(path_ + "-wal");
-  EXPECT_LT(wal_bytes, 3u << 20) << "WAL not restarted after checkpoints";
+  EXPECT_LT(wal_bytes, (1600u << 10) + (512u << 10)) << "WAL grew past inline_bytes + one batch";
   std::cerr << "[ info ] WAL " << wal_bytes << " bytes, DB "
             << std::filesystem::file_size(path_) << " bytes, "
             << store_->background_checkpoints() << " background checkpoints\n";

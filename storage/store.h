@@ -13,6 +13,11 @@
 //   survives a crash of the process and, per the backend's guarantees, power
 //   loss. A write that fails has written nothing.
 // - Reads see every write that completed before the read started.
+// - Asynchronous writes run in the order they were submitted; their
+//   callbacks run in that order too, on one thread of the store's (or, for a
+//   request rejected before queuing, on the caller's thread before the call
+//   returns). A callback must not block and must not take a lock a caller of
+//   the store may hold: callers post the work to their own executor.
 #pragma once
 
 #include <cstdint>
@@ -46,8 +51,14 @@ class Store {
   virtual absl::StatusOr<JobRecord> GetJob(int64_t job_id) = 0;
   // object_id 0: all jobs. Oldest first.
   virtual absl::StatusOr<std::vector<JobRecord>> ListJobs(int64_t object_id) = 0;
-  // FailedPrecondition if the transition is not allowed (IsJobTransitionAllowed).
-  virtual absl::StatusOr<JobRecord> UpdateJobState(const JobStateChange& change) = 0;
+  // The jobs still running or paused, oldest first (what a restart resumes).
+  virtual absl::StatusOr<std::vector<JobRecord>> ListActiveJobs() = 0;
+  // FailedPrecondition if the transition is not allowed (IsJobTransitionAllowed)
+  // from the stored state when the write runs. The callback runs once durable.
+  using JobCallback = std::function<void(absl::StatusOr<JobRecord>)>;
+  virtual void UpdateJobStateAsync(JobStateChange change, JobCallback done) = 0;
+  // Blocks until durable.
+  absl::StatusOr<JobRecord> UpdateJobState(JobStateChange change);
   virtual absl::StatusOr<PlanRecord> GetPlan(int64_t job_id) = 0;
 
   // ---- Commands ----
@@ -69,9 +80,15 @@ class Store {
   // ---- Traces ----
   // One atomic, durable write: the trace, its fit (version 1), the command set
   // to done, the new plan state, new commands, the job state change, events.
-  // Idempotent on command_id (see AcceptTraceResult::already_accepted).
-  // FailedPrecondition if the command is not leased (or leased by another
-  // owner when request.lease_owner is set), or its job is cancelled/completed.
+  // A command takes one trace. When it already has one:
+  //   - from the same rig (lease_owner) with the same samples: a retry after
+  //     a lost reply; OK with already_accepted, whatever the job's state now;
+  //   - with other samples, or from another rig (whose lease expired and the
+  //     command went to that rig, which answered): AlreadyExists, naming the
+  //     stored trace and its rig; nothing is written.
+  // Otherwise FailedPrecondition if the command is not leased (or leased by
+  // another owner when request.lease_owner is set, saying when the old lease
+  // expired), or its job is cancelled/completed.
   // The callback runs on the store's writer thread once the write is durable
   // (or has failed); it must not block.
   virtual void AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallback done) = 0;
@@ -87,6 +104,10 @@ class Store {
   // In id order (= order of acceptance).
   virtual absl::StatusOr<std::vector<TraceRecord>> ListTraces(int64_t job_id,
                                                               bool include_samples) = 0;
+  // At most `limit` (> 0) of the job's traces with id > after_trace_id, in id
+  // order: for reading every trace with its samples in bounded memory.
+  virtual absl::StatusOr<std::vector<TraceRecord>> ListTracesPage(int64_t job_id, int64_t after_trace_id, int limit,
+                                                                  bool include_samples) = 0;
   // The job's newest trace and newest event time (two indexed lookups).
   // NotFound for an unknown job.
   virtual absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) = 0;
@@ -101,6 +122,30 @@ class Store {
   // The job's fits of one version, or with version 0 the latest fit of each
   // trace; in trace order.
   virtual absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) = 0;
+
+  // ---- Rejected traces ----
+  // Keeps a refused trace with its events, at most kMaxRejectedPerCommand per
+  // command (later ones are counted in the events only). The callback gets
+  // the id, or 0 when the command's quota was used up.
+  static constexpr int kMaxRejectedPerCommand = 3;
+  using RejectedCallback = std::function<void(absl::StatusOr<int64_t>)>;
+  virtual void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) = 0;
+  // Oldest first; NotFound for an unknown job.
+  virtual absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) = 0;
+  virtual absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) = 0;
+
+  // ---- Samples: a trace, its command and a fit, from one snapshot ----
+  // fit_version 0 = the latest fit. NotFound for an unknown trace or fit.
+  virtual absl::StatusOr<SampleRecord> ReadSample(int64_t trace_id, int32_t fit_version, bool include_samples) = 0;
+  // Every trace of the job with its command and its fit of `fit_version` (0 =
+  // latest; traces without a fit of that version are left out), in trace
+  // order, without samples, all from one snapshot. NotFound for an unknown job.
+  virtual absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) = 0;
+
+  // ---- Ordering ----
+  // `done` runs once every write submitted before this call has completed
+  // (a barrier through the write queue; writes nothing).
+  virtual void SyncAsync(std::function<void(absl::Status)> done) = 0;
 
   // ---- Events ----
   // Events with id > after_id, oldest first, at most limit (> 0). job_id 0: all.

@@ -33,45 +33,62 @@ WalCheckpointer::WalCheckpointer(std::unique_ptr<SqliteConnection> db, int wake_
 
 WalCheckpointer::~WalCheckpointer() {
   {
-    std::lock_guard<std::mutex> lock(mu_);
+    MutexLock lock(&mu_);
     stopping_ = true;
   }
-  wake_.notify_all();
   thread_.join();
 }
 
 int64_t WalCheckpointer::checkpoints() const {
-  std::lock_guard<std::mutex> lock(mu_);
+  MutexLock lock(&mu_);
   return checkpoints_;
 }
 
 int WalCheckpointer::OnWalCommit(void* self, sqlite3* db, const char* name, int wal_pages) {
   auto* checkpointer = static_cast<WalCheckpointer*>(self);
   if (wal_pages >= checkpointer->inline_pages_) {
-    // Catch up fully on the writer thread (see the header). Errors are
-    // ignored: returning one would report a failed commit although the commit
-    // succeeded, and the next commit retries.
+    // Catch up fully on the writer thread (see the header). A pass of the
+    // background thread under way holds SQLite's checkpoint lock, and a
+    // passive checkpoint would then give up at once (SQLITE_BUSY): on a loaded
+    // machine the WAL grew past the bound that way. So the writer takes its
+    // turn: no new background pass starts, the one under way is waited for
+    // (it is already copying frames), then the writer catches up itself.
+    checkpointer->TakeInlineTurn();
+    // Errors are ignored: returning one would report a failed commit
+    // although the commit succeeded, and the next commit retries.
     sqlite3_wal_checkpoint_v2(db, name, SQLITE_CHECKPOINT_PASSIVE, nullptr, nullptr);
+    checkpointer->EndInlineTurn();
     return SQLITE_OK;
   }
   int backfilled = checkpointer->backfilled_.load(std::memory_order_relaxed);
   if (wal_pages < backfilled) backfilled = 0;  // the WAL restarted
   if (wal_pages - backfilled >= checkpointer->wake_pages_) {
-    {
-      std::lock_guard<std::mutex> lock(checkpointer->mu_);
-      checkpointer->requested_ = true;
-    }
-    checkpointer->wake_.notify_one();
+    MutexLock lock(&checkpointer->mu_);
+    checkpointer->requested_ = true;
   }
   return SQLITE_OK;
+}
+
+void WalCheckpointer::TakeInlineTurn() {
+  MutexLock lock(&mu_);
+  inline_turn_ = true;
+  mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) { return !background_pass_; });
+}
+
+void WalCheckpointer::EndInlineTurn() {
+  MutexLock lock(&mu_);
+  inline_turn_ = false;
 }
 
 void WalCheckpointer::Loop() {
   while (true) {
     {
-      std::unique_lock<std::mutex> lock(mu_);
-      wake_.wait(lock, [this] { return requested_ || stopping_; });
-      requested_ = false;
+      MutexLock lock(&mu_);
+      mu_.Await([this]() ABSL_EXCLUSIVE_LOCKS_REQUIRED(mu_) {
+        return stopping_ || (requested_ && !inline_turn_);
+      });
+      requested_ = false;  // when stopping: one last pass, then return
+      background_pass_ = true;
     }
     // Failures (e.g. busy) are harmless: the next request retries, and the
     // inline fallback bounds the WAL.
@@ -81,7 +98,8 @@ void WalCheckpointer::Loop() {
                                   &copied) == SQLITE_OK) {
       backfilled_.store(copied, std::memory_order_relaxed);
     }
-    std::lock_guard<std::mutex> lock(mu_);
+    MutexLock lock(&mu_);
+    background_pass_ = false;
     ++checkpoints_;
     if (stopping_) return;
   }

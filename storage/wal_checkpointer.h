@@ -17,13 +17,13 @@
 #pragma once
 
 #include <atomic>
-#include <condition_variable>
 #include <cstdint>
 #include <memory>
-#include <mutex>
 #include <thread>
 
+#include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
+#include "server/base/mutex.h"
 #include "storage/sqlite_connection.h"
 
 namespace surfmap {
@@ -54,11 +54,16 @@ class WalCheckpointer {
   std::unique_ptr<SqliteConnection> db_;
   const int wake_pages_;    // thresholds in WAL frames (pages) of this file
   const int inline_pages_;
-  mutable std::mutex mu_;
-  std::condition_variable wake_;
-  bool requested_ = false;  // guarded by mu_
-  bool stopping_ = false;   // guarded by mu_
-  int64_t checkpoints_ = 0; // guarded by mu_
+  // The writer's inline catch-up (see OnWalCommit) against background passes.
+  void TakeInlineTurn() ABSL_LOCKS_EXCLUDED(mu_);
+  void EndInlineTurn() ABSL_LOCKS_EXCLUDED(mu_);
+
+  mutable Mutex mu_;
+  bool requested_ ABSL_GUARDED_BY(mu_) = false;
+  bool stopping_ ABSL_GUARDED_BY(mu_) = false;
+  bool background_pass_ ABSL_GUARDED_BY(mu_) = false;  // a checkpoint runs on this thread
+  bool inline_turn_ ABSL_GUARDED_BY(mu_) = false;      // the writer checkpoints: no pass may start
+  int64_t checkpoints_ ABSL_GUARDED_BY(mu_) = 0;
   // WAL frames the last checkpoint copied back; the WAL restarting from frame
   // 0 shows as a commit with fewer frames than this.
   std::atomic<int> backfilled_{0};

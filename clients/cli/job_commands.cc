@@ -29,6 +29,7 @@ std::string_view ModeName(pb::SamplingMode m) {
     case pb::SAMPLING_MODE_ADAPTIVE: return "adaptive";
     case pb::SAMPLING_MODE_UNIFORM: return "uniform";
     case pb::SAMPLING_MODE_UNCERTAINTY: return "uncertainty";
+    case pb::SAMPLING_MODE_BOUNDARY: return "boundary";
     default: return "unspecified";
   }
 }
@@ -47,9 +48,10 @@ std::string_view SiteStateName(pb::SiteState s) {
 struct CreateArgs {
   int64_t object_id = 0;
   std::string property = "friction";
-  std::string mode = "adaptive";
+  std::string mode = "boundary";
   std::optional<int> coarsest;
   std::optional<int> finest;
+  std::optional<int> map_level;
   std::optional<double> threshold;
   std::optional<int> budget;
   std::optional<double> segment_mm;
@@ -70,9 +72,11 @@ pb::JobSpec SpecFromArgs(const CreateArgs& a) {
                                               : pb::PROPERTY_FRICTION);
   spec.set_mode(a.mode == "uniform"       ? pb::SAMPLING_MODE_UNIFORM
                 : a.mode == "uncertainty" ? pb::SAMPLING_MODE_UNCERTAINTY
-                                          : pb::SAMPLING_MODE_ADAPTIVE);
+                : a.mode == "adaptive"    ? pb::SAMPLING_MODE_ADAPTIVE
+                                          : pb::SAMPLING_MODE_BOUNDARY);
   if (a.coarsest) spec.set_coarsest_level(*a.coarsest);
   if (a.finest) spec.set_finest_level(*a.finest);
+  if (a.map_level) spec.set_map_level(*a.map_level);
   if (a.threshold) spec.set_threshold(*a.threshold);
   if (a.budget) spec.set_budget(*a.budget);
   if (a.segment_mm) spec.mutable_probe()->set_segment_length_mm(*a.segment_mm);
@@ -123,9 +127,11 @@ std::string FormatJobInfo(const pb::JobInfo& job) {
   const pb::JobSpec& s = job.spec();
   const pb::JobProgress& p = job.progress();
   std::string out = absl::StrFormat("job %d  object %d  %s\n", job.job_id(), s.object_id(), JobStateName(job.state()));
-  absl::StrAppendFormat(&out, "  property %s, mode %s, levels %d..%d, threshold %g, budget %s, seed %d\n",
+  absl::StrAppendFormat(&out, "  property %s, mode %s, levels %d..%d, map level %d, %sbudget %s, seed %d\n",
                         PropertyName(s.property()), ModeName(s.mode()), s.coarsest_level(), s.finest_level(),
-                        s.threshold(), s.budget() > 0 ? std::to_string(s.budget()) : "unlimited", s.seed());
+                        s.has_map_level() ? s.map_level() : s.finest_level(),
+                        s.mode() == pb::SAMPLING_MODE_ADAPTIVE ? absl::StrFormat("threshold %g, ", s.threshold()) : "",
+                        s.budget() > 0 ? std::to_string(s.budget()) : "default", s.seed());
   absl::StrAppendFormat(&out, "  probe: %g mm at %g mm/s, %g N; lease %s, max retries %d\n",
                         s.probe().segment_length_mm(), s.probe().speed_mm_s(), s.probe().normal_force_n(),
                         TimeUtil::ToString(s.lease()), s.max_retries());
@@ -150,15 +156,19 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   create->add_option("--property", a->property, "What to map")
       ->check(CLI::IsMember({"friction", "roughness", "both"}))
       ->capture_default_str();
-  create->add_option("--mode", a->mode, "Sampling strategy")
-      ->check(CLI::IsMember({"adaptive", "uniform", "uncertainty"}))
+  create->add_option("--mode", a->mode,
+                     "Sampling strategy: boundary (goes looking for boundaries), adaptive (the paper's threshold "
+                     "rule), uniform (every vertex of --coarsest), uncertainty (needs --budget)")
+      ->check(CLI::IsMember({"boundary", "adaptive", "uniform", "uncertainty"}))
       ->capture_default_str();
-  create->add_option("--coarsest", a->coarsest, "Coarsest subdivision level (server default if unset)")
+  create->add_option("--coarsest", a->coarsest, "Coarsest subdivision level (default 0)")->check(CLI::Range(0, 6));
+  create->add_option("--finest", a->finest, "The plan's finest level (default: one coarser than the map level)")
       ->check(CLI::Range(0, 6));
-  create->add_option("--finest", a->finest, "Finest subdivision level")->check(CLI::Range(0, 6));
-  create->add_option("--threshold", a->threshold, "Texture distance that triggers refinement (adaptive)")
+  create->add_option("--map-level", a->map_level, "The level the map is evaluated on (default: ~2 mm edges)")
+      ->check(CLI::Range(0, 6));
+  create->add_option("--threshold", a->threshold, "Texture distance that triggers refinement (adaptive only)")
       ->check(CLI::PositiveNumber);
-  create->add_option("--budget", a->budget, "Maximum number of samples (0 = unlimited)")
+  create->add_option("--budget", a->budget, "Maximum number of samples (0 = the mode's default)")
       ->check(CLI::NonNegativeNumber);
   create->add_option("--segment-mm", a->segment_mm, "Drag length, mm (default 20)")->check(CLI::PositiveNumber);
   create->add_option("--speed", a->speed, "Drag speed, mm/s (default 10)")->check(CLI::PositiveNumber);

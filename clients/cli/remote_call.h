@@ -23,8 +23,10 @@ inline constexpr std::string_view kDefaultServer = "127.0.0.1:50051";
 // An insecure channel (surfmapd listens on loopback or behind a TLS proxy)
 // that accepts messages up to 256 MiB (maps with meshes are large; the
 // server's own limit is lower) and sends keepalive pings so a long watch
-// notices a vanished server.
-std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options);
+// notices a vanished server. `own_subchannel`: a connection of its own, not
+// shared with (nor inheriting the reconnect backoff of) other channels to the
+// same address.
+std::shared_ptr<grpc::Channel> MakeChannel(const RemoteOptions& options, bool own_subchannel = false);
 
 // MakeChannel, then waits up to kConnectWait (or the timeout, if shorter) for
 // the connection. Why: gRPC 1.51 (Debian 12) can report a fresh TCP connect as

@@ -25,6 +25,12 @@ struct ProbeRequest {
   double speed_mm_s = 10.0;
   double normal_force_n = 5.0;
   std::int64_t command_id = 0;  // also seeds simulated rigs: a re-executed command gives the same trace
+  // Where the command comes from (for logs and external drivers; 0 when unknown).
+  std::int64_t job_id = 0;
+  int attempt = 0;                        // 1 = first issue of the site's command
+  int site_level = 0;
+  int site_vertex = 0;
+  std::int64_t lease_deadline_unix_ms = 0;  // a trace answered after this may be refused
 };
 
 // INVALID_ARGUMENT naming the field: non-finite vectors, a zero normal or
@@ -36,9 +42,16 @@ class RigDriver {
  public:
   virtual ~RigDriver() = default;
 
-  // Executes the probe. Errors: INVALID_ARGUMENT for a bad request,
-  // FAILED_PRECONDITION when the rig cannot reach or drag at the location,
-  // UNAVAILABLE for a rig fault worth retrying.
+  // Executes the probe. The error code says what the rig loop reports
+  // (ReportFailure's FailureKind) and whether it goes on:
+  //   FAILED_PRECONDITION, OUT_OF_RANGE  the rig can never reach or drag at
+  //                                      the site: UNREACHABLE (given up)
+  //   UNAVAILABLE, DEADLINE_EXCEEDED,    a fault worth retrying (force limit
+  //   INVALID_ARGUMENT, others           tripped, lost contact): TRANSIENT
+  //   INTERNAL                           the driver itself is broken: TRANSIENT,
+  //                                      then the loop stops with the error
+  //   ABORTED                            stopped by its operator (e-stop):
+  //                                      TRANSIENT, then the loop stops
   virtual absl::StatusOr<DragTrace> Execute(const ProbeRequest& request) = 0;
 };
 

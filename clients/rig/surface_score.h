@@ -110,6 +110,9 @@ class SurfaceScorer {
   const std::vector<Eigen::Vector3d>& points() const { return points_; }
   const std::vector<int>& point_materials() const { return point_material_; }
   const std::vector<Eigen::Vector3d>& truth_boundary() const { return truth_boundary_; }
+  // The dense level's vertices, which Score reads too (a remote reader can
+  // fetch them and points() in bulk first).
+  const std::vector<Eigen::Vector3d>& dense_vertices() const { return vertices_; }
 
  private:
   SurfaceScorer() = default;

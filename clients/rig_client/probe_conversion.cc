@@ -20,6 +20,14 @@ absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const pb::ProbeCommand& com
   if (p.speed_mm_s() != 0.0) request.speed_mm_s = p.speed_mm_s();
   if (p.normal_force_n() != 0.0) request.normal_force_n = p.normal_force_n();
   request.command_id = command.command_id();
+  request.job_id = command.job_id();
+  request.attempt = command.attempt();
+  request.site_level = command.site().level();
+  request.site_vertex = command.site().vertex();
+  if (command.has_lease_deadline()) {
+    request.lease_deadline_unix_ms =
+        command.lease_deadline().seconds() * 1000 + command.lease_deadline().nanos() / 1'000'000;
+  }
   absl::Status valid = ValidateProbeRequest(request);
   if (!valid.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("command ", command.command_id(), ": ", valid.message()));

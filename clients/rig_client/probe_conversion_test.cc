@@ -31,6 +31,23 @@ TEST(ProbeRequestFromCommandTest, CopiesGeometryAndDefaultsZeroParameters) {
   EXPECT_DOUBLE_EQ(r->normal_force_n, 5.0);
 }
 
+TEST(ProbeRequestFromCommandTest, CarriesWhereTheCommandComesFrom) {
+  pb::ProbeCommand c = ValidCommand();
+  c.set_job_id(7);
+  c.set_attempt(2);
+  c.mutable_site()->set_level(1);
+  c.mutable_site()->set_vertex(123);
+  c.mutable_lease_deadline()->set_seconds(1795000060);
+  c.mutable_lease_deadline()->set_nanos(250'000'000);
+  absl::StatusOr<ProbeRequest> r = ProbeRequestFromCommand(c);
+  ASSERT_TRUE(r.ok()) << r.status();
+  EXPECT_EQ(r->job_id, 7);
+  EXPECT_EQ(r->attempt, 2);
+  EXPECT_EQ(r->site_level, 1);
+  EXPECT_EQ(r->site_vertex, 123);
+  EXPECT_EQ(r->lease_deadline_unix_ms, 1795000060250);
+}
+
 TEST(ProbeRequestFromCommandTest, RejectsAZeroNormalNamingTheCommand) {
   pb::ProbeCommand c = ValidCommand();
   c.clear_normal();

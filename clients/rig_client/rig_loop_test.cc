@@ -1,11 +1,17 @@
 #include "clients/rig_client/rig_loop.h"
 
+#include <algorithm>
+#include <cmath>
 #include <deque>
+#include <fstream>
+#include <sstream>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include "absl/strings/str_cat.h"
+#include "clients/rig_client/test_dir_for_test.h"
 
 namespace surfmap::rig {
 namespace {
@@ -32,8 +38,11 @@ class ScriptedEndpoint : public ProbeEndpoint {
   std::vector<int64_t> submitted_ids;
   std::vector<size_t> submitted_sizes;
   std::vector<std::string> failure_reasons;
+  std::vector<pb::FailureKind> failure_kinds;
+  std::vector<std::string> submitted_rigs;
   std::vector<bool> asked_next;
   int lease_calls = 0;
+  std::function<void(const pb::SubmitTraceRequest&)> on_submit;  // sees each submission as it arrives
 
   grpc::Status LeaseCommand(const pb::LeaseCommandRequest& request, pb::LeaseCommandResponse* response) override {
     ++lease_calls;
@@ -48,7 +57,9 @@ class ScriptedEndpoint : public ProbeEndpoint {
     return a.status;
   }
   grpc::Status SubmitTrace(const pb::SubmitTraceRequest& request, pb::SubmitTraceResponse* response) override {
+    if (on_submit) on_submit(request);
     submitted_ids.push_back(request.command_id());
+    submitted_rigs.push_back(request.rig_id());
     submitted_sizes.push_back(static_cast<size_t>(request.samples().t_size()));
     asked_next.push_back(request.lease_next());
     SubmitAnswer a;
@@ -65,6 +76,7 @@ class ScriptedEndpoint : public ProbeEndpoint {
   }
   grpc::Status ReportFailure(const pb::ReportFailureRequest& request, pb::ReportFailureResponse* response) override {
     failure_reasons.push_back(request.reason());
+    failure_kinds.push_back(request.kind());
     grpc::Status s;
     if (!failures.empty()) {
       s = failures.front();
@@ -80,10 +92,11 @@ class FakeDriver : public RigDriver {
  public:
   std::vector<int64_t> executed;
   int64_t fail_command = -1;
+  absl::Status failure = absl::FailedPreconditionError("cannot reach the site");
 
   absl::StatusOr<DragTrace> Execute(const ProbeRequest& request) override {
     executed.push_back(request.command_id);
-    if (request.command_id == fail_command) return absl::FailedPreconditionError("cannot reach the site");
+    if (request.command_id == fail_command) return failure;
     DragTrace trace;
     for (int i = 0; i < 3; ++i) {
       DragSample s;
@@ -101,6 +114,7 @@ ScriptedEndpoint::LeaseAnswer Command(int64_t id) {
   pb::ProbeCommand* c = a.response.mutable_command();
   c->set_command_id(id);
   c->set_job_id(1);
+  c->set_attempt(1);
   c->mutable_normal()->set_z(1);
   c->mutable_drag_direction()->set_x(1);
   return a;
@@ -119,28 +133,61 @@ ScriptedEndpoint::LeaseAnswer LeaseError(grpc::StatusCode code) {
   return a;
 }
 
+// A fresh spool per test; the fake clock advances only by the loop's sleeps.
 struct Harness {
+  TestDir dir;
+  std::unique_ptr<TraceSpool> spool;
   ScriptedEndpoint endpoint;
   FakeDriver driver;
   RigLoopOptions options;
   std::vector<double> sleeps;
   std::vector<std::string> events;
+  std::vector<RetryNotice> retries;
   std::vector<int> progress;
   std::atomic<bool> stop{false};
+  double clock = 0;
 
-  Harness() { options.rig_id = "test-rig"; }
+  Harness() {
+    options.rig_id = "test-rig";
+    spool = *TraceSpool::Open(dir.path() / "spool");
+  }
+
+  RigLoopHooks Hooks() {
+    RigLoopHooks hooks;
+    hooks.sleep = [this](double s) {
+      sleeps.push_back(s);
+      clock += s;
+    };
+    hooks.now_s = [this] { return clock; };
+    hooks.unix_ms = [] { return std::int64_t{1'000}; };
+    hooks.on_event = [this](const std::string& e) { events.push_back(e); };
+    hooks.on_retry = [this](const RetryNotice& n) { retries.push_back(n); };
+    hooks.on_progress = [this](const pb::JobProgress& p) { progress.push_back(p.measured()); };
+    return hooks;
+  }
 
   RigLoopSummary Run() {
-    RigLoopHooks hooks;
-    hooks.sleep = [this](double s) { sleeps.push_back(s); };
-    double clock = 0;
-    hooks.now_s = [clock]() mutable { return clock += 1.0; };
-    hooks.on_event = [this](const std::string& e) { events.push_back(e); };
-    hooks.on_progress = [this](const pb::JobProgress& p) { progress.push_back(p.measured()); };
-    RigLoop loop(endpoint, driver, options, &stop, hooks);
+    RigLoop loop(endpoint, driver, *spool, options, &stop, Hooks());
     return loop.Run();
   }
+
+  std::vector<std::filesystem::path> Pending() { return *spool->Pending(); }
+  std::vector<std::string> Rejected() {
+    std::vector<std::string> names;
+    for (const auto& entry : std::filesystem::directory_iterator(spool->rejected_dir())) {
+      names.push_back(entry.path().filename().string());
+    }
+    std::sort(names.begin(), names.end());
+    return names;
+  }
 };
+
+std::string ReadText(const std::filesystem::path& path) {
+  std::ifstream in(path);
+  std::ostringstream out;
+  out << in.rdbuf();
+  return out.str();
+}
 
 TEST(RigLoopTest, ExecutesCommandsUntilTheJobFinishes) {
   Harness h;
@@ -156,7 +203,9 @@ TEST(RigLoopTest, ExecutesCommandsUntilTheJobFinishes) {
   EXPECT_EQ(h.sleeps, (std::vector<double>{0.5}));  // the server's retry_after
   EXPECT_EQ(h.progress, (std::vector<int>{1, 2}));
   EXPECT_EQ(h.endpoint.lease_calls, 4);
-  EXPECT_DOUBLE_EQ(s.elapsed_s, 1.0);  // the fake clock ticks once per read
+  EXPECT_DOUBLE_EQ(s.elapsed_s, 0.5);  // the fake clock moves with the sleeps
+  EXPECT_EQ(s.spooled_left, 0);
+  EXPECT_TRUE(h.Pending().empty()) << "accepted traces leave the spool";
 }
 
 TEST(RigLoopTest, TheNextCommandComesWithTheAnswerWhenTheServerGivesIt) {
@@ -205,21 +254,159 @@ TEST(RigLoopTest, RetriesSubmitWithBackoffAndCountsAlreadyAccepted) {
   EXPECT_EQ(h.endpoint.submitted_ids, (std::vector<int64_t>{5, 5, 5, 5}));  // same command id every time
   EXPECT_EQ(h.sleeps, (std::vector<double>{0.1, 0.2, 0.3}));
   EXPECT_EQ(h.driver.executed.size(), 1u);  // not re-executed
-  EXPECT_EQ(h.events.size(), 3u);
-  EXPECT_NE(h.events[0].find("test-rig: SubmitTrace: UNAVAILABLE: down (attempt 1 of 8)"), std::string::npos)
-      << h.events[0];
+  ASSERT_EQ(h.retries.size(), 3u);
+  EXPECT_EQ(h.retries[0].rpc, "SubmitTrace");
+  EXPECT_EQ(h.retries[0].attempt, 1);
+  EXPECT_DOUBLE_EQ(h.retries[0].remaining_s, 300.0);
+  EXPECT_DOUBLE_EQ(h.retries[2].remaining_s, 300.0 - 0.3);  // measured from the first failure
+  EXPECT_EQ(FormatRetryNotice(h.retries[1]),
+            "server not answering, retrying for 5 min (SubmitTrace: DEADLINE_EXCEEDED: slow)");
+  EXPECT_TRUE(h.Pending().empty());
 }
 
-TEST(RigLoopTest, GivesUpWhenRetriesRunOut) {
+TEST(RigLoopTest, EveryTraceIsSpooledBeforeItIsSubmitted) {
   Harness h;
-  h.options.max_attempts = 3;
+  h.endpoint.leases = {Command(11), Command(12)};
+  std::vector<std::string> spooled_at_submit;
+  h.endpoint.on_submit = [&](const pb::SubmitTraceRequest& request) {
+    const std::vector<std::filesystem::path> pending = h.Pending();
+    for (const auto& file : pending) {
+      SpooledTrace spooled = *h.spool->Read(file);
+      spooled_at_submit.push_back(absl::StrCat(spooled.header.command_id, "/", spooled.header.job_id, "/",
+                                               spooled.header.attempt, "/", spooled.header.rig_id, "/",
+                                               spooled.trace.samples.size(), " for ", request.command_id()));
+    }
+  };
+  RigLoopSummary s = h.Run();
+  EXPECT_TRUE(s.error.ok());
+  EXPECT_EQ(spooled_at_submit, (std::vector<std::string>{"11/1/1/test-rig/3 for 11", "12/1/1/test-rig/3 for 12"}));
+  EXPECT_TRUE(h.Pending().empty());
+  EXPECT_TRUE(h.Rejected().empty());
+}
+
+TEST(RigLoopTest, GivesUpWhenRetryForHasPassed) {
+  Harness h;
+  h.options.retry_for_s = 1.0;
   h.endpoint.leases = {LeaseError(grpc::StatusCode::UNAVAILABLE), LeaseError(grpc::StatusCode::UNAVAILABLE),
-                       LeaseError(grpc::StatusCode::UNAVAILABLE), Command(1)};
+                       LeaseError(grpc::StatusCode::UNAVAILABLE), LeaseError(grpc::StatusCode::UNAVAILABLE),
+                       Command(1)};
   RigLoopSummary s = h.Run();
   EXPECT_EQ(s.error.error_code(), grpc::StatusCode::UNAVAILABLE);
   EXPECT_EQ(s.error_rpc, "LeaseCommand");
   EXPECT_EQ(s.accepted, 0);
-  EXPECT_EQ(h.endpoint.lease_calls, 3);
+  // Failures at t = 0, 0.2, 0.6 and 1.0: the last wait is cut to what is left.
+  ASSERT_EQ(h.sleeps.size(), 3u);
+  EXPECT_DOUBLE_EQ(h.sleeps[0], 0.2);
+  EXPECT_DOUBLE_EQ(h.sleeps[1], 0.4);
+  EXPECT_NEAR(h.sleeps[2], 0.4, 1e-12);
+  EXPECT_EQ(h.endpoint.lease_calls, 4);
+  ASSERT_FALSE(h.events.empty());
+  EXPECT_EQ(h.events.back(), "test-rig: LeaseCommand: UNAVAILABLE: scripted; gave up after retrying for 1.0 s");
+}
+
+TEST(RigLoopTest, ATraceWhoseRetriesRunOutStaysInTheSpoolForTheNextStart) {
+  Harness h;
+  h.options.retry_for_s = 2.0;
+  h.endpoint.leases = {Command(7)};
+  for (int i = 0; i < 20; ++i) h.endpoint.submits.push_back({grpc::Status(grpc::StatusCode::UNAVAILABLE, "down")});
+  RigLoopSummary s = h.Run();
+  EXPECT_EQ(s.error.error_code(), grpc::StatusCode::UNAVAILABLE);
+  EXPECT_EQ(s.error_rpc, "SubmitTrace");
+  EXPECT_EQ(s.spooled_left, 1);
+  ASSERT_EQ(h.Pending().size(), 1u);
+  EXPECT_EQ(h.spool->Read(h.Pending()[0])->header.command_id, 7);
+  EXPECT_NE(s.Format("test-rig").find("1 trace left in the spool; ended by an error"), std::string::npos)
+      << s.Format("test-rig");
+
+  // The next run delivers it first, then leases.
+  Harness& next = h;
+  next.endpoint.submits.clear();
+  next.endpoint.submitted_ids.clear();
+  next.endpoint.asked_next.clear();
+  next.endpoint.leases = {Command(8)};
+  RigLoopSummary again = next.Run();
+  EXPECT_TRUE(again.error.ok()) << again.error.error_message();
+  EXPECT_EQ(again.resubmitted, 1);
+  EXPECT_EQ(again.accepted, 1) << "command 8";
+  EXPECT_EQ(next.endpoint.submitted_ids, (std::vector<int64_t>{7, 8}));
+  EXPECT_EQ(next.endpoint.asked_next, (std::vector<bool>{false, true}))
+      << "a resubmission leases nothing: it may be of another job";
+  EXPECT_TRUE(next.Pending().empty());
+  EXPECT_NE(again.Format("test-rig").find("; 1 spooled trace resubmitted; job finished"), std::string::npos);
+}
+
+TEST(RigLoopTest, ResubmitsWithTheRigIdThatHeldTheLease) {
+  Harness h;
+  SpoolHeader header;
+  header.command_id = 3;
+  header.job_id = 9;
+  header.rig_id = "old-name";
+  header.measured_unix_ms = 5;
+  FakeDriver maker;
+  maker.executed.clear();
+  ASSERT_TRUE(h.spool->Add(header, *maker.Execute(ProbeRequest{})).ok());
+  h.endpoint.submits = {{grpc::Status::OK, /*already_accepted=*/true}};
+  RigLoopSummary s = h.Run();
+  EXPECT_TRUE(s.error.ok());
+  EXPECT_EQ(h.endpoint.submitted_rigs, (std::vector<std::string>{"old-name"}));
+  EXPECT_EQ(s.resubmitted, 1);
+  EXPECT_EQ(s.already_accepted, 1);
+  EXPECT_EQ(s.accepted, 0) << "not a command of this run";
+  ASSERT_FALSE(h.events.empty());
+  EXPECT_EQ(h.events[0].rfind("test-rig: resubmitting 1 spooled trace from ", 0), 0u) << h.events[0];
+}
+
+TEST(RigLoopTest, AnUnreadableSpoolFileIsMovedToRejected) {
+  Harness h;
+  { std::ofstream(h.spool->dir() / "0000000000001-command-4.trace.csv") << "t,x\n1,2\n"; }
+  RigLoopSummary s = h.Run();
+  EXPECT_TRUE(s.error.ok());
+  EXPECT_EQ(s.rejected, 1);
+  EXPECT_TRUE(h.endpoint.submitted_ids.empty());
+  EXPECT_EQ(h.Rejected(), (std::vector<std::string>{"0000000000001-command-4.trace.csv",
+                                                    "0000000000001-command-4.trace.csv.reason"}));
+  const std::string reason = ReadText(h.spool->rejected_dir() / "0000000000001-command-4.trace.csv.reason");
+  EXPECT_EQ(reason.rfind("unreadable: ", 0), 0u) << reason;
+  EXPECT_NE(reason.find("not a spool file"), std::string::npos) << reason;
+}
+
+TEST(RigLoopTest, DefinitiveRefusalsMoveTheTraceToRejectedWithTheReason) {
+  struct Case {
+    grpc::StatusCode code;
+    bool reported;  // the site is given back with ReportFailure
+  };
+  for (const Case c : {Case{grpc::StatusCode::ALREADY_EXISTS, false}, Case{grpc::StatusCode::FAILED_PRECONDITION, false},
+                       Case{grpc::StatusCode::NOT_FOUND, false}, Case{grpc::StatusCode::INVALID_ARGUMENT, true},
+                       Case{grpc::StatusCode::RESOURCE_EXHAUSTED, true}}) {
+    Harness h;
+    h.endpoint.leases = {Command(21)};
+    h.endpoint.submits = {{grpc::Status(c.code, "the server's reason")}};
+    RigLoopSummary s = h.Run();
+    const std::string code(cli::StatusCodeName(c.code));
+    EXPECT_TRUE(s.error.ok()) << code;
+    EXPECT_EQ(s.rejected, 1) << code;
+    EXPECT_EQ(s.abandoned, c.reported ? 0 : 1) << code;
+    EXPECT_EQ(s.failures, c.reported ? 1 : 0) << code;
+    EXPECT_EQ(h.endpoint.failure_reasons.size(), c.reported ? 1u : 0u) << code;
+    EXPECT_TRUE(h.Pending().empty()) << code;
+    ASSERT_EQ(h.Rejected(), (std::vector<std::string>{"0000000001000-command-21.trace.csv",
+                                                      "0000000001000-command-21.trace.csv.reason"}))
+        << code;
+    const std::string reason = ReadText(h.spool->rejected_dir() / "0000000001000-command-21.trace.csv.reason");
+    EXPECT_EQ(reason.rfind("SubmitTrace: " + code + ": the server's reason\n", 0), 0u) << reason;
+  }
+}
+
+TEST(RigLoopTest, OtherErrorsKeepTheTraceAndEndTheLoop) {
+  Harness h;
+  h.endpoint.leases = {Command(30), Command(31)};
+  h.endpoint.submits = {{grpc::Status(grpc::StatusCode::PERMISSION_DENIED, "token has role read")}};
+  RigLoopSummary s = h.Run();
+  EXPECT_EQ(s.error.error_code(), grpc::StatusCode::PERMISSION_DENIED);
+  EXPECT_EQ(s.error_rpc, "SubmitTrace");
+  EXPECT_EQ(h.Pending().size(), 1u) << "kept for a run with the right token";
+  EXPECT_TRUE(h.Rejected().empty());
+  EXPECT_EQ(h.driver.executed, (std::vector<int64_t>{30}));
 }
 
 TEST(RigLoopTest, DriverFailureIsReported) {
@@ -231,8 +418,57 @@ TEST(RigLoopTest, DriverFailureIsReported) {
   EXPECT_EQ(s.accepted, 2);
   EXPECT_EQ(s.failures, 1);
   ASSERT_EQ(h.endpoint.failure_reasons.size(), 1u);
-  EXPECT_EQ(h.endpoint.failure_reasons[0], "rig: FAILED_PRECONDITION: cannot reach the site");
+  EXPECT_EQ(h.endpoint.failure_reasons[0], "rig: cannot reach the site");
+  EXPECT_EQ(h.endpoint.failure_kinds, (std::vector<pb::FailureKind>{pb::FAILURE_KIND_UNREACHABLE}));
   EXPECT_EQ(h.endpoint.submitted_ids, (std::vector<int64_t>{1, 3}));
+  EXPECT_TRUE(h.Pending().empty() && h.Rejected().empty()) << "nothing measured, nothing spooled";
+}
+
+TEST(RigLoopTest, DriverErrorsChooseTheFailureKind) {
+  EXPECT_EQ(FailureKindOf(absl::FailedPreconditionError("outside the workspace")), pb::FAILURE_KIND_UNREACHABLE);
+  EXPECT_EQ(FailureKindOf(absl::OutOfRangeError("beyond the arm's reach")), pb::FAILURE_KIND_UNREACHABLE);
+  EXPECT_EQ(FailureKindOf(absl::UnavailableError("force limit tripped")), pb::FAILURE_KIND_TRANSIENT);
+  EXPECT_EQ(FailureKindOf(absl::DeadlineExceededError("driver timed out")), pb::FAILURE_KIND_TRANSIENT);
+}
+
+TEST(RigLoopTest, ABrokenOrStoppedDriverEndsTheLoopAfterReporting) {
+  for (const absl::Status& status : {absl::InternalError("driver wrote 'hello' on stdout"),
+                                     absl::AbortedError("emergency stop pressed")}) {
+    Harness h;
+    h.driver.fail_command = 1;
+    h.driver.failure = status;
+    h.endpoint.leases = {Command(1), Command(2)};
+    RigLoopSummary s = h.Run();
+    EXPECT_EQ(s.error.error_code(), static_cast<grpc::StatusCode>(static_cast<int>(status.code())));
+    EXPECT_EQ(s.error_rpc, "driver");
+    EXPECT_EQ(h.endpoint.failure_kinds, (std::vector<pb::FailureKind>{pb::FAILURE_KIND_TRANSIENT}))
+        << "the site is given back first";
+    EXPECT_EQ(h.driver.executed, (std::vector<int64_t>{1}));
+  }
+}
+
+TEST(RigLoopTest, AnInvalidTraceIsKeptInRejectedAndReported) {
+  Harness h;
+  h.driver.fail_command = -1;
+  struct NanDriver : RigDriver {
+    absl::StatusOr<DragTrace> Execute(const ProbeRequest& request) override {
+      FakeDriver inner;
+      DragTrace trace = *inner.Execute(request);
+      trace.samples[1].force.z() = std::nan("");
+      return trace;
+    }
+  } nan_driver;
+  h.endpoint.leases = {Command(40)};
+  RigLoop loop(h.endpoint, nan_driver, *h.spool, h.options, &h.stop, h.Hooks());
+  RigLoopSummary s = loop.Run();
+  EXPECT_TRUE(s.error.ok());
+  EXPECT_EQ(s.rejected, 1);
+  EXPECT_EQ(s.failures, 1);
+  EXPECT_TRUE(h.endpoint.submitted_ids.empty()) << "the server would refuse it too";
+  ASSERT_EQ(h.endpoint.failure_reasons.size(), 1u);
+  EXPECT_EQ(h.endpoint.failure_reasons[0].rfind("rig: invalid trace: trace is invalid (", 0), 0u)
+      << h.endpoint.failure_reasons[0];
+  EXPECT_EQ(h.Rejected().size(), 2u);
 }
 
 TEST(RigLoopTest, RejectedTraceBecomesAFailureReport) {
@@ -289,7 +525,7 @@ TEST(RigLoopTest, StopFinishesTheCurrentCommandThenLeaves) {
     sleeps.push_back(s);
     h.stop = true;
   };
-  RigLoop loop(h.endpoint, h.driver, h.options, &h.stop, hooks);
+  RigLoop loop(h.endpoint, h.driver, *h.spool, h.options, &h.stop, hooks);
   RigLoopSummary s = loop.Run();
   EXPECT_TRUE(s.stopped);
   EXPECT_EQ(s.accepted, 1);  // the measured trace was still delivered
@@ -304,6 +540,20 @@ TEST(RigLoopTest, InvalidOptionsAreReported) {
   RigLoopSummary s = h.Run();
   EXPECT_EQ(s.error.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_EQ(h.endpoint.lease_calls, 0);
+}
+
+TEST(RigLoopTest, WaitDurationsReadAsAPersonWouldSayThem) {
+  EXPECT_EQ(FormatWaitDuration(0), "0 s");
+  EXPECT_EQ(FormatWaitDuration(1.25), "1.2 s");
+  EXPECT_EQ(FormatWaitDuration(9.96), "10.0 s");
+  EXPECT_EQ(FormatWaitDuration(50.4), "50 s");
+  EXPECT_EQ(FormatWaitDuration(290), "4 min 50 s");
+  EXPECT_EQ(FormatWaitDuration(300), "5 min");
+  EXPECT_EQ(FormatWaitDuration(7500), "2 h 5 min");
+  EXPECT_EQ(FormatWaitDuration(7200), "2 h");
+  RetryNotice notice{"SubmitTrace", grpc::Status(grpc::StatusCode::UNAVAILABLE, "Connection refused"), 3, 0.8, 290};
+  EXPECT_EQ(FormatRetryNotice(notice),
+            "server unavailable, retrying for 4 min 50 s (SubmitTrace: UNAVAILABLE: Connection refused)");
 }
 
 TEST(RigLoopSummaryTest, FormatsOneLine) {

@@ -1,20 +1,24 @@
 // surfmap-rig: a lab rig as a client of surfmapd.
 //
-//   surfmap-rig --server ADDR --sim SCENE [--job ID] [--rig-id NAME] [--token T]
-//               [--max-commands N] [--quiet]
-//   surfmap-rig score --sim SCENE --map MAP.json [--json OUT.json|-]
+//   surfmap-rig --server ADDR (--sim SCENE | --driver "CMD ARGS") [--job ID] [--rig-id NAME]
+//               [--token T] [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
+//   surfmap-rig simulate-drag --sim SCENE [--sim-seed N]   # the simulated rig as a driver program
+//   surfmap-rig score --sim SCENE (--job JOB | --map MAP.json) [--points N] [--json OUT.json|-]
 //
-// The rig leases probe commands, executes them on a RigDriver and returns the
-// traces (RigLoop). `--sim SCENE` drives the simulated rig on a scene; a real
-// robot plugs in as another RigDriver (clients/rig/rig_driver.h): construct
-// it where MakeDriver builds the SimulatedRig, and the loop, retries and
-// signal handling below work unchanged.
+// The rig leases probe commands, executes them on a RigDriver, spools each
+// trace and returns it (RigLoop). `--sim SCENE` drives the simulated rig on a
+// scene; `--driver` runs a lab's own driver program and talks to it in JSON
+// lines (driver_protocol.h); a robot driver in C++ plugs in as another
+// RigDriver (clients/rig/rig_driver.h) where MakeDriver builds these, and the
+// loop, spool, retries and signal handling below work unchanged.
 #include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <memory>
 #include <sstream>
@@ -27,9 +31,14 @@
 #include "clients/cli/remote_call.h"
 #include "clients/rig/scene.h"
 #include "clients/rig/simulated_rig.h"
+#include "clients/rig_client/duration_text.h"
+#include "clients/rig_client/external_driver.h"
 #include "clients/rig_client/map_score.h"
+#include "clients/rig_client/served_map_score.h"
 #include "clients/rig_client/probe_endpoint.h"
 #include "clients/rig_client/rig_loop.h"
+#include "clients/rig_client/simulated_driver.h"
+#include "clients/rig_client/trace_spool.h"
 
 namespace {
 
@@ -61,44 +70,89 @@ struct RunArgs {
   surfmap::cli::RemoteOptions remote;
   std::string sim;
   uint64_t sim_seed = 0;
+  std::string driver;           // --driver "CMD ARGS"
+  double driver_timeout_s = 120.0;
+  double driver_start_timeout_s = 60.0;
   int64_t job_id = 0;
   std::string rig_id;
+  std::string spool;            // empty: DefaultSpoolDir(rig id)
+  std::string retry_for = "5min";
   int max_commands = 0;
   bool quiet = false;
 };
 
-// Where a real robot's RigDriver would be constructed instead.
-absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> MakeDriver(const RunArgs& args) {
-  absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(args.sim);
+absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const std::string& scene_name,
+                                                                       uint64_t seed) {
+  absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(scene_name);
   if (!scene.ok()) return scene.status();
   surfmap::SimulatedRigOptions options;
-  options.seed = args.sim_seed;
-  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = surfmap::SimulatedRig::Create(*std::move(scene), options);
+  options.seed = seed;
+  return surfmap::SimulatedRig::Create(*std::move(scene), options);
+}
+
+// Where a robot's RigDriver is constructed: the simulated rig, or an
+// external driver program (its log lines go to `log`).
+absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> MakeDriver(const RunArgs& args,
+                                                               std::function<void(const std::string&)> log) {
+  if (!args.driver.empty()) {
+    surfmap::rig::ExternalDriverOptions options;
+    options.command = args.driver;
+    options.command_timeout_s = args.driver_timeout_s;
+    options.start_timeout_s = args.driver_start_timeout_s;
+    options.on_log = std::move(log);
+    absl::StatusOr<std::unique_ptr<surfmap::rig::ExternalDriver>> driver =
+        surfmap::rig::ExternalDriver::Start(std::move(options));
+    if (!driver.ok()) return driver.status();
+    return std::unique_ptr<surfmap::RigDriver>(std::move(*driver));
+  }
+  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_seed);
   if (!rig.ok()) return rig.status();
   return std::unique_ptr<surfmap::RigDriver>(std::move(*rig));
 }
 
+std::string HostName() {
+  char name[256] = {};
+  if (::gethostname(name, sizeof name - 1) != 0 || name[0] == '\0') return "rig";
+  return name;
+}
+
 int RunRig(const RunArgs& args) {
-  if (args.sim.empty()) {
-    std::cerr << "surfmap-rig: no rig driver: use --sim SCENE (a real robot plugs in as a RigDriver, see README)\n";
-    return 2;
-  }
-  absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> driver = MakeDriver(args);
-  if (!driver.ok()) {
-    std::cerr << "surfmap-rig: --sim " << args.sim << ": " << driver.status().message() << "\n";
+  if (args.sim.empty() == args.driver.empty()) {
+    std::cerr << "surfmap-rig: use exactly one of --sim SCENE (the simulated rig) or --driver \"CMD ARGS\" "
+                 "(your robot's driver program, see clients/rig_client/README.md)\n";
     return 2;
   }
   surfmap::rig::RigLoopOptions options;
-  options.rig_id = args.rig_id.empty() ? absl::StrCat("sim-", args.sim, "-", ::getpid()) : args.rig_id;
+  // A simulated rig is named per process; a robot by its host, so its spool
+  // is found again after a restart.
+  options.rig_id = !args.rig_id.empty() ? args.rig_id
+                   : args.sim.empty()   ? HostName()
+                                        : absl::StrCat("sim-", args.sim, "-", ::getpid());
   options.job_id = args.job_id;
   options.max_commands = args.max_commands;
+  absl::StatusOr<double> retry_for = surfmap::rig::ParseDurationSeconds(args.retry_for);
+  if (!retry_for.ok()) {
+    std::cerr << "surfmap-rig: --retry-for: " << retry_for.status().message() << "\n";
+    return 2;
+  }
+  options.retry_for_s = *retry_for;
   std::string why;
   if (!options.IsValid(&why)) {
     std::cerr << "surfmap-rig: " << why << "\n";
     return 2;
   }
+  absl::StatusOr<std::filesystem::path> spool_dir =
+      args.spool.empty() ? surfmap::rig::DefaultSpoolDir(options.rig_id) : std::filesystem::path(args.spool);
+  if (!spool_dir.ok()) {
+    std::cerr << "surfmap-rig: " << spool_dir.status().message() << "\n";
+    return 2;
+  }
+  absl::StatusOr<std::unique_ptr<surfmap::rig::TraceSpool>> spool = surfmap::rig::TraceSpool::Open(*spool_dir);
+  if (!spool.ok()) {
+    std::cerr << "surfmap-rig: --spool: " << spool.status().message() << "\n";
+    return 2;
+  }
 
-  surfmap::rig::GrpcProbeEndpoint endpoint(args.remote);
   const bool tty = surfmap::cli::ProgressDisplay::IsTerminal(stdout);
   surfmap::cli::ProgressDisplay display(stdout, tty);
   surfmap::rig::RigLoopHooks hooks;
@@ -112,12 +166,42 @@ int RunRig(const RunArgs& args) {
     std::fflush(stdout);
     std::fprintf(stderr, "%s\n", line.c_str());
   };
+  // Declared after the display: destroyed first (an external driver logs how it ended).
+  absl::StatusOr<std::unique_ptr<surfmap::RigDriver>> driver =
+      MakeDriver(args, [&](const std::string& line) { hooks.on_event(options.rig_id + " " + line); });
+  if (!driver.ok()) {
+    std::cerr << "surfmap-rig: " << (args.driver.empty() ? "--sim " + args.sim : std::string("--driver")) << ": "
+              << driver.status().message() << "\n";
+    return 2;
+  }
+  surfmap::rig::GrpcProbeEndpoint endpoint(args.remote);
+  // On a terminal the wait is shown on the progress line (redrawn each retry);
+  // in a log, one line per retry.
+  hooks.on_retry = [&](const surfmap::rig::RetryNotice& notice) {
+    const std::string line = options.rig_id + ": " + surfmap::rig::FormatRetryNotice(notice);
+    if (tty && !args.quiet) {
+      display.Show(line);
+    } else {
+      hooks.on_event(line);
+    }
+  };
   InstallStopHandlers();
-  surfmap::rig::RigLoop loop(endpoint, **driver, options, &g_stop, hooks);
+  surfmap::rig::RigLoop loop(endpoint, **driver, **spool, options, &g_stop, hooks);
   surfmap::rig::RigLoopSummary summary = loop.Run();
   display.Finish();
   std::printf("%s\n", summary.Format(options.rig_id).c_str());
   std::fflush(stdout);
+  if (summary.rejected > 0) {
+    std::fprintf(stderr, "surfmap-rig: %d refused trace(s) kept in %s (each with a .reason file)\n", summary.rejected,
+                 (*spool)->rejected_dir().c_str());
+  }
+  if (summary.spooled_left > 0) {
+    std::fprintf(stderr,
+                 "surfmap-rig: %d trace(s) not yet acknowledged are kept in %s; they are resubmitted when "
+                 "surfmap-rig starts again with this spool (--rig-id %s or --spool DIR)\n",
+                 summary.spooled_left, (*spool)->dir().c_str(), options.rig_id.c_str());
+  }
+  (*spool)->RemoveDirectoriesIfEmpty();
   if (!summary.error.ok()) {
     std::fprintf(stderr, "%s\n",
                  surfmap::cli::FormatRpcError(summary.error_rpc, summary.error, "surfmap-rig").c_str());
@@ -126,18 +210,77 @@ int RunRig(const RunArgs& args) {
   return 0;
 }
 
+struct SimulateDragArgs {
+  std::string sim;
+  uint64_t sim_seed = 0;
+};
+
+int RunSimulateDrag(const SimulateDragArgs& args) {
+  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_seed);
+  if (!rig.ok()) {
+    std::cerr << "surfmap-rig simulate-drag: --sim " << args.sim << ": " << rig.status().message() << "\n";
+    return 2;
+  }
+  std::ios::sync_with_stdio(false);
+  return surfmap::rig::ServeSimulatedDriver(
+      **rig, absl::StrCat("surfmap-rig simulate-drag --sim ", args.sim, " (SimulatedRig, seed ", args.sim_seed, ")"),
+      std::cin, std::cout, std::cerr);
+}
+
 struct ScoreArgs {
   std::string sim;
   std::string map;
+  int64_t job_id = 0;
+  int points = 5000;
+  std::uint64_t seed = 1;
   std::string json;
 };
 
-int RunScore(const ScoreArgs& args) {
+// Writes the score's JSON (to args.json, or stdout for '-') and its table.
+int ReportScore(const ScoreArgs& args, const nlohmann::json& result, const std::string& table) {
+  if (args.json == "-") {
+    std::cout << result.dump(1) << "\n";
+    return 0;
+  }
+  std::cout << table;
+  if (!args.json.empty()) {
+    std::ofstream out(args.json, std::ios::binary | std::ios::trunc);
+    out << result.dump(1) << "\n";
+    out.close();
+    if (!out) {
+      std::cerr << "surfmap-rig score: " << args.json << ": cannot write file\n";
+      return 2;
+    }
+  }
+  return 0;
+}
+
+// The job's map as the server answers QueryMap, on the scene's true surface.
+int RunServedScore(const ScoreArgs& args, const surfmap::Scene& scene, const surfmap::cli::RemoteOptions& remote) {
+  surfmap::SurfaceScoreOptions options;
+  options.points = args.points;
+  options.seed = args.seed;
+  absl::StatusOr<surfmap::SurfaceScore> score =
+      surfmap::rig::ScoreServedMap(scene, surfmap::cli::ConnectChannel(remote), remote, args.job_id, options);
+  if (!score.ok()) {
+    std::cerr << "surfmap-rig score: job " << args.job_id << ": " << score.status().message() << "\n";
+    return 1;
+  }
+  nlohmann::json result = surfmap::SurfaceScoreToJson(*score);
+  result["scene"] = args.sim;
+  result["job_id"] = args.job_id;
+  return ReportScore(args, result,
+                     surfmap::FormatSurfaceScore(*score, absl::StrCat("job ", args.job_id, " vs scene '", args.sim,
+                                                                      "' (QueryMap)")));
+}
+
+int RunScore(const ScoreArgs& args, const surfmap::cli::RemoteOptions& remote) {
   absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(args.sim);
   if (!scene.ok()) {
     std::cerr << "surfmap-rig score: --sim " << args.sim << ": " << scene.status().message() << "\n";
     return 2;
   }
+  if (args.job_id > 0) return RunServedScore(args, *scene, remote);
   std::ifstream in(args.map, std::ios::binary);
   if (!in) {
     std::cerr << "surfmap-rig score: " << args.map << ": cannot open file\n";
@@ -158,22 +301,8 @@ int RunScore(const ScoreArgs& args) {
     std::cerr << "surfmap-rig score: " << args.map << ": " << score.status().message() << "\n";
     return 1;
   }
-  const nlohmann::json result = surfmap::rig::MapScoreToJson(*score, args.sim);
-  if (args.json == "-") {
-    std::cout << result.dump(1) << "\n";
-    return 0;
-  }
-  std::cout << surfmap::rig::FormatMapScore(*score, args.sim);
-  if (!args.json.empty()) {
-    std::ofstream out(args.json, std::ios::binary | std::ios::trunc);
-    out << result.dump(1) << "\n";
-    out.close();
-    if (!out) {
-      std::cerr << "surfmap-rig score: " << args.json << ": cannot write file\n";
-      return 2;
-    }
-  }
-  return 0;
+  return ReportScore(args, surfmap::rig::MapScoreToJson(*score, args.sim),
+                     surfmap::rig::FormatMapScore(*score, args.sim));
 }
 
 }  // namespace
@@ -191,22 +320,61 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--sim", run.sim, "Drive the simulated rig on this scene (e.g. bottle, plate)");
+  app.add_option("--driver", run.driver,
+                 "Run this driver program (/bin/sh -c) and talk to it in JSON lines (see README: Connect your robot)");
+  app.add_option("--driver-timeout", run.driver_timeout_s, "Seconds the driver may take to answer one command")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--driver-start-timeout", run.driver_start_timeout_s,
+                 "Seconds the driver may take to say it is ready")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--sim-seed", run.sim_seed, "Seed mixed into the simulated rig's noise");
   app.add_option("--job", run.job_id, "Only this job's commands (default: any running job)");
-  app.add_option("--rig-id", run.rig_id, "Rig name in the server's leases and logs (default sim-SCENE-PID)");
+  app.add_option("--rig-id", run.rig_id,
+                 "Rig name in the server's leases and logs (default sim-SCENE-PID with --sim, the host name with "
+                 "--driver)");
+  app.add_option("--spool", run.spool,
+                 "Directory keeping each trace until the server acknowledged it "
+                 "(default $XDG_STATE_HOME/surfmap/spool/RIG-ID, else ~/.local/state/...)");
+  app.add_option("--retry-for", run.retry_for,
+                 "How long a call is retried while the server is unavailable (e.g. 300, 90s, 5min, 1h)")
+      ->capture_default_str();
   app.add_option("--max-commands", run.max_commands, "Stop after this many commands (0 = until the job ends)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--quiet", run.quiet, "No progress line (the summary line is still printed)");
 
+  SimulateDragArgs simulate;
+  CLI::App* simulate_cmd = app.add_subcommand(
+      "simulate-drag", "The simulated rig as a driver program: command lines on stdin, traces on stdout");
+  simulate_cmd->add_option("--sim", simulate.sim, "Scene to simulate (e.g. bottle, plate)")->required();
+  simulate_cmd->add_option("--sim-seed", simulate.sim_seed, "Seed mixed into the simulated rig's noise");
+
   ScoreArgs score;
-  CLI::App* score_cmd = app.add_subcommand("score", "Compare a map file with the scene's truth");
+  CLI::App* score_cmd = app.add_subcommand(
+      "score", "Compare a job's map (--job: through QueryMap, on the true surface) or a map file (--map: its "
+               "vertices) with the scene's truth");
   score_cmd->add_option("--sim", score.sim, "The scene the map was measured on")->required();
-  score_cmd->add_option("--map", score.map, "Map file from `surfmap map get --format json`")
-      ->required()
-      ->check(CLI::ExistingFile);
+  CLI::Option* map_option = score_cmd->add_option("--map", score.map, "Map file from `surfmap map get --format json`")
+                                ->check(CLI::ExistingFile);
+  CLI::Option* job_option =
+      score_cmd->add_option("--job", score.job_id, "A job on --server: its map read with QueryMap")
+          ->check(CLI::PositiveNumber);
+  map_option->excludes(job_option);
+  score_cmd->add_option("--points", score.points, "--job: random points on the true surface")
+      ->check(CLI::Range(100, 1'000'000))
+      ->capture_default_str();
+  score_cmd->add_option("--seed", score.seed, "--job: which points")->capture_default_str();
   score_cmd->add_option("--json", score.json, "Also write the score as JSON to this file ('-': JSON on stdout only)");
 
   CLI11_PARSE(app, argc, argv);
-  if (score_cmd->parsed()) return RunScore(score);
+  if (score_cmd->parsed()) {
+    if (score.map.empty() && score.job_id == 0) {
+      std::cerr << "surfmap-rig score: give --job JOB (the server's map) or --map FILE\n";
+      return 2;
+    }
+    return RunScore(score, run.remote);
+  }
+  if (simulate_cmd->parsed()) return RunSimulateDrag(simulate);
   return RunRig(run);
 }

@@ -7,6 +7,16 @@
 #include "absl/strings/str_cat.h"
 
 namespace surfmap {
+namespace {
+
+// Far beyond any drag (a rig spans metres and pushes with newtons), and small
+// enough that nothing the fit derives overflows: squared norms and products of
+// forces, path lengths summed over a million samples. Beyond them a finite
+// value still gave an infinite path length or a NaN mu with an OK status.
+constexpr double kMaxAbsPositionMm = 1e9;
+constexpr double kMaxAbsForceN = 1e9;
+
+}  // namespace
 
 absl::StatusOr<DragPasses> SplitDragPasses(const DragTrace& trace) {
   const auto& samples = trace.samples;
@@ -16,6 +26,16 @@ absl::StatusOr<DragPasses> SplitDragPasses(const DragTrace& trace) {
     if (!std::isfinite(s.t) || !s.position.allFinite() || !s.force.allFinite()) {
       return absl::InvalidArgumentError(
           absl::StrCat("sample ", i, ": time, position or force is not finite"));
+    }
+    for (int k = 0; k < 3; ++k) {
+      if (std::abs(s.position[k]) > kMaxAbsPositionMm) {
+        return absl::InvalidArgumentError(absl::StrCat("sample ", i, ": position coordinate ", s.position[k],
+                                                       " mm is outside -1e9..1e9 mm"));
+      }
+      if (std::abs(s.force[k]) > kMaxAbsForceN) {
+        return absl::InvalidArgumentError(
+            absl::StrCat("sample ", i, ": force component ", s.force[k], " N is outside -1e9..1e9 N"));
+      }
     }
     if (i > 0) {
       if (!(s.t > samples[i - 1].t)) {

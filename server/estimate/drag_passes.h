@@ -20,7 +20,9 @@ struct DragPasses {
 };
 
 // The views point into `trace`, which must outlive them. INVALID_ARGUMENT,
-// naming the sample index, for: non-finite time, position or force; time that
+// naming the sample index, for: non-finite time, position or force; a position
+// coordinate or force component beyond 1e9 (mm, N: the fit's arithmetic would
+// overflow); time that
 // does not increase; phases not in the order fwd, pause, rev; no forward or no
 // reverse sample.
 absl::StatusOr<DragPasses> SplitDragPasses(const DragTrace& trace);

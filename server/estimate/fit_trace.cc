@@ -5,6 +5,7 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "absl/strings/str_format.h"
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
 
@@ -131,6 +132,22 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   fit.max_retrace_offset_mm = pairing->max_offset_mm;
   fit.noise_std = PauseNoiseStd(pause);
 
+  // Both grids over the window are sized by its length: checked before either
+  // is allocated (a trace with positions scaled by 1e6 asked for gigabytes).
+  const double window_mm = fit.friction.window_end_mm - fit.friction.window_start_mm;
+  const struct {
+    double step_mm;
+    const char* name;
+  } grids[] = {{options.step_mm, "roughness grid"}, {options.path_step_mm, "path grid"}};
+  for (const auto& grid : grids) {
+    const double points = std::floor(window_mm / grid.step_mm + 1e-9) + 1.0;
+    if (points > kMaxRoughnessGridPoints) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "data window %.6g..%.6g mm holds %.4g points of the %.3g mm %s; the limit is %d",
+          fit.friction.window_start_mm, fit.friction.window_end_mm, points, grid.step_mm, grid.name,
+          kMaxRoughnessGridPoints));
+    }
+  }
   fit.path = SamplePath(forward, *pairing, fit.friction, options.path_step_mm);
 
   absl::StatusOr<std::vector<ChangePoint>> changes =

@@ -91,7 +91,8 @@ struct TraceFit {
 };
 
 // Errors (INVALID_ARGUMENT, message naming the problem and the sample): no
-// forward or reverse pass, phases out of order, non-finite values, time not
+// forward or reverse pass, phases out of order, non-finite values, positions
+// or forces beyond 1e9 mm or N (see drag_passes.h), time not
 // increasing, too few samples, a reverse pass that does not retrace the
 // forward path, a contact force below the floor ("zero force"), an empty data
 // window, invalid options; a roughness fit that fails comes back with

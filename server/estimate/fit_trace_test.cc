@@ -110,6 +110,51 @@ TEST(FitTraceTest, RejectsNonFiniteAndDisorderedSamples) {
   EXPECT_NE(ErrorOf(late).find("sample 3: time"), std::string::npos);
 }
 
+// Found by fuzzing (tests/fuzz): one coordinate of -1e200 mm made the forward
+// path length overflow to inf, and one force of 1e200 N made mu NaN, both with
+// an OK status (the fit would have been stored and mapped). Magnitudes beyond
+// 1e9 are rejected before any arithmetic; up to it a trace still fits.
+TEST(FitTraceTest, RejectsValuesWhoseArithmeticWouldOverflow) {
+  const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), kGlass, 2);
+  DragTrace far = sim.trace;
+  far.samples[5].position.y() = -1e200;
+  EXPECT_EQ(ErrorOf(far), "sample 5: position coordinate -1e+200 mm is outside -1e9..1e9 mm");
+  DragTrace strong = sim.trace;
+  strong.samples[200].force.z() = 1e200;
+  EXPECT_EQ(ErrorOf(strong), "sample 200: force component 1e+200 N is outside -1e9..1e9 N");
+
+  DragTrace shifted = sim.trace;  // the same drag 1e9 - 100 mm away: still fits
+  for (DragSample& sample : shifted.samples) sample.position.x() += 1e9 - 100.0;
+  const absl::StatusOr<TraceFit> fit = FitTrace(shifted, FitOptions{});
+  ASSERT_TRUE(fit.ok()) << fit.status();
+  EXPECT_NEAR(fit->friction.mu, FitTrace(sim.trace, FitOptions{})->friction.mu, 0.01);
+}
+
+// Found while fuzzing (read in ForceVariationSeries after the fix above, then
+// confirmed by UBSan in the fuzz build on a hand-made trace): a 1.8e9 mm drag,
+// or a 1e-12 mm grid step on an ordinary one, asked for ~1e10 roughness grid
+// points; the count overflowed int (undefined behaviour), and a count just
+// within int would have allocated gigabytes. Now a clear error.
+TEST(FitTraceTest, RejectsARoughnessGridBeyondTheLimit) {
+  DragTrace huge;
+  double t = 0.0;
+  auto add = [&](double x, double fx, DragPhase phase) {
+    huge.samples.push_back({t, {x, 0.0, 0.0}, {fx, 0.0, 5.0}, phase});
+    t += 0.01;
+  };
+  constexpr int kPerPass = 30;
+  const auto x_at = [](int i) { return -9e8 + i * (1.8e9 / (kPerPass - 1)); };
+  for (int i = 0; i < kPerPass; ++i) add(x_at(i), -0.5, DragPhase::kForward);
+  for (int i = kPerPass - 1; i >= 0; --i) add(x_at(i), 0.5, DragPhase::kReverse);
+  EXPECT_NE(ErrorOf(huge).find("points of the 0.1 mm roughness grid; the limit is 4194304"), std::string::npos)
+      << ErrorOf(huge);
+
+  const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), kGlass, 2);
+  FitOptions fine;
+  fine.step_mm = 1e-12;
+  EXPECT_NE(ErrorOf(sim.trace, fine).find("the limit is 4194304"), std::string::npos) << ErrorOf(sim.trace, fine);
+}
+
 // Per-point mu along a curved path (the normal turns 28.6 deg on the
 // cylinder) shows no trend: the slope of mu over the window is far below
 // what a fixed-frame |f_t|/|f_n| would show.

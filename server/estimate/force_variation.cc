@@ -95,12 +95,20 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      double end_mm, double mu, double step_mm) {
   const double start = start_mm;
   const double length = end_mm - start;
-  const int grid = step_mm > 0.0 && length >= 0.0 ? static_cast<int>(std::floor(length / step_mm + 1e-9)) + 1 : 0;
-  if (!(step_mm > 0.0) || grid < 2 || friction.n_pairs < 1) {
+  // Counted in double: the cast to int and the two series' allocation come
+  // only after the count is known to be in range.
+  const double points = std::floor(length / step_mm + 1e-9) + 1.0;
+  if (!(step_mm > 0.0) || !(points >= 2.0) || friction.n_pairs < 1) {
     return absl::InvalidArgumentError(absl::StrFormat(
         "data window %.3f..%.3f mm holds fewer than 2 points of the %.3g mm roughness grid",
         start, end_mm, step_mm));
   }
+  if (points > kMaxRoughnessGridPoints) {
+    return absl::InvalidArgumentError(absl::StrFormat(
+        "data window %.6g..%.6g mm holds %.4g points of the %.3g mm roughness grid; the limit is %d",
+        start, end_mm, points, step_mm, kMaxRoughnessGridPoints));
+  }
+  const int grid = static_cast<int>(points);
   const int nf = static_cast<int>(forward.size());
   const int nr = static_cast<int>(reverse.size());
   std::vector<double> pos, val;

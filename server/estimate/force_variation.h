@@ -26,7 +26,11 @@ namespace surfmap {
 // in arc length, for the multi-segment FitAutoregressive. They see the same
 // realisation of the texture (so they are not independent data), with
 // independent noise. INVALID_ARGUMENT when the window holds fewer than 2 grid
-// points.
+// points or more than kMaxRoughnessGridPoints.
+// 4M points (32 MB per series): a 419 m window at the default 0.1 mm step,
+// far beyond any drag, and an int with room to spare.
+inline constexpr int kMaxRoughnessGridPoints = 1 << 22;
+
 absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,

@@ -1,9 +1,12 @@
 #include "server/jobs/job_params.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
+#include "server/map/map_level.h"
+#include "server/plan/reachability_json.h"
 
 namespace surfmap {
 namespace {
@@ -18,7 +21,45 @@ const char* PropertyName(TextureProperty p) {
 }
 
 
+// Field name, accessor: one list for both directions of the JSON form.
+template <typename Limits, typename Visit>
+void ForEachLimit(Limits& l, Visit visit) {
+  visit("max_offset_mm", l.max_offset_mm);
+  visit("min_length_fraction", l.min_length_fraction);
+  visit("max_length_fraction", l.max_length_fraction);
+  visit("max_direction_deg", l.max_direction_deg);
+  visit("max_normal_deg", l.max_normal_deg);
+  visit("normal_force_factor", l.normal_force_factor);
+  visit("max_mu", l.max_mu);
+  visit("max_duration_factor", l.max_duration_factor);
+  visit("min_rate_hz", l.min_rate_hz);
+  visit("max_rate_hz", l.max_rate_hz);
+}
+
 }  // namespace
+
+nlohmann::json TraceLimitsToJson(const TraceLimits& limits) {
+  nlohmann::json j = nlohmann::json::object();
+  ForEachLimit(limits, [&](const char* name, double value) { j[name] = value; });
+  return j;
+}
+
+absl::StatusOr<TraceLimits> TraceLimitsFromJson(const nlohmann::json& j) {
+  if (!j.is_object()) return absl::InvalidArgumentError("job params: limits must be a JSON object");
+  TraceLimits limits;
+  absl::Status status;
+  ForEachLimit(limits, [&](const char* name, double& value) {
+    if (status.ok() && j.contains(name)) {
+      if (!j.at(name).is_number()) {
+        status = absl::InvalidArgumentError(absl::StrCat("job params: limits.", name, " must be a number"));
+      } else {
+        value = j.at(name).get<double>();
+      }
+    }
+  });
+  if (!status.ok()) return status;
+  return limits;
+}
 
 bool JobParams::IsValid(std::string* why) const {
   auto fail = [&](std::string text) {
@@ -28,6 +69,8 @@ bool JobParams::IsValid(std::string* why) const {
   if (object_id <= 0) return fail("object_id must be positive");
   if (coarsest_level < 0 || coarsest_level > 6) return fail("coarsest_level must be in 0..6");
   if (finest_level < coarsest_level || finest_level > 6) return fail("finest_level must be in coarsest_level..6");
+  if (map_level < finest_level || map_level > 6) return fail("map_level must be in finest_level..6");
+  if (std::string reach_why; !reach.IsValid(&reach_why)) return fail("reach: " + reach_why);
   if (!std::isfinite(threshold) || threshold <= 0) return fail("threshold must be a positive number");
   if (budget < 0) return fail("budget must be >= 0 (0 = unlimited)");
   if (!(probe.segment_length_mm >= 1 && probe.segment_length_mm <= 200)) return fail("segment length must be in [1, 200] mm");
@@ -37,7 +80,44 @@ bool JobParams::IsValid(std::string* why) const {
   if (lease_ms < 100 || lease_ms > 86'400'000) return fail("lease must be between 0.1 s and 24 h");
   std::string fit_why;
   if (!fit.IsValid(&fit_why)) return fail("estimator settings: " + fit_why);
+  std::string limits_why;
+  if (!limits.IsValid(&limits_why)) return fail("trace limits: " + limits_why);
   return true;
+}
+
+SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
+  SamplingPlanOptions o;
+  o.mode = p.mode;
+  o.coarsest_level = p.coarsest_level;
+  o.max_level = p.finest_level;
+  o.threshold = p.threshold;
+  o.distance.property = p.property;
+  o.sample_budget = p.budget;
+  o.max_retries = p.max_retries;
+  o.probe = p.probe;
+  o.seed = p.seed;
+  o.reach = p.reach;
+  return o;
+}
+
+void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
+  // The median edge of level 0 (limit positions: within a fraction of an
+  // edge of the control mesh's), halved per level.
+  ControlMesh mesh;
+  mesh.positions = control.limit_positions;
+  mesh.triangles = control.triangles;
+  const int auto_map = MapLevelFor(mesh);
+  if (p.finest_level == kAutoLevel) {
+    const int map = p.map_level == kAutoLevel ? auto_map : p.map_level;
+    p.finest_level = std::max(p.coarsest_level, map - 1);
+  }
+  if (p.map_level == kAutoLevel) p.map_level = std::max(p.finest_level, auto_map);
+}
+
+std::vector<const SurfaceLevel*> JobPlanLevels(const LoopSurface& surface, const JobParams& p) {
+  std::vector<const SurfaceLevel*> levels;
+  for (int k = 0; k <= std::min(p.finest_level, surface.max_level()); ++k) levels.push_back(&surface.level(k));
+  return levels;
 }
 
 nlohmann::json JobParamsToJson(const JobParams& p) {
@@ -46,6 +126,8 @@ nlohmann::json JobParamsToJson(const JobParams& p) {
           {"mode", std::string(PlanModeName(p.mode))},
           {"coarsest_level", p.coarsest_level},
           {"finest_level", p.finest_level},
+          {"map_level", p.map_level},
+          {"reach", ReachabilityToJson(p.reach)},
           {"threshold", p.threshold},
           {"budget", p.budget},
           {"probe",
@@ -55,7 +137,8 @@ nlohmann::json JobParamsToJson(const JobParams& p) {
           {"seed", p.seed},
           {"max_retries", p.max_retries},
           {"lease_ms", p.lease_ms},
-          {"fit", FitOptionsToJson(p.fit)}};
+          {"fit", FitOptionsToJson(p.fit)},
+          {"limits", TraceLimitsToJson(p.limits)}};
 }
 
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
@@ -73,6 +156,13 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
     else return absl::InvalidArgumentError(absl::StrCat("job params: unknown mode '", mode, "'"));
     p.coarsest_level = j.at("coarsest_level").get<int>();
     p.finest_level = j.at("finest_level").get<int>();
+    // Jobs stored before map levels: the map was on the plan's finest level.
+    p.map_level = j.contains("map_level") ? j.at("map_level").get<int>() : p.finest_level;
+    if (j.contains("reach")) {
+      absl::StatusOr<Reachability> reach = ReachabilityFromJson(j.at("reach"));
+      if (!reach.ok()) return absl::InvalidArgumentError(absl::StrCat("job params: ", reach.status().message()));
+      p.reach = *reach;
+    }
     p.threshold = j.at("threshold").get<double>();
     p.budget = j.at("budget").get<int>();
     p.probe.segment_length_mm = j.at("probe").at("segment_length_mm").get<double>();
@@ -84,6 +174,11 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
     absl::StatusOr<FitOptions> fit = FitOptionsFromJson(j.at("fit"));
     if (!fit.ok()) return fit.status();
     p.fit = *fit;
+    if (j.contains("limits")) {  // jobs stored before limits existed take the defaults
+      absl::StatusOr<TraceLimits> limits = TraceLimitsFromJson(j.at("limits"));
+      if (!limits.ok()) return limits.status();
+      p.limits = *limits;
+    }
   } catch (const nlohmann::json::exception& e) {
     return absl::InvalidArgumentError(absl::StrCat("job params: ", e.what()));
   }

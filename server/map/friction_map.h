@@ -69,6 +69,7 @@ struct MapValue {
   bool has_roughness = false;      // false when no sample has roughness
   std::vector<double> reflection;  // k1..kp (p = the highest order among the samples)
   double sigma = 0.0;              // exp of the interpolated log sigma
+  int region = -1;                 // RegionMap: the material region; -1 for FrictionMap or no data
 };
 
 class FrictionMap {

@@ -403,6 +403,7 @@ MapValue RegionMap::VertexValue(int v) const {
   out.mu = mu_[v];
   out.mu_std = mu_std_[v];
   const int r = region_[v];
+  out.region = r;
   out.has_roughness = r >= 0 && regions_[r].has_roughness();
   if (out.has_roughness) {
     out.reflection = regions_[r].reflection;
@@ -444,6 +445,7 @@ absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
   }
   MapValue out;
   const TextureRegion& region = regions_[best_region];
+  out.region = best_region;
   out.mu = region.statistics.mu;
   const double p = second_region >= 0 ? second / (best + second) : 0.0;
   double d = kInf;

@@ -187,6 +187,12 @@ std::vector<BrokenMesh> BrokenMeshes() {
        {"inconsistent orientation", "line 5", "line 6", "edge 1->2"}},
       {"unreferenced vertex", "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 5 5 5\nf 1 2 3\n", MeshFormat::kObj,
        {"vertex 3 is unreferenced"}},
+      // Found by fuzzing (tests/fuzz): tinyobjloader ends a line at a NUL, the
+      // pre-scan did not, and their face counts disagreed (was INTERNAL).
+      {"NUL byte in a face", std::string("v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3") + '\0' + " 2\n",
+       MeshFormat::kObj, {"line 8", "NUL byte at column 8"}},
+      {"carriage-return line ends, bad index", "v 0 0 0\rv 1 0 0\rv 0 1 0\r# x\rf 1 2 9\r", MeshFormat::kObj,
+       {"line 5", "index 9 is out of range"}},
       {"ply no magic", "plx\nformat ascii 1.0\nend_header\n", MeshFormat::kPly, {"header line 1", "'ply'"}},
       {"ply bad version", "ply\nformat ascii 2.0\nend_header\n", MeshFormat::kPly,
        {"header line 2", "unsupported PLY version '2.0'"}},
@@ -241,6 +247,31 @@ TEST(ParseControlMeshTest, RejectsBrokenMeshesWithClearMessages) {
     for (const std::string& fragment : broken.fragments) {
       EXPECT_THAT(std::string(mesh.status().message()), HasSubstr(fragment));
     }
+  }
+}
+
+// Found by fuzzing (tests/fuzz): a lone '\r' ends a line for tinyobjloader but
+// did not for the pre-scan, so a file with classic Mac line ends was rejected
+// ("found 4 vertices where the text has 1") and a '\r' inside a face line made
+// the two readers disagree on the faces (INTERNAL). Every line-end style now
+// reads the same mesh.
+TEST(ParseControlMeshTest, ObjReadsEveryLineEndStyle) {
+  const std::string lf = "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 2 3 4\nf 1 4 3\n";
+  const absl::StatusOr<ControlMesh> expected = ParseControlMesh(lf, MeshFormat::kObj, "lf");
+  ASSERT_TRUE(expected.ok()) << expected.status();
+  ASSERT_EQ(expected->triangles.size(), 4u);
+  auto replace_line_ends = [&](const std::string& end) {
+    std::string out;
+    for (char c : lf) out += c == '\n' ? end : std::string(1, c);
+    return out;
+  };
+  std::string mixed = lf;
+  mixed[mixed.find("\nf 2 3 4")] = '\r';  // one face line ended by a lone '\r'
+  for (const std::string& bytes : {replace_line_ends("\r\n"), replace_line_ends("\r"), mixed}) {
+    const absl::StatusOr<ControlMesh> mesh = ParseControlMesh(bytes, MeshFormat::kObj, "upload");
+    ASSERT_TRUE(mesh.ok()) << mesh.status();
+    EXPECT_EQ(mesh->positions, expected->positions);
+    EXPECT_EQ(mesh->triangles, expected->triangles);
   }
 }
 

@@ -38,16 +38,32 @@ std::vector<std::string_view> Tokens(std::string_view line) {
   return out;
 }
 
+// Lines end where tinyobjloader ends them: at "\n", "\r\n" or a lone "\r"
+// (classic Mac files), so that both passes see the same records and number
+// them alike. Returns the line starting at `pos` and moves `pos` past its end.
+std::string_view NextLine(std::string_view bytes, std::size_t& pos) {
+  std::size_t end = bytes.find_first_of("\r\n", pos);
+  if (end == std::string_view::npos) end = bytes.size();
+  const std::string_view line = bytes.substr(pos, end - pos);
+  pos = end + 1;
+  if (end < bytes.size() && bytes[end] == '\r' && pos < bytes.size() && bytes[pos] == '\n') ++pos;
+  return line;
+}
+
 absl::StatusOr<ObjScan> ScanObj(std::string_view bytes, std::string_view source) {
   ObjScan scan;
   int line_number = 0;
   std::size_t pos = 0;
   while (pos < bytes.size()) {
-    std::size_t end = bytes.find('\n', pos);
-    if (end == std::string_view::npos) end = bytes.size();
-    const std::string_view line = bytes.substr(pos, end - pos);
-    pos = end + 1;
+    const std::string_view line = NextLine(bytes, pos);
     ++line_number;
+    // tinyobjloader reads each line as a C string, so a NUL would end the
+    // line there for it but not for this scan: the two would count different
+    // vertices or face corners.
+    if (const std::size_t nul = line.find('\0'); nul != std::string_view::npos) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "%s line %d: NUL byte at column %d (an OBJ file is text)", source, line_number, nul + 1));
+    }
     const std::vector<std::string_view> tokens = Tokens(line);
     if (tokens.empty()) continue;
     if (tokens[0] == "v") {

@@ -12,6 +12,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/base/status_macros.h"
 
 namespace surfmap {
 namespace {
@@ -417,12 +418,6 @@ absl::StatusOr<Roles> FindRoles(const PlyHeader& header, std::string_view source
   }
   return roles;
 }
-
-#define SURFMAP_RETURN_IF_ERROR(expr)       \
-  do {                                      \
-    const absl::Status _status = (expr);    \
-    if (!_status.ok()) return _status;      \
-  } while (false)
 
 template <typename Source>
 absl::Status ReadBody(const PlyHeader& header, const Roles& roles, Source& data, std::string_view source,

@@ -43,6 +43,8 @@ class JobServiceImpl final : public pb::JobService::CallbackService {
                                       pb::SetJobStateResponse*) override;
   grpc::ServerUnaryReactor* GetPlan(grpc::CallbackServerContext*, const pb::GetPlanRequest*,
                                     pb::GetPlanResponse*) override;
+  grpc::ServerUnaryReactor* ListJobEvents(grpc::CallbackServerContext*, const pb::ListJobEventsRequest*,
+                                          pb::ListJobEventsResponse*) override;
   grpc::ServerWriteReactor<pb::JobUpdate>* WatchJob(grpc::CallbackServerContext*,
                                                     const pb::WatchJobRequest*) override;
 
@@ -66,8 +68,9 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
 
   // Shared by the unary and streamed submissions: validates, fits, stores,
   // then calls `finish` once the trace is durable (or was refused).
-  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples, bool lease_next,
-              pb::SubmitTraceResponse* response, std::function<void(absl::Status)> finish);
+  // `samples` must live until `finish` was called.
+  void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples, bool lease_next,
+              pb::SubmitTraceResponse* response, FinishFn finish);
 
  private:
   ServiceContext s_;
@@ -96,6 +99,10 @@ class TraceServiceImpl final : public pb::TraceService::CallbackService {
                                      pb::GetTraceResponse*) override;
   grpc::ServerUnaryReactor* RefitJob(grpc::CallbackServerContext*, const pb::RefitJobRequest*,
                                      pb::RefitJobResponse*) override;
+  grpc::ServerUnaryReactor* ListRejectedTraces(grpc::CallbackServerContext*, const pb::ListRejectedTracesRequest*,
+                                               pb::ListRejectedTracesResponse*) override;
+  grpc::ServerUnaryReactor* GetRejectedTrace(grpc::CallbackServerContext*, const pb::GetRejectedTraceRequest*,
+                                             pb::GetRejectedTraceResponse*) override;
 
  private:
   ServiceContext s_;

@@ -4,6 +4,7 @@
 #include "absl/strings/str_cat.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
+#include "server/service/job_watch_reactor.h"
 #include "server/service/proto_conversion.h"
 
 namespace surfmap {
@@ -19,151 +20,6 @@ pb::SiteState SiteStateToProto(SiteState s) {
   }
   return pb::SITE_STATE_UNSPECIFIED;
 }
-
-// WatchJob: one reactor per stream. One write in flight at a time; changes
-// that arrive while a write is in flight are coalesced into the next update,
-// so a slow client costs one pending message, never a growing queue. Building
-// an update (possibly with a map rebuild) runs on the worker pool, never on the
-// thread that reported the change (the store's writer).
-class JobWatchReactor final : public grpc::ServerWriteReactor<pb::JobUpdate> {
- public:
-  JobWatchReactor(const ServiceContext& services, int64_t job_id, bool include_map)
-      : s_(services), job_id_(job_id), include_map_(include_map), shared_(std::make_shared<Shared>()) {
-    shared_->reactor = this;
-  }
-
-  void Start() {
-    std::weak_ptr<Shared> weak = shared_;
-    absl::StatusOr<int64_t> handle = s_.coordinator->Watch(job_id_, [weak] {
-      if (std::shared_ptr<Shared> shared = weak.lock()) {
-        std::lock_guard<std::mutex> lock(shared->mu);
-        if (shared->reactor) shared->reactor->OnChangeLocked();
-      }
-    });
-    std::lock_guard<std::mutex> lock(shared_->mu);
-    if (!handle.ok()) {
-      FinishLocked(ToGrpcStatus(handle.status()));
-      return;
-    }
-    handle_ = *handle;
-    OnChangeLocked();
-  }
-
-  void OnWriteDone(bool ok) override {
-    std::lock_guard<std::mutex> lock(shared_->mu);
-    writing_ = false;
-    if (pending_finish_) {
-      Finish(*pending_finish_);
-      return;
-    }
-    if (!ok || final_sent_) {
-      FinishLocked(grpc::Status::OK);  // the client went away, or the job ended
-      return;
-    }
-    ScheduleLocked();
-  }
-
-  void OnCancel() override {
-    std::lock_guard<std::mutex> lock(shared_->mu);
-    FinishLocked(grpc::Status::CANCELLED);
-  }
-
-  void OnDone() override {
-    if (handle_ != 0) s_.coordinator->Unwatch(job_id_, handle_);
-    {
-      std::lock_guard<std::mutex> lock(shared_->mu);
-      shared_->reactor = nullptr;  // late listeners and pool tasks see it gone
-    }
-    delete this;
-  }
-
- private:
-  struct Shared {
-    std::mutex mu;
-    JobWatchReactor* reactor = nullptr;
-  };
-
-  void OnChangeLocked() {
-    dirty_ = true;
-    ScheduleLocked();
-  }
-
-  void ScheduleLocked() {
-    if (writing_ || scheduled_ || finished_ || !dirty_) return;
-    scheduled_ = true;
-    std::shared_ptr<Shared> shared = shared_;
-    bool queued = s_.pool->Submit([shared] {
-      std::lock_guard<std::mutex> lock(shared->mu);
-      if (shared->reactor) shared->reactor->WriteUpdateLocked();
-    });
-    if (!queued) scheduled_ = false;  // retried at the next change
-  }
-
-  void WriteUpdateLocked() {
-    scheduled_ = false;
-    if (writing_ || finished_ || !dirty_) return;
-    dirty_ = false;
-    // The end of the stream follows the durable job state, not the in-memory
-    // plan (which runs ahead while the last trace's write is being committed):
-    // the final update then carries every sample of the completed job. Read
-    // first, so the samples read below include everything it counts.
-    absl::StatusOr<JobRecord> durable = s_.coordinator->store()->GetJob(job_id_);
-    if (!durable.ok()) {
-      FinishLocked(ToGrpcStatus(durable.status()));
-      return;
-    }
-    absl::StatusOr<JobSnapshot> job = s_.coordinator->GetJob(job_id_);
-    if (!job.ok()) {
-      FinishLocked(ToGrpcStatus(job.status()));
-      return;
-    }
-    update_.Clear();
-    *update_.mutable_job() = JobInfoToProto(*job);
-    if (job->latest_sample) {
-      absl::StatusOr<pb::Sample> latest = BuildSample(*job->latest_sample);
-      if (!latest.ok()) {
-        FinishLocked(ToGrpcStatus(latest.status()));
-        return;
-      }
-      *update_.mutable_latest_sample() = std::move(*latest);
-    }
-    if (include_map_) {
-      // An update without the map that was asked for would look like a job
-      // with no samples: end the stream with the reason instead.
-      absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(job_id_);
-      absl::Status filled = map.ok() ? FillMapLevel(s_.coordinator->store(), job_id_, *map,
-                                                    map->surface->max_level(), update_.mutable_map())
-                                     : map.status();
-      if (!filled.ok()) {
-        FinishLocked(ToGrpcStatus(filled));
-        return;
-      }
-    }
-    final_sent_ = durable->state == JobState::kCompleted || durable->state == JobState::kCancelled;
-    update_.mutable_job()->set_state(JobStateToProto(durable->state));
-    writing_ = true;
-    StartWrite(&update_);
-  }
-
-  void FinishLocked(const grpc::Status& status) {
-    if (finished_) return;
-    finished_ = true;
-    if (writing_) {
-      pending_finish_ = status;
-    } else {
-      Finish(status);
-    }
-  }
-
-  const ServiceContext s_;
-  const int64_t job_id_;
-  const bool include_map_;
-  int64_t handle_ = 0;
-  std::shared_ptr<Shared> shared_;
-  pb::JobUpdate update_;
-  bool writing_ = false, scheduled_ = false, dirty_ = false, finished_ = false, final_sent_ = false;
-  std::optional<grpc::Status> pending_finish_;
-};
 
 }  // namespace
 
@@ -188,7 +44,11 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
 
 grpc::ServerUnaryReactor* JobServiceImpl::GetJob(grpc::CallbackServerContext* context, const pb::GetJobRequest* request,
                                                  pb::GetJobResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetJob", [&]() -> absl::Status {
+  // A job in memory is answered on the handler's thread (memory and one small
+  // read); a finished job not in memory is loaded on the pool first.
+  const bool loaded = s_.coordinator->IsJobLoaded(request->job_id());
+  return HandleUnaryInlineIf(loaded, context, s_, Role::kRead, "GetJob", [this, request, response]() -> absl::Status {
+    if (request->job_id() <= 0) return absl::InvalidArgumentError("job_id must be a positive job id");
     absl::StatusOr<JobSnapshot> job = s_.coordinator->GetJob(request->job_id());
     if (!job.ok()) return job.status();
     *response->mutable_job() = JobInfoToProto(*job);
@@ -198,7 +58,8 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetJob(grpc::CallbackServerContext* co
 
 grpc::ServerUnaryReactor* JobServiceImpl::ListJobs(grpc::CallbackServerContext* context,
                                                    const pb::ListJobsRequest* request, pb::ListJobsResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListJobs", [&]() -> absl::Status {
+  // May load finished jobs that are not in memory: on the pool.
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListJobs", [this, request, response]() -> absl::Status {
     if (request->object_id() < 0) return absl::InvalidArgumentError("object_id must be >= 0 (0 = all)");
     absl::StatusOr<std::vector<JobSnapshot>> jobs = s_.coordinator->ListJobs(request->object_id());
     if (!jobs.ok()) return jobs.status();
@@ -211,12 +72,17 @@ grpc::ServerUnaryReactor* JobServiceImpl::ChangeState(grpc::CallbackServerContex
                                                       const pb::SetJobStateRequest* request,
                                                       pb::SetJobStateResponse* response, JobState target,
                                                       const char* method) {
-  return HandleUnary(context, s_, Role::kSteer, method, [&]() -> absl::Status {
-    absl::StatusOr<JobSnapshot> job = s_.coordinator->SetJobState(request->job_id(), target);
-    if (!job.ok()) return job.status();
-    *response->mutable_job() = JobInfoToProto(*job);
-    spdlog::info("rpc={} job_id={} state={}", method, request->job_id(), std::string(JobStateName(target)));
-    return absl::OkStatus();
+  // Decided at once, answered when durable: the handler's thread never waits.
+  return HandleUnaryAsync(context, s_, Role::kSteer, method, [this, request, response, target, method](FinishFn finish) {
+    if (request->job_id() <= 0) return finish(absl::InvalidArgumentError("job_id must be a positive job id"));
+    const int64_t job_id = request->job_id();
+    s_.coordinator->SetJobState(job_id, target, [response, target, method, job_id, finish = std::move(finish)](
+                                                    absl::StatusOr<JobSnapshot> job) {
+      if (!job.ok()) return finish(job.status());
+      *response->mutable_job() = JobInfoToProto(*job);
+      spdlog::info("rpc={} job_id={} state={}", method, job_id, std::string(JobStateName(target)));
+      finish(absl::OkStatus());
+    });
   });
 }
 
@@ -235,15 +101,18 @@ grpc::ServerUnaryReactor* JobServiceImpl::CancelJob(grpc::CallbackServerContext*
 
 grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* context,
                                                   const pb::GetPlanRequest* request, pb::GetPlanResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetPlan", [&]() -> absl::Status {
+  // A copy of the plan's sites: cheap for a job in memory (no map is built).
+  const bool loaded = s_.coordinator->IsJobLoaded(request->job_id());
+  return HandleUnaryInlineIf(loaded, context, s_, Role::kRead, "GetPlan", [this, request, response]() -> absl::Status {
     PlanProgress progress;
     absl::StatusOr<std::vector<SiteRecord>> sites = s_.coordinator->PlanSites(request->job_id(), &progress);
     if (!sites.ok()) return sites.status();
-    // Counted after the plan's snapshot; see JobCoordinator::AddLeasedCount.
+    // Counted after the plan's snapshot; see JobSteering::LeasedCommands.
     absl::StatusOr<LeasedCounts> leased = s_.coordinator->LeasedCommands(request->job_id(), progress);
     if (!leased.ok()) return leased.status();
-    absl::StatusOr<MapSnapshot> map = s_.coordinator->Map(request->job_id());
-    const SurfaceLevel* finest = map.ok() ? &map->surface->finest() : nullptr;
+    absl::StatusOr<std::shared_ptr<const LoopSurface>> surface = s_.coordinator->JobSurface(request->job_id());
+    if (!surface.ok()) return surface.status();
+    const SurfaceLevel& finest = (*surface)->finest();
     response->set_job_id(request->job_id());
     *response->mutable_progress() = ProgressToProto(progress, &*leased);
     for (const SiteRecord& site : *sites) {
@@ -253,9 +122,35 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
       out->set_state(SiteStateToProto(site.state));
       out->set_attempts(site.failures + (site.sequence != 0 ? 1 : 0));
       out->set_failure_reason(site.reason);
-      if (finest && site.site.vertex < static_cast<int>(finest->limit_positions.size())) {
-        *out->mutable_position() = ToProto(finest->limit_positions[site.site.vertex]);
+      if (site.site.vertex < static_cast<int>(finest.limit_positions.size())) {
+        *out->mutable_position() = ToProto(finest.limit_positions[site.site.vertex]);
       }
+    }
+    return absl::OkStatus();
+  });
+}
+
+grpc::ServerUnaryReactor* JobServiceImpl::ListJobEvents(grpc::CallbackServerContext* context,
+                                                        const pb::ListJobEventsRequest* request,
+                                                        pb::ListJobEventsResponse* response) {
+  return HandleUnary(context, s_, Role::kRead, "ListJobEvents", [this, request, response]() -> absl::Status {
+    if (request->job_id() <= 0) return absl::InvalidArgumentError("job_id must be a positive job id");
+    if (request->after_event_id() < 0) return absl::InvalidArgumentError("after_event_id must be >= 0");
+    if (request->limit() < 0 || request->limit() > 10'000) {
+      return absl::InvalidArgumentError(absl::StrCat("limit must be in 0..10000 (0 = 1000), got ", request->limit()));
+    }
+    const int limit = request->limit() == 0 ? 1000 : request->limit();
+    absl::StatusOr<std::vector<EventRecord>> events =
+        s_.coordinator->reads().ListEvents(request->job_id(), request->after_event_id(), limit);
+    if (!events.ok()) return events.status();
+    response->mutable_events()->Reserve(static_cast<int>(events->size()));
+    for (const EventRecord& e : *events) {
+      pb::JobEvent* out = response->add_events();
+      out->set_event_id(e.id);
+      out->set_job_id(e.job_id);
+      *out->mutable_time() = TimestampFromUnixMs(e.unix_ms);
+      out->set_kind(e.kind);
+      out->set_detail_json(e.detail_json);
     }
     return absl::OkStatus();
   });
@@ -263,14 +158,14 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
 
 grpc::ServerWriteReactor<pb::JobUpdate>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
                                                                   const pb::WatchJobRequest* request) {
-  auto* reactor = new JobWatchReactor(s_, request->job_id(), request->include_map());
   absl::Status admitted = s_.gate->Admit(*context, Role::kRead, "WatchJob");
+  if (admitted.ok() && request->job_id() <= 0) admitted = absl::InvalidArgumentError("job_id must be a positive job id");
   if (!admitted.ok()) {
-    reactor->Finish(ToGrpcStatus(admitted));
-    return reactor;
+    auto* refused = new RefusedStream<pb::JobUpdate>();
+    refused->Finish(ToGrpcStatus(admitted));
+    return refused;
   }
-  reactor->Start();
-  return reactor;
+  return JobWatchReactor::Start(s_, request->job_id(), request->include_map());
 }
 
 }  // namespace surfmap

@@ -8,21 +8,20 @@ namespace surfmap {
 grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext* context,
                                                     const pb::GetSampleRequest* request,
                                                     pb::GetSampleResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetSample", [&]() -> absl::Status {
+  // Without the series: one indexed read. With them: the whole trace is read
+  // and refitted, which is long for a large trace: on the pool.
+  const bool series = request->include_series();
+  return HandleUnaryInlineIf(!series, context, s_, Role::kRead, "GetSample", [this, request, response, series]() -> absl::Status {
     if (request->fit_version() < 0) return absl::InvalidArgumentError("fit_version must be >= 0 (0 = latest)");
-    Store* store = s_.coordinator->store();
-    // The samples only when the series are asked for: one read of the trace
-    // and one of the fit either way.
-    absl::StatusOr<TraceRecord> trace = store->GetTrace(request->trace_id(), request->include_series());
-    if (!trace.ok()) return trace.status();
-    absl::StatusOr<CommandRecord> command = store->GetCommand(trace->command_id);
-    if (!command.ok()) return command.status();
-    absl::StatusOr<FitRecord> fit = store->GetFit(trace->id, request->fit_version());
-    if (!fit.ok()) return fit.status();
-    absl::StatusOr<pb::Sample> sample = BuildSample(*trace, *command, *fit);
+    // The trace, its command and the fit from one snapshot; the samples only
+    // when the series are asked for.
+    absl::StatusOr<SampleRecord> record =
+        s_.coordinator->reads().GetSample(request->trace_id(), request->fit_version(), series);
+    if (!record.ok()) return record.status();
+    absl::StatusOr<pb::Sample> sample = BuildSample(*record);
     if (!sample.ok()) return sample.status();
     *response->mutable_sample() = std::move(*sample);
-    if (request->include_series()) return AddRecomputedSeries(*trace, *fit, response->mutable_sample());
+    if (series) return AddRecomputedSeries(*record, response->mutable_sample());
     return absl::OkStatus();
   });
 }
@@ -30,11 +29,13 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext*
 grpc::ServerUnaryReactor* MapServiceImpl::ListSamples(grpc::CallbackServerContext* context,
                                                       const pb::ListSamplesRequest* request,
                                                       pb::ListSamplesResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListSamples", [&]() -> absl::Status {
+  // Every sample of a job: a bulk read, on the pool.
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListSamples", [this, request, response]() -> absl::Status {
     if (request->fit_version() < 0) return absl::InvalidArgumentError("fit_version must be >= 0 (0 = latest)");
-    Store* store = s_.coordinator->store();
-    if (absl::StatusOr<JobRecord> job = store->GetJob(request->job_id()); !job.ok()) return job.status();
-    return AppendJobSamples(store, request->job_id(), request->fit_version(), response->mutable_samples());
+    absl::StatusOr<std::vector<SampleRecord>> samples =
+        s_.coordinator->reads().ListSamples(request->job_id(), request->fit_version());
+    if (!samples.ok()) return samples.status();
+    return AppendSamples(*samples, response->mutable_samples());
   });
 }
 
@@ -48,9 +49,9 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetMap(grpc::CallbackServerContext* co
     if (level < 0 || level > finest) {
       return absl::InvalidArgumentError(absl::StrCat("level must be in 0..", finest, " or -1 (finest), got ", request->level()));
     }
-    if (absl::Status s = FillMapLevel(s_.coordinator->store(), request->job_id(), *snapshot, level,
-                                      response->mutable_map());
-        !s.ok()) {
+    absl::StatusOr<std::vector<SampleRecord>> samples = s_.coordinator->reads().ListSamples(request->job_id(), 0);
+    if (!samples.ok()) return samples.status();
+    if (absl::Status s = FillMapLevel(*snapshot, level, *samples, request->job_id(), response->mutable_map()); !s.ok()) {
       return s;
     }
     if (request->include_mesh()) {
@@ -94,6 +95,7 @@ grpc::ServerUnaryReactor* MapServiceImpl::QueryMap(grpc::CallbackServerContext* 
       out->set_distance_mm(point.distance);
       out->set_mu(value->mu);
       out->set_mu_uncertainty(value->mu_std);
+      out->set_region(value->region);
       if (value->has_roughness) {
         std::vector<double> a = ReflectionToAr(value->reflection);
         out->set_sigma(value->sigma);

@@ -29,7 +29,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::GetObject(grpc::CallbackServerConte
                                                        const pb::GetObjectRequest* request,
                                                        pb::GetObjectResponse* response) {
   return HandleUnary(context, s_, Role::kRead, "GetObject", [&]() -> absl::Status {
-    absl::StatusOr<ObjectRecord> object = s_.coordinator->store()->GetObject(request->object_id(), false);
+    absl::StatusOr<ObjectRecord> object = s_.coordinator->reads().GetObject(request->object_id());
     if (!object.ok()) return object.status();
     *response->mutable_object() = ObjectInfoToProto(*object);
     return absl::OkStatus();
@@ -40,7 +40,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::ListObjects(grpc::CallbackServerCon
                                                          const pb::ListObjectsRequest*,
                                                          pb::ListObjectsResponse* response) {
   return HandleUnary(context, s_, Role::kRead, "ListObjects", [&]() -> absl::Status {
-    absl::StatusOr<std::vector<ObjectRecord>> objects = s_.coordinator->store()->ListObjects();
+    absl::StatusOr<std::vector<ObjectRecord>> objects = s_.coordinator->reads().ListObjects();
     if (!objects.ok()) return objects.status();
     for (const ObjectRecord& o : *objects) *response->add_objects() = ObjectInfoToProto(o);
     return absl::OkStatus();

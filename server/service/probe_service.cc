@@ -56,7 +56,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
         Finish(ToGrpcStatus(absl::InvalidArgumentError("stream carried no chunk with a command_id")));
         return;
       }
-      service_->Submit(command_id_, rig_id_, samples_, lease_next_, response_,
+      service_->Submit(command_id_, rig_id_, &samples_, lease_next_, response_,
                        [this](absl::Status status) { Finish(ToGrpcStatus(status)); });
       return;
     }
@@ -88,7 +88,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   int64_t command_id_ = 0;
   std::string rig_id_;
   bool lease_next_ = false;
-  pb::TraceSamples samples_;
+  pb::TraceSamples samples_;  // lives until OnDone, after the submission finished
 };
 
 }  // namespace
@@ -96,66 +96,49 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
 grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerContext* context,
                                                          const pb::LeaseCommandRequest* request,
                                                          pb::LeaseCommandResponse* response) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = s_.gate->Admit(*context, Role::kProbe, "LeaseCommand");
-  if (admitted.ok()) admitted = ValidateRigId(request->rig_id());
-  if (admitted.ok() && request->job_id() < 0) admitted = absl::InvalidArgumentError("job_id must be >= 0 (0 = any)");
-  if (!admitted.ok()) {
-    FinishUnary(reactor, "LeaseCommand", admitted);
-    return reactor;
-  }
-  const std::string rig_id = request->rig_id();
-  s_.coordinator->LeaseCommand(rig_id, request->job_id(), [reactor, response, rig_id](absl::StatusOr<LeaseOutcome> outcome) {
-    if (!outcome.ok()) {
-      FinishUnary(reactor, "LeaseCommand", outcome.status());
-      return;
-    }
-    FillLeaseResponse(*outcome, response);
-    if (outcome->record) {
-      spdlog::debug("rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", rig_id, outcome->record->id,
-                    outcome->record->job_id, outcome->record->site_vertex, outcome->record->attempt);
-    }
-    FinishUnary(reactor, "LeaseCommand", absl::OkStatus());
+  return HandleUnaryAsync(context, s_, Role::kProbe, "LeaseCommand", [this, request, response](FinishFn finish) {
+    const std::string rig_id = request->rig_id();
+    s_.coordinator->probes().LeaseCommand(
+        rig_id, request->job_id(), [response, rig_id, finish = std::move(finish)](absl::StatusOr<LeaseOutcome> outcome) {
+          if (!outcome.ok()) return finish(outcome.status());
+          FillLeaseResponse(*outcome, response);
+          if (outcome->record) {
+            spdlog::debug("rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", rig_id,
+                          outcome->record->id, outcome->record->job_id, outcome->record->site_vertex,
+                          outcome->record->attempt);
+          }
+          finish(absl::OkStatus());
+        });
   });
-  return reactor;
 }
 
-void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples& samples,
-                              bool lease_next, pb::SubmitTraceResponse* response,
-                              std::function<void(absl::Status)> finish) {
-  if (command_id <= 0) {
-    finish(absl::InvalidArgumentError("command_id must be a positive command id"));
-    return;
-  }
-  if (absl::Status s = ValidateRigId(rig_id); !s.ok()) {
-    finish(s);
-    return;
-  }
-  absl::StatusOr<DragTrace> trace = DragTraceFromProto(samples, s_.config->max_trace_samples);
-  if (!trace.ok()) {
-    finish(absl::Status(trace.status().code(), absl::StrCat("command ", command_id, ": ", trace.status().message())));
-    return;
-  }
-  s_.coordinator->SubmitTrace(
-      command_id, rig_id, std::move(*trace), lease_next,
+void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples,
+                              bool lease_next, pb::SubmitTraceResponse* response, FinishFn finish) {
+  if (command_id <= 0) return finish(absl::InvalidArgumentError("command_id must be a positive command id"));
+  if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return finish(s);
+  const int max_samples = s_.config->max_trace_samples;
+  // The conversion is O(samples): it runs on the pool with the fit. `samples`
+  // lives until the call finishes.
+  auto source = [samples, max_samples, command_id]() -> absl::StatusOr<DragTrace> {
+    absl::StatusOr<DragTrace> trace = DragTraceFromProto(*samples, max_samples);
+    if (!trace.ok()) {
+      return absl::Status(trace.status().code(), absl::StrCat("command ", command_id, ": ", trace.status().message()));
+    }
+    return trace;
+  };
+  s_.coordinator->probes().SubmitTrace(
+      command_id, rig_id, source, lease_next,
       [response, rig_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
-        if (!outcome.ok()) {
-          finish(outcome.status());
-          return;
-        }
-        TraceRecord trace_record;
-        trace_record.id = outcome->trace_id;
-        trace_record.command_id = outcome->command.id;
-        trace_record.job_id = outcome->command.job_id;
-        // The trace and its first fit are stored at one time (also right for
-        // a retry's reply, which gets the original acceptance time).
-        trace_record.received_unix_ms = outcome->fit.created_unix_ms;
-        absl::StatusOr<pb::Sample> sample =
-            BuildSample(trace_record, outcome->command, outcome->fit, &outcome->probe, outcome->decoded_fit.get());
-        if (!sample.ok()) {  // the trace is stored; a retry reads it back the same way
-          finish(sample.status());
-          return;
-        }
+        if (!outcome.ok()) return finish(outcome.status());
+        SampleRecord record;
+        record.trace.id = outcome->trace_id;
+        record.trace.command_id = outcome->command.id;
+        record.trace.job_id = outcome->command.job_id;
+        record.trace.received_unix_ms = outcome->received_unix_ms;
+        record.command = outcome->command;
+        record.fit = outcome->fit;
+        absl::StatusOr<pb::Sample> sample = BuildSample(record, &outcome->probe, outcome->decoded_fit.get());
+        if (!sample.ok()) return finish(sample.status());  // stored; a retry reads it back the same way
         *response->mutable_sample() = std::move(*sample);
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);
@@ -170,15 +153,10 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
 grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerContext* context,
                                                         const pb::SubmitTraceRequest* request,
                                                         pb::SubmitTraceResponse* response) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = s_.gate->Admit(*context, Role::kProbe, "SubmitTrace");
-  if (!admitted.ok()) {
-    FinishUnary(reactor, "SubmitTrace", admitted);
-    return reactor;
-  }
-  Submit(request->command_id(), request->rig_id(), request->samples(), request->lease_next(), response,
-         [reactor](absl::Status status) { FinishUnary(reactor, "SubmitTrace", status); });
-  return reactor;
+  return HandleUnaryAsync(context, s_, Role::kProbe, "SubmitTrace", [this, request, response](FinishFn finish) {
+    Submit(request->command_id(), request->rig_id(), &request->samples(), request->lease_next(), response,
+           std::move(finish));
+  });
 }
 
 grpc::ServerReadReactor<pb::SubmitTraceChunk>* ProbeServiceImpl::SubmitTraceStream(grpc::CallbackServerContext* context,
@@ -196,19 +174,21 @@ grpc::ServerReadReactor<pb::SubmitTraceChunk>* ProbeServiceImpl::SubmitTraceStre
 grpc::ServerUnaryReactor* ProbeServiceImpl::ReportFailure(grpc::CallbackServerContext* context,
                                                           const pb::ReportFailureRequest* request,
                                                           pb::ReportFailureResponse* response) {
-  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = s_.gate->Admit(*context, Role::kProbe, "ReportFailure");
-  if (admitted.ok()) admitted = ValidateRigId(request->rig_id());
-  if (!admitted.ok()) {
-    FinishUnary(reactor, "ReportFailure", admitted);
-    return reactor;
-  }
-  s_.coordinator->ReportFailure(request->command_id(), request->rig_id(), request->reason(),
-                                [reactor, response](absl::StatusOr<bool> will_retry) {
-                                  if (will_retry.ok()) response->set_will_retry(*will_retry);
-                                  FinishUnary(reactor, "ReportFailure", will_retry.status());
-                                });
-  return reactor;
+  return HandleUnaryAsync(context, s_, Role::kProbe, "ReportFailure", [this, request, response](FinishFn finish) {
+    FailureKind kind;
+    switch (request->kind()) {
+      case pb::FAILURE_KIND_UNSPECIFIED:  // rigs from before kinds existed
+      case pb::FAILURE_KIND_TRANSIENT: kind = FailureKind::kTransient; break;
+      case pb::FAILURE_KIND_UNREACHABLE: kind = FailureKind::kUnreachable; break;
+      default: return finish(absl::InvalidArgumentError(absl::StrCat("kind: unknown value ", request->kind())));
+    }
+    s_.coordinator->probes().ReportFailure(
+        request->command_id(), request->rig_id(), request->reason(), kind,
+        [response, finish = std::move(finish)](absl::StatusOr<bool> will_retry) {
+          if (will_retry.ok()) response->set_will_retry(*will_retry);
+          finish(will_retry.status());
+        });
+  });
 }
 
 }  // namespace surfmap

@@ -1,15 +1,17 @@
 #include "server/service/proto_builders.h"
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 
 #include "absl/strings/str_cat.h"
 #include "server/estimate/roughness.h"
+#include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 #include "server/codec/fit_json.h"
 #include "server/estimate/fit_trace.h"
 #include "server/jobs/command_json.h"
-#include "server/jobs/stored_trace.h"
+#include "server/jobs/job_reads.h"
 #include "server/service/proto_conversion.h"
 
 namespace surfmap {
@@ -61,8 +63,10 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   return out;
 }
 
-absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
-                                       const ProbeCommand* decoded_probe, const TraceFit* decoded_fit) {
+absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCommand* decoded_probe,
+                                       const TraceFit* decoded_fit) {
+  const TraceRecord& trace = record.trace;
+  const CommandRecord& command = record.command;
   ProbeCommand parsed_probe;
   if (decoded_probe == nullptr) {
     absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(command.command_json);
@@ -73,7 +77,7 @@ absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRe
     parsed_probe = std::move(*probe);
     decoded_probe = &parsed_probe;
   }
-  absl::StatusOr<pb::Fit> fit_proto = FitToProto(fit, decoded_fit);
+  absl::StatusOr<pb::Fit> fit_proto = FitToProto(record.fit, decoded_fit);
   if (!fit_proto.ok()) return fit_proto.status();
   pb::Sample s;
   s.set_trace_id(trace.id);
@@ -86,95 +90,109 @@ absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRe
   s.set_segment_length_mm(decoded_probe->probe.segment_length_mm);
   *s.mutable_fit() = std::move(*fit_proto);
   *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
+  s.set_rig_id(command.lease_owner);  // a done command's last lessee measured it
   return s;
 }
 
 absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted) {
-  TraceRecord trace;
-  trace.id = accepted.trace_id;
-  trace.command_id = accepted.command.id;
-  trace.job_id = accepted.command.job_id;
-  trace.received_unix_ms = accepted.received_unix_ms;
-  return BuildSample(trace, accepted.command, accepted.fit);
+  SampleRecord record;
+  record.trace.id = accepted.trace_id;
+  record.trace.command_id = accepted.command.id;
+  record.trace.job_id = accepted.command.job_id;
+  record.trace.received_unix_ms = accepted.received_unix_ms;
+  record.command = accepted.command;
+  record.fit = accepted.fit;
+  return BuildSample(record);
 }
 
-absl::Status AppendJobSamples(Store* store, int64_t job_id, int32_t fit_version,
-                              google::protobuf::RepeatedPtrField<pb::Sample>* out) {
-  absl::StatusOr<std::vector<CommandRecord>> commands = store->ListCommands(job_id);
-  if (!commands.ok()) return commands.status();
-  std::map<int64_t, const CommandRecord*> by_id;
-  for (const CommandRecord& c : *commands) by_id[c.id] = &c;
-  absl::StatusOr<std::vector<FitRecord>> fits = store->ListFits(job_id, fit_version);
-  if (!fits.ok()) return fits.status();
-  std::map<int64_t, const FitRecord*> fit_by_trace;
-  for (const FitRecord& f : *fits) fit_by_trace[f.trace_id] = &f;
-  absl::StatusOr<std::vector<TraceRecord>> traces = store->ListTraces(job_id, /*include_samples=*/false);
-  if (!traces.ok()) return traces.status();
-  for (const TraceRecord& t : *traces) {
-    auto c = by_id.find(t.command_id);
-    if (c == by_id.end()) {  // the schema's foreign key makes this impossible short of corruption
-      return absl::DataLossError(absl::StrCat("trace ", t.id, " answers command ", t.command_id,
-                                              ", which the job does not have"));
-    }
-    auto f = fit_by_trace.find(t.id);
-    if (f == fit_by_trace.end()) continue;  // no fit of this version (a refit may cover only some traces)
-    absl::StatusOr<pb::Sample> sample = BuildSample(t, *c->second, *f->second);
+absl::Status AppendSamples(const std::vector<SampleRecord>& samples,
+                           google::protobuf::RepeatedPtrField<pb::Sample>* out) {
+  out->Reserve(out->size() + static_cast<int>(samples.size()));
+  for (const SampleRecord& record : samples) {
+    absl::StatusOr<pb::Sample> sample = BuildSample(record);
     if (!sample.ok()) return sample.status();
     *out->Add() = std::move(*sample);
   }
   return absl::OkStatus();
 }
 
-absl::Status AddRecomputedSeries(const TraceRecord& trace, const FitRecord& record, pb::Sample* sample) {
-  const nlohmann::json options_json = nlohmann::json::parse(record.options_json, nullptr, false);
-  absl::StatusOr<FitOptions> options = options_json.is_discarded()
-                                           ? absl::DataLossError("stored fit options are not JSON")
-                                           : FitOptionsFromJson(options_json);
-  if (!options.ok()) {
-    return absl::DataLossError(absl::StrCat("fit ", record.id, ": stored options: ", options.status().message()));
-  }
-  absl::StatusOr<TraceFit> fit = FitTrace(FromStoredSamples(trace.samples), *options);
-  if (!fit.ok()) {
-    return absl::DataLossError(absl::StrCat("trace ", trace.id, " no longer fits: ", fit.status().message()));
-  }
-  // Bit-equal with the build that stored the fit; a later build may round
-  // differently in the last digits, never more.
-  if (record.mu.has_value() && !(std::abs(fit->friction.mu - *record.mu) <= 1e-9)) {
-    return absl::DataLossError(absl::StrCat("trace ", trace.id, ": refit mu ", fit->friction.mu,
-                                            " differs from the stored ", *record.mu,
-                                            " (fit by estimator ", record.estimator_version, ")"));
-  }
-  AddFitSeries(*fit, options->step_mm, sample->mutable_fit());
+absl::Status AddRecomputedSeries(const SampleRecord& record, pb::Sample* sample) {
+  FitOptions options;
+  absl::StatusOr<TraceFit> fit = JobReads::RecomputeFit(record, &options);
+  if (!fit.ok()) return fit.status();
+  AddFitSeries(*fit, options.step_mm, sample->mutable_fit());
   return absl::OkStatus();
 }
 
-absl::Status FillMapLevel(Store* store, int64_t job_id, const MapSnapshot& snapshot, int level, pb::MapLevel* out) {
+namespace {
+
+// The map's material regions with their pooled estimates and areas (on the
+// map level: each triangle's area shared equally by its corners).
+void FillRegions(const RegionMap& map, pb::MapLevel* out) {
+  const SurfaceLevel& level = map.level();
+  std::vector<double> area(map.regions().size(), 0.0);
+  for (const auto& t : level.triangles) {
+    const auto& x = level.limit_positions;
+    const double third = (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm() / 6.0;
+    for (int i = 0; i < 3; ++i) {
+      const int r = map.region()[t[i]];
+      if (r >= 0) area[r] += third;
+    }
+  }
+  for (int r = 0; r < static_cast<int>(map.regions().size()); ++r) {
+    const TextureRegion& region = map.regions()[r];
+    pb::MapRegion* o = out->add_regions();
+    o->set_region(r);
+    o->set_mu(region.statistics.mu);
+    o->set_mu_se(region.statistics.mu_se);
+    o->set_mu_spread(region.statistics.spread);
+    o->set_piece_count(static_cast<int>(region.pieces.size()));
+    o->set_roughness_piece_count(region.roughness_pieces);
+    if (region.has_roughness()) {
+      o->mutable_reflection()->Assign(region.reflection.begin(), region.reflection.end());
+      const std::vector<double> a = ReflectionToAr(region.reflection);
+      o->mutable_ar_coefficients()->Assign(a.begin(), a.end());
+      o->set_sigma(region.sigma);
+    }
+    o->set_area_mm2(area[r]);
+  }
+}
+
+}  // namespace
+
+absl::Status FillMapLevel(const MapSnapshot& snapshot, int level, const std::vector<SampleRecord>& samples,
+                          int64_t job_id, pb::MapLevel* out) {
   const SurfaceLevel& surface_level = snapshot.surface->level(level);
   const int n = static_cast<int>(surface_level.limit_positions.size());
   out->set_job_id(job_id);
   out->set_level(level);
   out->set_vertex_count(n);
   if (snapshot.map) {
-    const FrictionMap& map = *snapshot.map;
-    out->mutable_mu()->Reserve(n);
-    out->mutable_mu_uncertainty()->Reserve(n);
-    for (int v = 0; v < n; ++v) {
-      out->add_mu(map.mu()[v]);
-      out->add_mu_uncertainty(map.mu_std()[v]);
-    }
+    // A coarser level's vertices are a prefix of the map level's.
+    const RegionMap& map = *snapshot.map;
+    out->mutable_mu()->Assign(map.mu().begin(), map.mu().begin() + n);
+    out->mutable_mu_uncertainty()->Assign(map.mu_std().begin(), map.mu_std().begin() + n);
+    out->mutable_region()->Assign(map.region().begin(), map.region().begin() + n);
+    out->mutable_boundary_probability()->Assign(map.boundary_probability().begin(),
+                                                map.boundary_probability().begin() + n);
     if (map.roughness_order() > 0) {
+      // 0 where the vertex's region has no roughness (no pure piece long
+      // enough for a fit): the arrays stay per vertex.
       std::vector<double> k(map.roughness_order());
       for (int v = 0; v < n; ++v) {
         for (int j = 0; j < map.roughness_order(); ++j) k[j] = map.reflection()[j][v];
-        std::vector<double> a = ReflectionToAr(k);
-        out->add_sigma(std::exp(map.log_sigma()[v]));
+        const bool has = std::isfinite(map.log_sigma()[v]) && std::all_of(k.begin(), k.end(), [](double x) {
+                           return std::isfinite(x);
+                         });
+        const std::vector<double> a = has ? ReflectionToAr(k) : std::vector<double>{};
+        out->add_sigma(has ? std::exp(map.log_sigma()[v]) : 0.0);
         out->add_a1(a.size() > 0 ? a[0] : 0.0);
         out->add_a2(a.size() > 1 ? a[1] : 0.0);
       }
     }
+    FillRegions(map, out);
   }
-  // The measured samples (latest fits), with their sites and drags.
-  return AppendJobSamples(store, job_id, /*fit_version=*/0, out->mutable_samples());
+  return AppendSamples(samples, out->mutable_samples());
 }
 
 void FillMesh(const SurfaceLevel& level, int level_index, int64_t object_id, pb::GetMeshResponse* out) {

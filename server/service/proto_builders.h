@@ -20,27 +20,26 @@ pb::JobProgress ProgressToProto(const PlanProgress& progress, const LeasedCounts
 pb::JobInfo JobInfoToProto(const JobSnapshot& job);
 pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& object);
 
-// A sample: the command's site and drag with the trace's fit. `probe` and
-// `decoded_fit`, when given, are command.command_json and fit.result_json
-// already decoded (the trace path has them).
-// DATA_LOSS naming the record when the stored command or fit cannot be read.
-absl::StatusOr<pb::Sample> BuildSample(const TraceRecord& trace, const CommandRecord& command, const FitRecord& fit,
-                                       const ProbeCommand* probe = nullptr, const TraceFit* decoded_fit = nullptr);
+// A sample: the command's site and drag (and the rig that measured it) with
+// the trace's fit. `probe` and `decoded_fit`, when given, are
+// record.command.command_json and record.fit.result_json already decoded
+// (the trace path has them). DATA_LOSS naming the record when the stored
+// command or fit cannot be read.
+absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCommand* probe = nullptr,
+                                       const TraceFit* decoded_fit = nullptr);
 // A sample of a trace the job accepted (its fit on arrival).
 absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted);
-// The job's samples in trace order with their fit of `fit_version` (0 =
-// latest; traces without a fit of that version are left out), appended to `out`.
-absl::Status AppendJobSamples(Store* store, int64_t job_id, int32_t fit_version,
-                              google::protobuf::RepeatedPtrField<pb::Sample>* out);
-// Refits `trace` (read with its samples) with the options of its stored `fit`
-// and adds the per-pair mu and the ACF to `sample`'s fit. DATA_LOSS if the
-// refit does not reproduce the stored mu (the estimator is deterministic).
-absl::Status AddRecomputedSeries(const TraceRecord& trace, const FitRecord& fit, pb::Sample* sample);
+// Samples read from one snapshot (JobReads::ListSamples), appended in order.
+absl::Status AppendSamples(const std::vector<SampleRecord>& samples,
+                           google::protobuf::RepeatedPtrField<pb::Sample>* out);
+// Adds the per-pair mu and the ACF, recomputed from the sample's trace (read
+// with its samples) with its fit's options; see JobReads::RecomputeFit.
+absl::Status AddRecomputedSeries(const SampleRecord& record, pb::Sample* sample);
 
 // Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
 // vertices of `level`, by the numbering contract), and the measured samples.
-absl::Status FillMapLevel(Store* store, int64_t job_id, const MapSnapshot& snapshot, int level,
-                          pb::MapLevel* out);
+absl::Status FillMapLevel(const MapSnapshot& snapshot, int level, const std::vector<SampleRecord>& samples,
+                          int64_t job_id, pb::MapLevel* out);
 void FillMesh(const SurfaceLevel& level, int level_index, int64_t object_id, pb::GetMeshResponse* out);
 
 }  // namespace surfmap

@@ -1,5 +1,8 @@
 #include "server/service/proto_conversion.h"
 
+#include <algorithm>
+#include <tuple>
+
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
@@ -68,13 +71,34 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     case pb::SAMPLING_MODE_ADAPTIVE: p.mode = PlanMode::kAdaptive; break;
     case pb::SAMPLING_MODE_UNIFORM: p.mode = PlanMode::kUniform; break;
     case pb::SAMPLING_MODE_UNCERTAINTY: p.mode = PlanMode::kUncertainty; break;
-    case pb::SAMPLING_MODE_UNSPECIFIED:
-      return absl::InvalidArgumentError(
-          "spec.mode must be ADAPTIVE, UNIFORM or UNCERTAINTY (UNSPECIFIED is rejected)");
+    case pb::SAMPLING_MODE_UNSPECIFIED:  // the default job
+    case pb::SAMPLING_MODE_BOUNDARY: p.mode = PlanMode::kBoundary; break;
     default: return absl::InvalidArgumentError(absl::StrCat("spec.mode: unknown value ", spec.mode()));
   }
+  if (spec.threshold() != 0 && p.mode != PlanMode::kAdaptive) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.threshold is read only by ADAPTIVE; this job's mode is ",
+                                                   std::string(PlanModeName(p.mode)), " (leave threshold at 0)"));
+  }
+  if (p.mode == PlanMode::kUncertainty && spec.budget() <= 0) {
+    return absl::InvalidArgumentError("spec.budget must be > 0 for UNCERTAINTY (it stops only at the budget)");
+  }
   p.coarsest_level = spec.coarsest_level();
-  p.finest_level = spec.finest_level();
+  p.finest_level = spec.has_finest_level() ? spec.finest_level() : kAutoLevel;
+  p.map_level = spec.has_map_level() ? spec.map_level() : kAutoLevel;
+  for (auto [name, has, value] : {std::tuple{"finest_level", spec.has_finest_level(), spec.finest_level()},
+                                  std::tuple{"map_level", spec.has_map_level(), spec.map_level()}}) {
+    if (has && (value < 0 || value > 6)) {
+      return absl::InvalidArgumentError(absl::StrCat("spec.", name, " must be in 0..6 (unset: chosen from the mesh), got ", value));
+    }
+  }
+  if (spec.has_finest_level() && spec.has_map_level() && spec.map_level() < spec.finest_level()) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.map_level ", spec.map_level(),
+                                                   " must be at least finest_level ", spec.finest_level()));
+  }
+  if (spec.has_finest_level() && spec.coarsest_level() > spec.finest_level()) {
+    return absl::InvalidArgumentError(absl::StrCat("spec.coarsest_level ", spec.coarsest_level(),
+                                                   " must be at most finest_level ", spec.finest_level()));
+  }
   p.threshold = spec.threshold() != 0 ? spec.threshold() : p.threshold;
   p.budget = spec.budget();
   if (spec.has_probe()) {
@@ -85,10 +109,103 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
   p.seed = spec.seed() != 0 ? spec.seed() : 1;
   p.max_retries = spec.max_retries() != 0 ? spec.max_retries() : p.max_retries;
   p.lease_ms = default_lease_ms;
-  if (spec.has_lease()) p.lease_ms = spec.lease().seconds() * 1000 + spec.lease().nanos() / 1'000'000;
+  if (spec.has_lease()) {
+    // Checked before any arithmetic: seconds * 1000 overflows int64 for a
+    // client's huge value, and a Duration's nanos must be within +-1e9 with
+    // the sign of its seconds.
+    const google::protobuf::Duration& lease = spec.lease();
+    const int64_t max_seconds = 86'400;
+    if (lease.seconds() < 0 || lease.seconds() > max_seconds) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("lease must be between 0.1 s and 24 h, got ", lease.seconds(), " s"));
+    }
+    if (lease.nanos() < 0 || lease.nanos() > 999'999'999) {
+      return absl::InvalidArgumentError(
+          absl::StrCat("lease.nanos must be in 0..999999999 for a positive duration, got ", lease.nanos()));
+    }
+    p.lease_ms = lease.seconds() * 1000 + lease.nanos() / 1'000'000;
+  }
+  if (spec.has_trace_limits()) {
+    absl::StatusOr<TraceLimits> limits = TraceLimitsFromProto(spec.trace_limits());
+    if (!limits.ok()) return limits.status();
+    p.limits = *limits;
+  }
+  if (spec.has_reach()) {
+    absl::StatusOr<Reachability> reach = ReachabilityFromProto(spec.reach());
+    if (!reach.ok()) return reach.status();
+    p.reach = *reach;
+  }
+  // Levels left to the server are resolved against the mesh at CreateJob;
+  // everything else is checked now, with stand-ins that pass.
+  JobParams check = p;
+  if (check.finest_level == kAutoLevel) check.finest_level = std::max(check.coarsest_level, 0);
+  if (check.map_level == kAutoLevel) check.map_level = std::max(check.finest_level, 0);
   std::string why;
-  if (!p.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
+  if (!check.IsValid(&why)) return absl::InvalidArgumentError("spec: " + why);
   return p;
+}
+
+absl::StatusOr<Reachability> ReachabilityFromProto(const pb::Reachability& proto) {
+  Reachability r;
+  if (proto.has_approach_direction()) r.approach_direction = FromProto(proto.approach_direction());
+  if (proto.max_angle_deg() != 0) r.max_angle_deg = proto.max_angle_deg();
+  if (proto.has_support_point()) r.support_point = FromProto(proto.support_point());
+  if (proto.has_support_normal()) r.support_normal = FromProto(proto.support_normal());
+  if (proto.support_clearance_mm() != 0) r.support_clearance_mm = proto.support_clearance_mm();
+  std::string why;
+  if (!r.IsValid(&why)) return absl::InvalidArgumentError("spec.reach: " + why);
+  return r;
+}
+
+pb::Reachability ReachabilityToProto(const Reachability& r) {
+  pb::Reachability proto;
+  if (r.approach_direction) *proto.mutable_approach_direction() = ToProto(*r.approach_direction);
+  proto.set_max_angle_deg(r.max_angle_deg);
+  if (r.support_point) *proto.mutable_support_point() = ToProto(*r.support_point);
+  if (r.support_normal) *proto.mutable_support_normal() = ToProto(*r.support_normal);
+  proto.set_support_clearance_mm(r.support_clearance_mm);
+  return proto;
+}
+
+namespace {
+
+// Proto field, domain field: one list for both directions.
+template <typename Proto, typename Visit>
+void ForEachProtoLimit(Proto& proto, TraceLimits& l, Visit visit) {
+  visit("max_offset_mm", proto.has_max_offset_mm(), proto.max_offset_mm(), l.max_offset_mm);
+  visit("min_length_fraction", proto.has_min_length_fraction(), proto.min_length_fraction(), l.min_length_fraction);
+  visit("max_length_fraction", proto.has_max_length_fraction(), proto.max_length_fraction(), l.max_length_fraction);
+  visit("max_direction_deg", proto.has_max_direction_deg(), proto.max_direction_deg(), l.max_direction_deg);
+  visit("max_normal_deg", proto.has_max_normal_deg(), proto.max_normal_deg(), l.max_normal_deg);
+  visit("normal_force_factor", proto.has_normal_force_factor(), proto.normal_force_factor(), l.normal_force_factor);
+  visit("max_mu", proto.has_max_mu(), proto.max_mu(), l.max_mu);
+  visit("max_duration_factor", proto.has_max_duration_factor(), proto.max_duration_factor(), l.max_duration_factor);
+}
+
+}  // namespace
+
+absl::StatusOr<TraceLimits> TraceLimitsFromProto(const pb::TraceLimits& proto) {
+  TraceLimits limits;
+  ForEachProtoLimit(proto, limits, [](const char*, bool has, double value, double& field) {
+    if (has) field = value;
+  });
+  std::string why;
+  if (!limits.IsValid(&why)) return absl::InvalidArgumentError("spec.trace_limits: " + why);
+  return limits;
+}
+
+pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits) {
+  pb::TraceLimits proto;
+  TraceLimits copy = limits;
+  proto.set_max_offset_mm(copy.max_offset_mm);
+  proto.set_min_length_fraction(copy.min_length_fraction);
+  proto.set_max_length_fraction(copy.max_length_fraction);
+  proto.set_max_direction_deg(copy.max_direction_deg);
+  proto.set_max_normal_deg(copy.max_normal_deg);
+  proto.set_normal_force_factor(copy.normal_force_factor);
+  proto.set_max_mu(copy.max_mu);
+  proto.set_max_duration_factor(copy.max_duration_factor);
+  return proto;
 }
 
 pb::JobSpec JobParamsToProto(const JobParams& p) {
@@ -97,11 +214,14 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   spec.set_property(p.property == TextureProperty::kFriction    ? pb::PROPERTY_FRICTION
                     : p.property == TextureProperty::kRoughness ? pb::PROPERTY_ROUGHNESS
                                                                 : pb::PROPERTY_BOTH);
-  spec.set_mode(p.mode == PlanMode::kAdaptive  ? pb::SAMPLING_MODE_ADAPTIVE
-                : p.mode == PlanMode::kUniform ? pb::SAMPLING_MODE_UNIFORM
-                                                       : pb::SAMPLING_MODE_UNCERTAINTY);
+  spec.set_mode(p.mode == PlanMode::kAdaptive      ? pb::SAMPLING_MODE_ADAPTIVE
+                : p.mode == PlanMode::kUniform     ? pb::SAMPLING_MODE_UNIFORM
+                : p.mode == PlanMode::kUncertainty ? pb::SAMPLING_MODE_UNCERTAINTY
+                                                   : pb::SAMPLING_MODE_BOUNDARY);
   spec.set_coarsest_level(p.coarsest_level);
   spec.set_finest_level(p.finest_level);
+  spec.set_map_level(p.map_level);
+  *spec.mutable_reach() = ReachabilityToProto(p.reach);
   spec.set_threshold(p.threshold);
   spec.set_budget(p.budget);
   spec.mutable_probe()->set_segment_length_mm(p.probe.segment_length_mm);
@@ -111,8 +231,46 @@ pb::JobSpec JobParamsToProto(const JobParams& p) {
   spec.set_max_retries(p.max_retries);
   spec.mutable_lease()->set_seconds(p.lease_ms / 1000);
   spec.mutable_lease()->set_nanos(static_cast<int32_t>((p.lease_ms % 1000) * 1'000'000));
+  *spec.mutable_trace_limits() = TraceLimitsToProto(p.limits);
   return spec;
 }
+
+namespace {
+
+void FillRoughness(const ArFit& r, pb::RoughnessEstimate* re) {
+  for (double a : r.a) re->add_ar_coefficients(a);
+  for (double e : r.a_stderr) re->add_ar_stderr(e);
+  for (double k : r.reflection) re->add_reflection(k);
+  re->set_sigma(r.sigma);
+  re->set_stationary(r.stationary);
+  re->set_acf_decay_mm(r.acf_decay_mm);
+  re->set_dominant_wavelength_mm(r.dominant_wavelength_mm.value_or(0.0));
+  re->set_below_noise_floor(r.below_noise_floor);
+}
+
+pb::DragPiece DragPieceToProto(const DragPiece& piece) {
+  pb::DragPiece out;
+  out.set_start_mm(piece.start_mm);
+  out.set_end_mm(piece.end_mm);
+  out.set_starts_at_change(piece.starts_at_change);
+  out.set_ends_at_change(piece.ends_at_change);
+  out.set_mu(piece.mu);
+  out.set_mu_std(piece.mu_std);
+  out.set_mu_se(piece.mu_se);
+  out.set_pair_count(piece.pair_count);
+  switch (piece.roughness_state) {
+    case PieceRoughness::kFitted:
+      out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_FITTED);
+      FillRoughness(piece.roughness, out.mutable_roughness());
+      break;
+    case PieceRoughness::kTooShort: out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_TOO_SHORT); break;
+    case PieceRoughness::kFitFailed: out.set_roughness_state(pb::DragPiece::ROUGHNESS_STATE_FIT_FAILED); break;
+  }
+  out.set_roughness_note(piece.roughness_note);
+  return out;
+}
+
+}  // namespace
 
 absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* decoded) {
   TraceFit parsed;
@@ -143,17 +301,10 @@ absl::StatusOr<pb::Fit> FitToProto(const FitRecord& record, const TraceFit* deco
   fe->set_pair_count(f.n_pairs);
   fe->set_window_start_mm(f.window_start_mm);
   fe->set_window_end_mm(f.window_end_mm);
-  const ArFit& r = fit->roughness;
-  pb::RoughnessEstimate* re = out.mutable_roughness();
-  for (double a : r.a) re->add_ar_coefficients(a);
-  for (double e : r.a_stderr) re->add_ar_stderr(e);
-  for (double k : r.reflection) re->add_reflection(k);
-  re->set_sigma(r.sigma);
-  re->set_stationary(r.stationary);
-  re->set_acf_decay_mm(r.acf_decay_mm);
-  re->set_dominant_wavelength_mm(r.dominant_wavelength_mm.value_or(0.0));
-  re->set_below_noise_floor(r.below_noise_floor);
+  FillRoughness(fit->roughness, out.mutable_roughness());
   out.set_noise_std(fit->noise_std);
+  for (const ChangePoint& change : fit->changes) out.add_change_s_mm(change.s_mm);
+  for (const DragPiece& piece : fit->pieces) *out.add_pieces() = DragPieceToProto(piece);
   return out;
 }
 

@@ -28,6 +28,11 @@ void AppendSamples(const pb::TraceSamples& more, pb::TraceSamples* into);
 // mode, unknown enum values, and out-of-range numbers are INVALID_ARGUMENT.
 absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t default_lease_ms);
 pb::JobSpec JobParamsToProto(const JobParams& params);
+// Unset fields take TraceLimits' defaults; INVALID_ARGUMENT naming the field.
+absl::StatusOr<TraceLimits> TraceLimitsFromProto(const pb::TraceLimits& proto);
+absl::StatusOr<Reachability> ReachabilityFromProto(const pb::Reachability& proto);
+pb::Reachability ReachabilityToProto(const Reachability& reach);
+pb::TraceLimits TraceLimitsToProto(const TraceLimits& limits);
 
 absl::StatusOr<FitOptions> FitOptionsFromProto(const pb::EstimatorSettings& settings);
 

@@ -19,6 +19,7 @@ bool ServerConfig::IsValid(std::string* why) const {
   if (max_query_points < 1) return fail("max_query_points must be at least 1");
   if (!(shutdown_deadline_s >= 0 && shutdown_deadline_s <= 600)) return fail("shutdown_deadline_s must be in [0, 600]");
   if (worker_threads < 1 || worker_threads > 64) return fail("worker_threads must be in [1, 64]");
+  if (probe_threads < 1 || probe_threads > 64) return fail("probe_threads must be in [1, 64]");
   if (!(default_lease_s > 0 && default_lease_s <= 86400)) return fail("default_lease_s must be in (0, 86400]");
   if (log_format != "text" && log_format != "json") return fail("log_format must be 'text' or 'json'");
   return true;
@@ -29,7 +30,7 @@ absl::StatusOr<ServerConfig> ParseServerConfig(const std::string& json_text, con
   if (j.is_discarded()) return absl::InvalidArgumentError("config: not valid JSON");
   if (!j.is_object()) return absl::InvalidArgumentError("config: top level must be a JSON object");
   static const std::set<std::string> kKeys = {"listen",          "db",         "max_message_mb", "max_trace_samples",
-                                              "max_query_points", "shutdown_deadline_s", "worker_threads",
+                                              "max_query_points", "shutdown_deadline_s", "worker_threads", "probe_threads",
                                               "default_lease_s", "log_format", "log_level",      "tokens"};
   ServerConfig c = defaults;
   try {
@@ -43,6 +44,7 @@ absl::StatusOr<ServerConfig> ParseServerConfig(const std::string& json_text, con
     if (j.contains("max_query_points")) c.max_query_points = j["max_query_points"].get<int>();
     if (j.contains("shutdown_deadline_s")) c.shutdown_deadline_s = j["shutdown_deadline_s"].get<double>();
     if (j.contains("worker_threads")) c.worker_threads = j["worker_threads"].get<int>();
+    if (j.contains("probe_threads")) c.probe_threads = j["probe_threads"].get<int>();
     if (j.contains("default_lease_s")) c.default_lease_s = j["default_lease_s"].get<double>();
     if (j.contains("log_format")) c.log_format = j["log_format"].get<std::string>();
     if (j.contains("log_level")) c.log_level = j["log_level"].get<std::string>();

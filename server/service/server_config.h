@@ -16,7 +16,8 @@ struct ServerConfig {
   int max_trace_samples = 1'000'000;   // per submitted trace
   int max_query_points = 10'000;       // per QueryMap
   double shutdown_deadline_s = 10.0;   // in-flight calls get this long on SIGTERM
-  int worker_threads = 2;              // pool for long work (mesh refinement, refits)
+  int worker_threads = 2;              // pool for long work (maps, refits, mesh refinement, watchers)
+  int probe_threads = 2;               // pool that fits the rigs' traces
   double default_lease_s = 60.0;       // probe command lease when a job does not set one
   std::string log_format = "text";     // "text" or "json" (one JSON object per line)
   std::string log_level = "info";      // spdlog level name

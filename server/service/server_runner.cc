@@ -10,8 +10,13 @@
 #include <grpcpp/health_check_service_interface.h>
 #include <spdlog/spdlog.h>
 #include "absl/strings/str_cat.h"
+#include "server/base/mutex.h"
+#include "server/base/task_queue.h"
+#include "server/base/timer_queue.h"
+#include "server/base/worker_pool.h"
 #include "server/jobs/job_coordinator.h"
 #include "server/service/grpc_services.h"
+#include "server/service/watch_update_cache.h"
 #include "storage/sqlite_store.h"
 
 namespace surfmap {
@@ -41,13 +46,21 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   sigaddset(&signals, SIGINT);
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
+  // Declared before the store and the coordinator, destroyed after them: a
+  // store callback always finds the queue it posts to.
+  TaskQueue completions;
+  TimerQueue timers;
+  WorkerPool probe_pool(config.probe_threads, /*max_queued=*/4096);
+  WorkerPool pool(config.worker_threads, /*max_queued=*/4096);
   absl::StatusOr<std::unique_ptr<SqliteStore>> store = SqliteStore::Open(config.db_path);
   if (!store.ok()) return store.status();
-  JobCoordinator coordinator(store->get(), static_cast<int64_t>(config.default_lease_s * 1000));
+  CoordinatorOptions options;
+  options.default_lease_ms = static_cast<int64_t>(config.default_lease_s * 1000);
+  JobCoordinator coordinator(store->get(), JobExecutors{&completions, &probe_pool, &pool}, options);
   if (absl::Status s = coordinator.LoadJobs(); !s.ok()) return s;
-  WorkerPool pool(config.worker_threads, /*max_queued=*/4096);
   RequestGate gate(config.tokens);
-  ServiceContext services{&coordinator, &gate, &config, &pool};
+  WatchUpdateCache watch_updates(&coordinator);
+  ServiceContext services{&coordinator, &gate, &config, &pool, &timers, &watch_updates};
 
   ObjectServiceImpl objects(services);
   JobServiceImpl jobs(services);
@@ -85,6 +98,16 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
                         std::chrono::milliseconds(static_cast<int64_t>(config.shutdown_deadline_s * 1000));
   server->Shutdown(deadline);  // in-flight calls finish or are cancelled at the deadline
   server->Wait();
+  // Every call has finished; work they started that outlives them (a job
+  // being re-read, a watcher's last build) runs out in the order work flows:
+  // pool -> store -> completions -> pool.
+  pool.Drain();
+  Notification synced;
+  (*store)->SyncAsync([&synced](absl::Status) { synced.Notify(); });
+  synced.WaitForNotification();
+  completions.Drain();
+  probe_pool.Drain();
+  pool.Drain();
   spdlog::info("surfmapd: stopped");
   return absl::OkStatus();
 }

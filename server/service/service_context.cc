@@ -1,11 +1,25 @@
 #include "server/service/service_context.h"
 
+#include <exception>
+
 namespace surfmap {
 namespace {
 
 bool IsServerError(absl::StatusCode code) {
   return code == absl::StatusCode::kInternal || code == absl::StatusCode::kDataLoss ||
          code == absl::StatusCode::kUnknown || code == absl::StatusCode::kUnavailable;
+}
+
+// Runs `work`, turning an escaped exception into INTERNAL with its message
+// (a handler must answer, whatever went wrong below it).
+absl::Status RunGuarded(const std::function<absl::Status()>& work, const char* method) {
+  try {
+    return work();
+  } catch (const std::exception& e) {
+    return absl::InternalError(std::string(method) + " failed: " + e.what());
+  } catch (...) {
+    return absl::InternalError(std::string(method) + " failed with an unknown exception");
+  }
 }
 
 }  // namespace
@@ -25,7 +39,7 @@ grpc::ServerUnaryReactor* HandleUnary(grpc::CallbackServerContext* context, cons
                                       Role needed, const char* method, const std::function<absl::Status()>& work) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
   absl::Status admitted = services.gate->Admit(*context, needed, method);
-  FinishUnary(reactor, method, admitted.ok() ? work() : admitted);
+  FinishUnary(reactor, method, admitted.ok() ? RunGuarded(work, method) : admitted);
   return reactor;
 }
 
@@ -37,8 +51,29 @@ grpc::ServerUnaryReactor* HandleUnaryOnPool(grpc::CallbackServerContext* context
     FinishUnary(reactor, method, admitted);
     return reactor;
   }
-  bool queued = services.pool->Submit([reactor, method, work = std::move(work)] { FinishUnary(reactor, method, work()); });
+  bool queued = services.pool->Submit(
+      [reactor, method, work = std::move(work)] { FinishUnary(reactor, method, RunGuarded(work, method)); });
   if (!queued) FinishUnary(reactor, method, absl::UnavailableError("server busy: work queue full, retry later"));
+  return reactor;
+}
+
+grpc::ServerUnaryReactor* HandleUnaryInlineIf(bool cheap, grpc::CallbackServerContext* context,
+                                              const ServiceContext& services, Role needed, const char* method,
+                                              std::function<absl::Status()> work) {
+  return cheap ? HandleUnary(context, services, needed, method, work)
+               : HandleUnaryOnPool(context, services, needed, method, std::move(work));
+}
+
+grpc::ServerUnaryReactor* HandleUnaryAsync(grpc::CallbackServerContext* context, const ServiceContext& services,
+                                           Role needed, const char* method,
+                                           const std::function<void(FinishFn finish)>& start) {
+  grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
+  absl::Status admitted = services.gate->Admit(*context, needed, method);
+  if (!admitted.ok()) {
+    FinishUnary(reactor, method, admitted);
+    return reactor;
+  }
+  start([reactor, method](absl::Status status) { FinishUnary(reactor, method, status); });
   return reactor;
 }
 

@@ -8,8 +8,9 @@ namespace surfmap {
 grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext* context,
                                                      const pb::GetTraceRequest* request,
                                                      pb::GetTraceResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetTrace", [&]() -> absl::Status {
-    absl::StatusOr<TraceRecord> trace = s_.coordinator->store()->GetTrace(request->trace_id(), true);
+  // Every sample of a trace: a bulk read and an O(samples) conversion, on the pool.
+  return HandleUnaryOnPool(context, s_, Role::kRead, "GetTrace", [this, request, response]() -> absl::Status {
+    absl::StatusOr<TraceRecord> trace = s_.coordinator->reads().GetTrace(request->trace_id());
     if (!trace.ok()) return trace.status();
     response->set_trace_id(trace->id);
     response->set_command_id(trace->command_id);
@@ -32,6 +33,48 @@ grpc::ServerUnaryReactor* TraceServiceImpl::RefitJob(grpc::CallbackServerContext
     response->set_failed(outcome->failed);
     spdlog::info("rpc=RefitJob job_id={} version={} refitted={} failed={}", request->job_id(), outcome->version,
                  outcome->refitted, outcome->failed);
+    return absl::OkStatus();
+  });
+}
+
+namespace {
+
+pb::RejectedTrace RejectedTraceToProto(const RejectedTraceRecord& r) {
+  pb::RejectedTrace out;
+  out.set_rejected_trace_id(r.id);
+  out.set_command_id(r.command_id);
+  out.set_job_id(r.job_id);
+  out.set_rig_id(r.rig_id);
+  out.set_check(r.check_name);
+  out.set_message(r.message);
+  out.set_sample_count(r.n_samples);
+  *out.mutable_received() = TimestampFromUnixMs(r.received_unix_ms);
+  return out;
+}
+
+}  // namespace
+
+grpc::ServerUnaryReactor* TraceServiceImpl::ListRejectedTraces(grpc::CallbackServerContext* context,
+                                                               const pb::ListRejectedTracesRequest* request,
+                                                               pb::ListRejectedTracesResponse* response) {
+  return HandleUnary(context, s_, Role::kRead, "ListRejectedTraces", [&]() -> absl::Status {
+    absl::StatusOr<std::vector<RejectedTraceRecord>> rejected =
+        s_.coordinator->reads().ListRejectedTraces(request->job_id());
+    if (!rejected.ok()) return rejected.status();
+    for (const RejectedTraceRecord& r : *rejected) *response->add_rejected_traces() = RejectedTraceToProto(r);
+    return absl::OkStatus();
+  });
+}
+
+grpc::ServerUnaryReactor* TraceServiceImpl::GetRejectedTrace(grpc::CallbackServerContext* context,
+                                                             const pb::GetRejectedTraceRequest* request,
+                                                             pb::GetRejectedTraceResponse* response) {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "GetRejectedTrace", [this, request, response]() -> absl::Status {
+    absl::StatusOr<RejectedTraceRecord> rejected =
+        s_.coordinator->reads().GetRejectedTrace(request->rejected_trace_id());
+    if (!rejected.ok()) return rejected.status();
+    *response->mutable_rejected_trace() = RejectedTraceToProto(*rejected);
+    *response->mutable_rejected_trace()->mutable_samples() = DragTraceToProto(FromStoredSamples(rejected->samples));
     return absl::OkStatus();
   });
 }

@@ -31,6 +31,7 @@
 #include "clients/rig/scene.h"
 #include "server/mesh/control_mesh.h"
 #include "tests/bench/bench_stats.h"
+#include "tests/bench/steering_load.h"
 #include "tests/bench/trace_templates.h"
 #include "tests/support/job_helpers.h"
 #include "tests/support/server_process.h"
@@ -54,6 +55,12 @@ struct Flags {
   int points = 100;
   std::string token;
   std::string lease = "both";
+  std::string only;  // "", "throughput", "watchers", "reads"
+  int watchers = 4;
+  int watcher_rigs = 2;
+  int watcher_rounds = 3;
+  int64_t big_trace_samples = 990'000;
+  int heavy_calls = 4;
 };
 
 struct PhaseResult {
@@ -163,6 +170,15 @@ int Main(int argc, char** argv) {
                  "combined: SubmitTrace leases the rig's next command (lease_next); separate: a LeaseCommand "
                  "per trace; both: each rig count both ways, in this order")
       ->check(CLI::IsMember({"combined", "separate", "both"}));
+  app.add_option("--only", flags.only,
+                 "run one part: throughput (rigs, QueryMap), watchers (rigs with and without WatchJob streams), "
+                 "reads (GetJob under heavy GetSample calls)")
+      ->check(CLI::IsMember({"throughput", "watchers", "reads"}));
+  app.add_option("--watchers", flags.watchers, "WatchJob(include_map) streams in the watcher phases");
+  app.add_option("--watcher-rigs", flags.watcher_rigs, "rigs in the watcher phases");
+  app.add_option("--watcher-rounds", flags.watcher_rounds, "alternating phase pairs (without, with watchers)");
+  app.add_option("--big-trace-samples", flags.big_trace_samples, "samples of the trace GetSample reads");
+  app.add_option("--heavy-calls", flags.heavy_calls, "concurrent GetSample(include_series) calls");
   CLI11_PARSE(app, argc, argv);
 
   std::vector<int> rig_counts;
@@ -214,6 +230,45 @@ int Main(int argc, char** argv) {
   }
   std::cout << absl::StrFormat("%zu template traces of %zu samples simulated in %.0f ms\n", templates->size(),
                                templates->front().samples.size(), Ms(Clock::now() - generating));
+
+  if (flags.only.empty() || flags.only == "watchers") {
+    WatcherLoadResult w = RunWatcherLoad(address, object_id, *templates, flags.watcher_rigs, flags.watchers,
+                                         flags.watcher_rounds, flags.seconds, /*level=*/4);
+    double without = 0, with = 0;
+    std::cout << absl::StrFormat("\nWatchers: %d rigs, with and without %d WatchJob(include_map) streams (job on the "
+                                 "level-4 plate: 20,769 sites), alternating %.1f s phases\n",
+                                 flags.watcher_rigs, flags.watchers, flags.seconds);
+    for (size_t i = 0; i < w.rate_without.size() && i < w.rate_with.size(); ++i) {
+      std::cout << absl::StrFormat("  round %zu: %.0f traces/s without, %.0f with (%.2fx)\n", i + 1, w.rate_without[i],
+                                   w.rate_with[i], w.rate_without[i] > 0 ? w.rate_with[i] / w.rate_without[i] : 0.0);
+      without += w.rate_without[i];
+      with += w.rate_with[i];
+    }
+    std::cout << absl::StrFormat("  all rounds: %.2fx (goal >= 0.80); %lld map updates delivered\n",
+                                 without > 0 ? with / without : 0.0, static_cast<long long>(w.updates));
+  }
+  if (flags.only.empty() || flags.only == "reads") {
+    ReadLatencyResult r = RunReadLatency(address, object_id, flags.big_trace_samples, flags.heavy_calls, flags.seconds);
+    if (!r.error.empty()) {
+      std::cout << "\nReads under load: " << r.error << "\n";
+    } else {
+      std::cout << absl::StrFormat(
+          "\nGetJob while %d GetSample(include_series) calls on a %lld-sample trace run (%d done, mean %.0f ms)\n"
+          "  alone:      p50 %.2f ms  p99 %.2f ms  max %.2f ms (%d calls)\n"
+          "  under load: p50 %.2f ms  p99 %.2f ms  max %.2f ms (%d calls); goal p99 < 20 ms: %s\n",
+          flags.heavy_calls, static_cast<long long>(r.trace_samples), r.heavy_calls, r.heavy_mean_ms,
+          r.get_job_alone.p50_ms, r.get_job_alone.p99_ms, r.get_job_alone.max_ms, r.get_job_alone.count,
+          r.get_job_under_load.p50_ms, r.get_job_under_load.p99_ms, r.get_job_under_load.max_ms,
+          r.get_job_under_load.count, r.get_job_under_load.p99_ms < 20 ? "met" : "NOT met");
+    }
+  }
+  if (!flags.only.empty() && flags.only != "throughput") {
+    if (own_server) {
+      auto stopped = own_server->Stop(std::chrono::seconds(30));
+      if (!stopped.ok()) std::cerr << "stopping surfmapd: " << stopped.status() << "\n";
+    }
+    return 0;
+  }
 
   std::vector<std::pair<int, bool>> runs;  // rigs, combined
   for (int rigs : rig_counts) {

@@ -441,8 +441,27 @@ TEST_F(BadInputTest, UnknownIdsUnspecifiedEnumsAndBadFields) {
         [&] { return Create([&](pb::JobSpec* s) { s->set_property(pb::PROPERTY_UNSPECIFIED); }); });
   Check("CreateJob: unknown property value 42", {C::INVALID_ARGUMENT, {"property"}},
         [&] { return Create([&](pb::JobSpec* s) { s->set_property(static_cast<pb::Property>(42)); }); });
-  Check("CreateJob: UNSPECIFIED mode", {C::INVALID_ARGUMENT, {"mode"}},
-        [&] { return Create([&](pb::JobSpec* s) { s->set_mode(pb::SAMPLING_MODE_UNSPECIFIED); }); });
+  Check("CreateJob: unknown mode value 42", {C::INVALID_ARGUMENT, {"mode"}},
+        [&] { return Create([&](pb::JobSpec* s) { s->set_mode(static_cast<pb::SamplingMode>(42)); }); });
+  Check("CreateJob: a threshold in a mode that does not read it", {C::INVALID_ARGUMENT, {"threshold", "ADAPTIVE"}},
+        [&] {
+          return Create([&](pb::JobSpec* s) {
+            s->set_mode(pb::SAMPLING_MODE_BOUNDARY);
+            s->set_threshold(3.0);
+          });
+        });
+  Check("CreateJob: map level below the finest level", {C::INVALID_ARGUMENT, {"map_level"}}, [&] {
+    return Create([&](pb::JobSpec* s) {
+      s->set_finest_level(2);
+      s->set_map_level(1);
+    });
+  });
+  Check("CreateJob: an approach cone of 0 degrees", {C::INVALID_ARGUMENT, {"reach"}}, [&] {
+    return Create([&](pb::JobSpec* s) {
+      s->mutable_reach()->mutable_approach_direction()->set_z(1.0);
+      s->mutable_reach()->set_max_angle_deg(-5.0);
+    });
+  });
   Check("CreateJob: finest level below coarsest", {C::INVALID_ARGUMENT, {"level"}}, [&] {
     return Create([&](pb::JobSpec* s) {
       s->set_coarsest_level(2);

@@ -80,7 +80,7 @@ pb::JobSpec MakeJobSpec(std::int64_t object_id, const JobSpecOptions& options) {
   spec.set_mode(options.mode);
   spec.set_coarsest_level(options.coarsest_level);
   spec.set_finest_level(options.finest_level);
-  spec.set_threshold(options.threshold);
+  if (options.mode == pb::SAMPLING_MODE_ADAPTIVE) spec.set_threshold(options.threshold);  // read only there
   spec.set_budget(options.budget);
   spec.set_seed(options.seed);
   spec.mutable_probe()->set_segment_length_mm(20.0);

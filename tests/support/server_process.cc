@@ -121,7 +121,8 @@ absl::Status ServerProcess::Launch() {
   const std::string log_file = dir_.File(absl::StrCat("server-", launches_, ".log"));
   std::remove(port_file.c_str());
 
-  std::vector<std::string> args = {options_.binary, "--listen", "127.0.0.1:0", "--port-file", port_file,
+  const int listen_port = options_.same_port_on_restart ? last_port_ : 0;
+  std::vector<std::string> args = {options_.binary, "--listen", absl::StrCat("127.0.0.1:", listen_port), "--port-file", port_file,
                                    "--db", db_path()};
   if (!options_.config_json.empty()) {
     args.push_back("--config");
@@ -175,6 +176,7 @@ absl::Status ServerProcess::Launch() {
     int port = 0;
     if (ParsePortFile(ReadWholeFile(port_file), &port)) {
       port_ = port;
+      last_port_ = port;
       break;
     }
     if (Clock::now() > deadline) {

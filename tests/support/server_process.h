@@ -6,7 +6,8 @@
 // with stdout and stderr captured to <dir>/server-<n>.log, waits for the port
 // file (written by the server once it accepts calls) and connects a channel.
 // Kill() (SIGKILL) and Stop() (SIGTERM + wait) end it; Restart() launches it
-// again on the same database (a new port). The destructor SIGKILLs a server
+// again on the same database (a new port, or the same one with
+// `same_port_on_restart`, so clients that hold the address reconnect). The destructor SIGKILLs a server
 // still running and removes the temp dir.
 //
 // The child is started with PR_SET_PDEATHSIG = SIGKILL, so a crashed test
@@ -37,6 +38,9 @@ struct ServerOptions {
   std::string binary = DefaultSurfmapdPath();
   std::string config_json;                 // non-empty: written to config.json, passed as --config
   std::vector<std::string> extra_args;     // appended after the standard flags
+  // Restart() listens on the port of the previous launch (clients such as a
+  // surfmap-rig process keep their address across the restart).
+  bool same_port_on_restart = false;
   std::chrono::milliseconds start_timeout{60'000};  // generous: CI machines run tests in parallel
 };
 
@@ -98,6 +102,7 @@ class ServerProcess {
   pid_t pid_ = -1;
   int launches_ = 0;
   int port_ = 0;
+  int last_port_ = 0;  // of the latest launch, kept after it ends
   std::shared_ptr<grpc::Channel> channel_;
   std::chrono::steady_clock::time_point signalled_at_{};
 };

@@ -1,13 +1,13 @@
 // The JSON API the page uses: every route is a GET that makes read-only
 // unary calls to surfmapd (through surfmap_client.js) and returns a JSON form
-// (json_forms.js). The live channel (Server-Sent Events) is in event_stream.js.
+// (json_forms.js). The live channel (Server-Sent Events) is in dashboard_server.js.
 //
 // Contract: findRoute(pathname) -> { handler, params } or null;
 // handler({ params, query, client }) resolves to the response body or rejects
 // with an ApiError (bad request) or the grpc-js error (passed on as it is).
 import { invalidArgument } from './http_errors.js';
 import {
-  jobForm, mapForm, mapValueForm, meshForm, objectForm, planForm, sampleForm, traceForm,
+  eventForm, jobForm, mapForm, mapValueForm, meshForm, objectForm, planForm, sampleForm, traceForm,
 } from './json_forms.js';
 
 /** A positive integer id from the path, or INVALID_ARGUMENT naming it. */
@@ -47,7 +47,16 @@ export function parseBoolParam(query, name, fallback) {
   throw invalidArgument(`query parameter ${name}='${text}' is not a boolean (1/0, true/false)`);
 }
 
+/** A non-negative integer cursor (an event id) from the query, or its default when absent. */
+export function parseCursorParam(query, name) {
+  const text = query.get(name);
+  if (text === null || text === '') return 0;
+  if (!/^[0-9]{1,15}$/.test(text)) throw invalidArgument(`query parameter ${name}='${text}' is not a non-negative integer`);
+  return Number(text);
+}
+
 const MAX_LEVEL = 6;  // GetMeshRequest: subdivision level 0..6
+const MAX_EVENTS = 10000;  // ListJobEventsRequest.limit: 1..10000
 
 const ROUTES = [
   ['/api/objects', async ({ client }) => {
@@ -73,6 +82,14 @@ const ROUTES = [
     return { job: jobForm(r.job) };
   }],
   ['/api/jobs/:job/plan', async ({ client, params }) => planForm(await client.call('GetPlan', { job_id: params.job }))],
+  // The job's event log after a cursor (the SSE channel is /api/jobs/:id/events).
+  ['/api/jobs/:job/event-log', async ({ client, params, query }) => {
+    const after = parseCursorParam(query, 'after');
+    const limit = parseIntParam(query, 'limit', { min: 1, max: MAX_EVENTS, fallback: 1000 });
+    const r = await client.call('ListJobEvents', { job_id: params.job, after_event_id: after, limit });
+    const events = r.events.map(eventForm);
+    return { job_id: params.job, events, next_after: events.length ? events.at(-1).event_id : after };
+  }],
   ['/api/jobs/:job/map', async ({ client, params, query }) => {
     const level = parseIntParam(query, 'level', { min: -1, max: MAX_LEVEL, fallback: -1 });
     const includeMesh = parseBoolParam(query, 'mesh', true);

@@ -46,6 +46,15 @@ const fakeClient = {
           normals: [{ x: 1, y: 0, z: 0 }, { x: 0, y: 1, z: 0 }, { x: 0, y: 0, z: 1 }], triangle_indices: [0, 1, 2] };
       case 'QueryMap':
         return { values: request.points.map((p) => ({ surface_point: p, normal: { x: 0, y: 0, z: 1 }, distance_mm: 0, mu: 0.25, mu_uncertainty: 0.01, sigma: 0.1, a1: 0.5, a2: -0.2 })) };
+      case 'ListJobEvents': {
+        const all = [
+          { event_id: 7, job_id: 3, time: { seconds: 1700000000, nanos: 0 }, kind: 'job_created', detail_json: '{"initial_commands":4}' },
+          { event_id: 9, job_id: 3, time: { seconds: 1700000001, nanos: 0 }, kind: 'trace_accepted',
+            detail_json: '{"command_id":2,"level":0,"vertex":5,"mu":0.13,"rig":"rig-a"}' },
+          { event_id: 12, job_id: 3, time: { seconds: 1700000002, nanos: 0 }, kind: 'probe_failed', detail_json: 'not json' },
+        ];
+        return { events: all.filter((e) => e.event_id > request.after_event_id).slice(0, request.limit) };
+      }
       case 'GetTrace':
         return { trace_id: request.trace_id, command_id: 2, job_id: 3,
           samples: { t: [0, 0.1], x: [0, 1], y: [0, 0], z: [0, 0], fx: [-1, 1], fy: [0, 0], fz: [5, 5], phases: ['PHASE_FORWARD', 'PHASE_REVERSE'] } };
@@ -142,6 +151,29 @@ test('mesh comes flat and rounded; trace phases as words', async () => {
   const trace = (await getJson('/api/traces/5')).json.trace;
   assert.deepEqual(trace.phases, ['fwd', 'rev']);
   assert.equal(trace.sample_count, 2);
+});
+
+test('event log: a cursor and a limit, detail parsed, bad detail named, bad cursor refused', async () => {
+  let r = await getJson('/api/jobs/3/event-log?after=7&limit=5');
+  assert.equal(r.status, 200);
+  assert.deepEqual(calls.at(-1), ['ListJobEvents', { job_id: 3, after_event_id: 7, limit: 5 }]);
+  assert.equal(r.json.next_after, 12);
+  assert.deepEqual(r.json.events[0], {
+    event_id: 9, job_id: 3, time: '2023-11-14T22:13:21.000Z', kind: 'trace_accepted',
+    detail: { command_id: 2, level: 0, vertex: 5, mu: 0.13, rig: 'rig-a' },
+  });
+  assert.equal(r.json.events[1].detail, null);
+  assert.match(r.json.events[1].detail_error, /^event 12: detail_json is not JSON/);
+  r = await getJson('/api/jobs/3/event-log');
+  assert.deepEqual(calls.at(-1), ['ListJobEvents', { job_id: 3, after_event_id: 0, limit: 1000 }]);
+  assert.equal(r.json.events.length, 3);
+  r = await getJson('/api/jobs/3/event-log?after=12');
+  assert.deepEqual([r.json.events, r.json.next_after], [[], 12], 'nothing new: the cursor stays');
+  r = await getJson('/api/jobs/3/event-log?after=-1');
+  assert.equal(r.status, 400);
+  assert.equal(r.json.error.message, "query parameter after='-1' is not a non-negative integer");
+  r = await getJson('/api/jobs/3/event-log?limit=10001');
+  assert.equal(r.json.error.message, 'query parameter limit=10001 is out of range [1, 10000]');
 });
 
 test('only GET and HEAD: the dashboard is read-only', async () => {

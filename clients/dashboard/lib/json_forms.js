@@ -121,6 +121,8 @@ export function sampleForm(s) {
     segment_length_mm: s.segment_length_mm,
     fit: fitForm(s.fit),
     received: timestampToIso(s.received),
+    // The rig that measured it; '' from servers older than the field.
+    rig_id: s.rig_id || '',
   };
 }
 
@@ -207,4 +209,35 @@ export function planForm(p) {
       position: vec(s.position),
     })),
   };
+}
+
+/**
+ * A job event (ListJobEvents): `detail` is detail_json parsed (the server
+ * writes a JSON object: trace_accepted has command_id, level, vertex, mu,
+ * rig; probe_failed has command_id, reason, kind, rig, will_retry;
+ * job_state has from, to). Detail that is not a JSON object is kept as text
+ * in `detail_error` with `detail` null, so one bad record does not hide the
+ * others.
+ */
+export function eventForm(e) {
+  const form = {
+    event_id: e.event_id,
+    job_id: e.job_id,
+    time: timestampToIso(e.time),
+    kind: e.kind,
+    detail: null,
+  };
+  let parsed;
+  try {
+    parsed = JSON.parse(e.detail_json || '{}');
+  } catch (err) {
+    form.detail_error = `event ${e.event_id}: detail_json is not JSON (${err.message}): ${String(e.detail_json).slice(0, 200)}`;
+    return form;
+  }
+  if (parsed === null || typeof parsed !== 'object' || Array.isArray(parsed)) {
+    form.detail_error = `event ${e.event_id}: detail_json is not a JSON object: ${String(e.detail_json).slice(0, 200)}`;
+    return form;
+  }
+  form.detail = parsed;
+  return form;
 }

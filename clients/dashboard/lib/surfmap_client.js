@@ -31,6 +31,7 @@ export const READ_CALLS = Object.freeze({
   ListJobs: 'JobService',
   GetJob: 'JobService',
   GetPlan: 'JobService',
+  ListJobEvents: 'JobService',
   ListSamples: 'MapService',
   GetSample: 'MapService',
   GetMap: 'MapService',

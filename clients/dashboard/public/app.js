@@ -1,17 +1,26 @@
 // The page: object and job lists (polled), the selected job's progress and map
-// (live from /api/jobs/:id/events), and what is under a click (QueryMap, the
-// nearest sample's fit and its trace).
+// (live from /api/jobs/:id/events), the operator panels (rate, time to
+// completion, rigs, failures and the event list, from the job's event log and
+// plan), and what is under a click (QueryMap, the nearest sample's fit and its
+// trace); a click on an accepted trace in the event list shows that sample.
 //
 // The page reports what it shows in data attributes, for people debugging
 // and for the browser test: #view[data-vertex-count, data-triangle-count,
 // data-sample-count, data-map-updates, data-frames], #progress[data-measured,
-// data-total, data-state, data-job], #point-info[data-mu], #trace-plot[data-trace-id].
-import { FIXED_RANGES, QUANTITIES, chooseRange, drawLegend } from './colour_scale.js';
+// data-total, data-state, data-job], #point-info[data-mu],
+// #trace-plot[data-trace-id, data-plot-mu, ...] and those of operations_view.js.
+import {
+  DEFAULT_SCALE_MODES, FIXED_RANGES, MIN_SPANS, QUANTITIES, chooseRange, drawLegend,
+} from './colour_scale.js';
+import { JobActivity } from './job_activity.js';
+import { renderEvents, renderFailures, renderRate } from './operations_view.js';
 import { SurfaceView } from './surface_view.js';
 import { drawTracePlot } from './trace_plot.js';
 
 const LIST_POLL_MS = 4000;
 const EVENTS_RETRY_MS = 5000;
+const EVENT_LOG_POLL_MS = 4000;   // besides a poll on every live job update
+const EVENT_PAGE = 1000;
 
 const $ = (id) => document.getElementById(id);
 const state = {
@@ -22,8 +31,16 @@ const state = {
   mesh: null,        // { level, vertex_count, ... } of what the view shows
   map: null,
   quantity: 'mu',
-  // Colour scale: the data's min..max, or fixed limits kept per quantity.
-  scale: { mode: 'data', fixed: Object.fromEntries(Object.entries(FIXED_RANGES).map(([k, r]) => [k, [...r]])) },
+  // Colour scale per quantity: the data's min..max or fixed limits (mu starts fixed).
+  scale: {
+    modes: { ...DEFAULT_SCALE_MODES },
+    fixed: Object.fromEntries(Object.entries(FIXED_RANGES).map(([k, r]) => [k, [...r]])),
+  },
+  activity: null,    // JobActivity of the selected job (its event log)
+  eventPoll: { running: false, again: false },
+  planFailedCount: -1,  // progress.failed when the failure list was last read
+  failureSites: new Set(),  // 'level/vertex' of the sites in the failure list
+  lastJobState: null,
   events: null,
   selection: 0,      // bumps on every job change so late answers for an old job are dropped
   mapUpdates: 0,
@@ -210,6 +227,71 @@ function renderJob() {
     for (const v of [l.level, l.measured, l.issued, leased, l.pending, l.failed]) row.insertCell().textContent = String(v);
   }
   updateJobRow(j);
+  if (state.activity) renderRate(state.activity, j);
+  // The failure list changes when a site fails or is given up (the failed
+  // count), when a re-queued site is measured (seen in the event log) and when
+  // the job ends.
+  const stateChanged = state.lastJobState !== null && state.lastJobState !== j.state;
+  state.lastJobState = j.state;
+  if (p.failed !== state.planFailedCount || stateChanged) refreshFailures(state.selection, p.failed);
+}
+
+// ------------------------------------------------------------------ operator panels
+
+// The event list is rebuilt only when events arrived: a rebuild under the
+// mouse would swallow a click.
+function renderOperations() {
+  const activity = state.activity;
+  if (!activity) return;
+  renderRate(activity, state.job);
+  if (activity.renderedCursor === activity.cursor && activity.renderedCursor !== undefined) return;
+  activity.renderedCursor = activity.cursor;
+  renderEvents(activity, (commandId) => openCommandSample(commandId));
+}
+
+// Reads the event log after the cursor, page by page, then renders. One read
+// at a time; a request while one runs makes it read again when done.
+async function pollEventLog(selection) {
+  if (state.eventPoll.running) {
+    state.eventPoll.again = true;
+    return;
+  }
+  state.eventPoll.running = true;
+  try {
+    do {
+      state.eventPoll.again = false;
+      const activity = state.activity;
+      let failuresSeen = false;
+      for (;;) {
+        const page = await api(`/api/jobs/${activity.jobId}/event-log?after=${activity.cursor}&limit=${EVENT_PAGE}`);
+        if (selection !== state.selection) return;
+        activity.add(page.events);
+        failuresSeen ||= page.events.some((e) => e.kind === 'probe_failed' ||
+          (e.kind === 'trace_accepted' && e.detail && state.failureSites.has(`${e.detail.level}/${e.detail.vertex}`)));
+        if (page.events.length < EVENT_PAGE) break;
+      }
+      renderOperations();
+      if (failuresSeen) refreshFailures(selection, state.job?.progress?.failed ?? -1);
+    } while (state.eventPoll.again && selection === state.selection);
+  } catch (err) {
+    if (selection === state.selection) showError(`event log: ${err.message}`);
+  } finally {
+    state.eventPoll.running = false;
+  }
+}
+
+// The plan's failure reasons, read when the failed count changes or a probe
+// failure arrives (a plan lists every site, so not on every update).
+async function refreshFailures(selection, failedCount) {
+  state.planFailedCount = failedCount;
+  try {
+    const plan = await api(`/api/jobs/${state.jobId}/plan`);
+    if (selection !== state.selection) return;
+    state.failureSites = new Set(plan.sites.filter((x) => x.failure_reason).map((x) => `${x.level}/${x.vertex}`));
+    renderFailures(plan.sites, null, state.activity ? state.activity.failures.length : 0);
+  } catch (err) {
+    if (selection === state.selection) renderFailures(null, err.message);
+  }
 }
 
 function viewMessage(text) {
@@ -220,14 +302,14 @@ function viewMessage(text) {
 
 function currentScale() {
   const [min, max] = state.scale.fixed[state.quantity];
-  return { mode: state.scale.mode, min, max };
+  return { mode: state.scale.modes[state.quantity], min, max, minSpan: MIN_SPANS[state.quantity] };
 }
 
 function recolour() {
   if (!state.map || !view.ok) return;
   const values = state.map[state.quantity] || [];
-  const { range, outside, error } = chooseRange(values, currentScale());
-  $('scale-note').textContent = error || (outside > 0 ? `${outside} vertices outside the scale (end colours)` : '');
+  const { range, outside, error, note } = chooseRange(values, currentScale());
+  $('scale-note').textContent = error || (outside > 0 ? `${outside} vertices outside the scale (end colours)` : note);
   $('scale-note').classList.toggle('error', Boolean(error));
   view.setColours(values, range);
   const legend = $('legend');
@@ -284,6 +366,7 @@ function openEvents(selection) {
     if (selection !== state.selection) return;
     state.job = JSON.parse(e.data);
     renderJob();
+    pollEventLog(selection);
   });
   es.addEventListener('map', (e) => onMapEvent(JSON.parse(e.data), selection));
   es.addEventListener('end', () => {
@@ -323,8 +406,13 @@ async function selectJob(jobId) {
   state.map = null;
   state.mesh = null;
   state.mapUpdates = 0;
+  state.activity = new JobActivity(jobId);
+  state.planFailedCount = -1;
+  state.failureSites = new Set();
+  state.lastJobState = null;
   clearPick();
   closeEvents();
+  renderOperations();
   history.replaceState(null, '', `#job=${jobId}`);
   for (const li of document.querySelectorAll('#job-list li[data-job-id]')) {
     li.classList.toggle('selected', Number(li.dataset.jobId) === jobId);
@@ -343,6 +431,7 @@ async function selectJob(jobId) {
     }
     if (selection !== state.selection) return;
     openEvents(selection);
+    pollEventLog(selection);
   } catch (err) {
     if (selection === state.selection) {
       showError(`job ${jobId}: ${err.message}`);
@@ -403,17 +492,48 @@ async function onPick(point) {
     $('sample-body').textContent = 'no samples yet';
     return;
   }
+  await showSample(near.sample.trace_id, `${fmt(near.distance, 1)} mm away`, () => selection === state.selection && state.pick === point);
+}
+
+// An accepted trace picked in the event list: its sample (found by command
+// id in the map, else in the job's sample list) is shown as if clicked.
+async function openCommandSample(commandId) {
+  const selection = state.selection;
+  let sample = (state.map?.samples ?? []).find((s) => s.command_id === commandId);
   try {
-    const id = near.sample.trace_id;
+    if (!sample) sample = (await api(`/api/jobs/${state.jobId}/samples`)).samples.find((s) => s.command_id === commandId);
+    if (selection !== state.selection) return;
+    if (!sample) {
+      showError(`command ${commandId}: no sample of job ${state.jobId} has it`);
+      return;
+    }
+  } catch (err) {
+    showError(`samples: ${err.message}`);
+    return;
+  }
+  const pick = { ...sample.position, fromEvent: commandId };
+  state.pick = pick;
+  if (view.ok) view.showPick(sample.position, sample);
+  $('point-body').className = 'muted';
+  $('point-body').textContent = `sample of command ${commandId} (from the event list)`;
+  $('point-info').removeAttribute('data-mu');
+  await showSample(sample.trace_id, 'from the event list', () => selection === state.selection && state.pick === pick);
+}
+
+async function showSample(traceId, where, stillWanted) {
+  try {
+    const id = traceId;
     const [{ sample }, { trace }] = await Promise.all([api(`/api/samples/${id}`), api(`/api/traces/${id}`)]);
-    if (selection !== state.selection || state.pick !== point) return;
+    if (!stillWanted()) return;
     const f = sample.fit;
     const fr = f.friction;
     const ro = f.roughness;
     const body = $('sample-body');
     body.className = '';
     body.replaceChildren(rowsTable([
-      ['trace', `${sample.trace_id} (site L${sample.site.level} v${sample.site.vertex}, ${fmt(near.distance, 1)} mm away)`],
+      ['trace', `${sample.trace_id} (site L${sample.site.level} v${sample.site.vertex}, ${where})`],
+      ['rig', sample.rig_id || '(not recorded)'],
+      ['drag direction', vecText(sample.drag_direction, 3)],
       ['mu (mean ± std)', `${fmt(fr.mu, 4)} ± ${fmt(fr.mu_std, 4)}`],
       ['mu median', fmt(fr.mu_median, 4)],
       ['pairs, window (mm)', `${fr.pair_count}, ${fmt(fr.window_start_mm, 1)}–${fmt(fr.window_end_mm, 1)}`],
@@ -436,7 +556,8 @@ $('view').dataset.webgl = view.ok ? 'ok' : 'unavailable';
 if (!view.ok) viewMessage(view.error);
 
 function showScaleInputs() {
-  const fixed = state.scale.mode === 'fixed';
+  const fixed = state.scale.modes[state.quantity] === 'fixed';
+  $('scale-mode').value = fixed ? 'fixed' : 'data';
   $('scale-fixed').hidden = !fixed;
   const [min, max] = state.scale.fixed[state.quantity];
   $('scale-min').value = String(min);
@@ -450,7 +571,7 @@ $('quantity').addEventListener('change', (e) => {
   recolour();
 });
 $('scale-mode').addEventListener('change', (e) => {
-  state.scale.mode = e.target.value === 'fixed' ? 'fixed' : 'data';
+  state.scale.modes[state.quantity] = e.target.value === 'fixed' ? 'fixed' : 'data';
   showScaleInputs();
   recolour();
 });
@@ -475,6 +596,9 @@ if (fromHash) {
 }
 refreshLists();
 setInterval(refreshLists, LIST_POLL_MS);
+// Events also arrive without a live update (a paused job's failures, a
+// finished job opened later): poll the log too.
+setInterval(() => { if (state.activity) pollEventLog(state.selection); }, EVENT_LOG_POLL_MS);
 
 // For the console and tests: what the view currently shows.
 window.surfmapDashboard = { state, view };

@@ -1,14 +1,18 @@
 // What the surface can be coloured by, the colour map and the legend.
 // Viridis (perceptually uniform, readable in grey scale and by most colour-blind
-// viewers). The range is the data's own min..max by default, so small contrasts
-// show; a fixed range keeps colours comparable between jobs and objects.
+// viewers). mu is shown on a fixed range by default (0..1: colours compare
+// between jobs, and the estimator's noise on a uniform object stays one
+// colour); the other quantities on the data's own min..max, never narrower
+// than MIN_SPANS (so 0.001 of noise is not stretched over the whole map).
+// Legend ticks are round values chosen by the range, with the digits it needs.
+import { niceTicks, stepDecimals, tickStep } from './ticks.js';
 
 export const QUANTITIES = Object.freeze({
-  mu: { label: 'friction coefficient mu', unit: '', digits: 3 },
-  mu_uncertainty: { label: 'uncertainty of mu (std)', unit: '', digits: 4 },
-  sigma: { label: 'roughness sigma', unit: 'N', digits: 4 },
-  a1: { label: 'roughness AR a1', unit: '', digits: 3 },
-  a2: { label: 'roughness AR a2', unit: '', digits: 3 },
+  mu: { label: 'friction coefficient mu', unit: '' },
+  mu_uncertainty: { label: 'uncertainty of mu (std)', unit: '' },
+  sigma: { label: 'roughness sigma', unit: 'N' },
+  a1: { label: 'roughness AR a1', unit: '' },
+  a2: { label: 'roughness AR a2', unit: '' },
 });
 
 // matplotlib's viridis at 0, 1/8, ..., 1 (sRGB).
@@ -57,17 +61,42 @@ export const FIXED_RANGES = Object.freeze({
   a2: Object.freeze([-1, 1]),
 });
 
+/** The scale each quantity starts with: mu fixed, the rest the data range. */
+export const DEFAULT_SCALE_MODES = Object.freeze({
+  mu: 'fixed', mu_uncertainty: 'data', sigma: 'data', a1: 'data', a2: 'data',
+});
+
+/** The narrowest data range shown per quantity: about the estimator's own
+ * scatter on one material (mu 0.02: repeat drags on glass scatter by ~0.005;
+ * AR coefficients carry standard errors ~0.07). */
+export const MIN_SPANS = Object.freeze({
+  mu: 0.02, mu_uncertainty: 0.002, sigma: 0.01, a1: 0.1, a2: 0.1,
+});
+
+/** The data range widened about its centre to at least minSpan; `widened` says whether it was. */
+export function widenRange(range, minSpan) {
+  if (!(minSpan > 0) || range.max - range.min >= minSpan) return { range, widened: false };
+  const centre = (range.min + range.max) / 2;
+  return { range: { min: centre - minSpan / 2, max: centre + minSpan / 2 }, widened: true };
+}
+
 /**
- * The colour range for `values` under `scale` ({ mode: 'data' } or
- * { mode: 'fixed', min, max }). Returns { range, outside, error }: range null
- * when there is no finite value; `outside` counts finite values beyond a
- * fixed range (drawn at its end colours); an unusable fixed range (not two
- * numbers with min < max) falls back to the data range and says why.
+ * The colour range for `values` under `scale` ({ mode: 'data', minSpan } or
+ * { mode: 'fixed', min, max }). Returns { range, outside, error, note }:
+ * range null when there is no finite value; `outside` counts finite values
+ * beyond a fixed range (drawn at its end colours); an unusable fixed range
+ * (not two numbers with min < max) falls back to the data range and says
+ * why in `error`; `note` says when the data range was widened to minSpan.
  */
 export function chooseRange(values, scale) {
-  const data = valueRange(values);
-  if (!data) return { range: null, outside: 0, error: '' };
-  if (!scale || scale.mode !== 'fixed') return { range: data, outside: 0, error: '' };
+  const raw = valueRange(values);
+  if (!raw) return { range: null, outside: 0, error: '', note: '' };
+  const minSpan = scale && scale.minSpan ? scale.minSpan : 0;
+  const { range: data, widened } = widenRange(raw, minSpan);
+  const note = widened
+    ? `data span ${formatSpan(raw.max - raw.min)} < ${minSpan}: scale widened to ${minSpan} about the data`
+    : '';
+  if (!scale || scale.mode !== 'fixed') return { range: data, outside: 0, error: '', note };
   const min = typeof scale.min === 'number' ? scale.min : Number.parseFloat(scale.min);
   const max = typeof scale.max === 'number' ? scale.max : Number.parseFloat(scale.max);
   if (!Number.isFinite(min) || !Number.isFinite(max) || !(max > min)) {
@@ -75,14 +104,34 @@ export function chooseRange(values, scale) {
       range: data,
       outside: 0,
       error: `fixed scale needs two numbers with min < max (got "${scale.min}" .. "${scale.max}"); showing the data range`,
+      note,
     };
   }
   let outside = 0;
   for (const v of values) if (Number.isFinite(v) && (v < min || v > max)) outside += 1;
-  return { range: { min, max }, outside, error: '' };
+  return { range: { min, max }, outside, error: '', note: '' };
 }
 
-/** Draws the bar (max at the top) and its five tick labels. */
+function formatSpan(span) {
+  return span > 0 ? span.toPrecision(2) : '0';
+}
+
+/**
+ * The legend's ticks for a range: round values inside it (about five),
+ * each { value, frac (0 = top = max), text } with the decimals the step
+ * needs, so a narrow range reads 0.1296 0.1298 ... not 0.130 0.130 ...
+ */
+export function legendTicks(range) {
+  const step = tickStep(range.min, range.max, 5);
+  const decimals = stepDecimals(step);
+  return niceTicks(range.min, range.max, 5).map((value) => ({
+    value,
+    frac: (range.max - value) / (range.max - range.min),
+    text: value.toFixed(decimals),
+  }));
+}
+
+/** Draws the bar (max at the top) and its tick labels (legendTicks). */
 export function drawLegend({ titleEl, barCanvas, ticksEl }, quantity, range) {
   const q = QUANTITIES[quantity];
   titleEl.textContent = q.unit ? `${q.label} (${q.unit})` : q.label;
@@ -94,12 +143,11 @@ export function drawLegend({ titleEl, barCanvas, ticksEl }, quantity, range) {
     ctx.fillRect(0, y, barCanvas.width, 1);
   }
   ticksEl.replaceChildren();
-  for (let k = 0; k <= 4; ++k) {
-    const frac = k / 4;
-    const value = range.max - frac * (range.max - range.min);
+  for (const tick of legendTicks(range)) {
     const span = document.createElement('span');
-    span.style.top = `${frac * 100}%`;
-    span.textContent = value.toFixed(q.digits);
+    span.style.top = `${tick.frac * 100}%`;
+    span.dataset.value = String(tick.value);
+    span.textContent = tick.text;
     ticksEl.append(span);
   }
 }

@@ -1,14 +1,19 @@
-// A drag trace as an inline SVG: fz and fx (N), and the fit's per-pair mu when
-// the sample carries it, in panels along the path (mm from the
-// start of the forward pass; the reverse pass runs back over the same path, so
-// it is plotted at the same positions), forward solid, reverse dashed, the
-// pause left out (the probe does not move), and the fit's data window shaded.
-// Reading it: where the two passes' fx separate symmetrically the friction is
-// Coulomb-like; wiggles are the texture the AR model describes.
+// A drag trace as an inline SVG, in the drag's own frame (drag_frame.js), like
+// the figures of Lloyd & Pai: the normal force, the force along the drag
+// (friction) with the lateral force, and the fit's per-pair mu when the
+// sample carries it, in panels along the path (mm from the start of the
+// forward pass; the reverse pass runs back over the same path, so it is
+// plotted at the same positions), forward solid, reverse dashed, the pause
+// left out (the probe does not move), and the fit's data window shaded.
+// Reading it: the force along the drag is about -mu N in the forward pass and
+// +mu N in the reverse one, so the gap between the two curves is 2 mu N
+// whatever way the drag runs; wiggles are the texture the AR model describes.
+import { dragFrameForces, frictionInWindow } from './drag_frame.js';
+import { niceTicks } from './ticks.js';
 
 const SVG_NS = 'http://www.w3.org/2000/svg';
 const W = 380;
-const H = 340;
+const H = 420;
 const M = { left: 42, right: 10, top: 22, bottom: 28 };
 
 function el(name, attrs, text) {
@@ -18,96 +23,84 @@ function el(name, attrs, text) {
   return node;
 }
 
-/** Arc-length position along the path per sample; null for pause samples. */
-export function pathPositions(trace) {
-  const n = trace.t.length;
-  const s = new Array(n).fill(null);
-  let fwdLength = 0;
-  let last = -1;
-  for (let i = 0; i < n; ++i) {
-    if (trace.phases[i] !== 'fwd') continue;
-    if (last >= 0) fwdLength += Math.hypot(trace.x[i] - trace.x[last], trace.y[i] - trace.y[last], trace.z[i] - trace.z[last]);
-    s[i] = fwdLength;
-    last = i;
+// The padded min..max of the values at the samples `pick` accepts.
+function rangeOf(arrays, pick, padFraction, minPad) {
+  let lo = Infinity;
+  let hi = -Infinity;
+  for (const values of arrays) {
+    for (let i = 0; i < values.length; ++i) {
+      if (!pick(i) || values[i] === null) continue;
+      lo = Math.min(lo, values[i]);
+      hi = Math.max(hi, values[i]);
+    }
   }
-  let back = 0;
-  last = -1;
-  for (let i = 0; i < n; ++i) {
-    if (trace.phases[i] !== 'rev') continue;
-    if (last >= 0) back += Math.hypot(trace.x[i] - trace.x[last], trace.y[i] - trace.y[last], trace.z[i] - trace.z[last]);
-    s[i] = fwdLength - back;
-    last = i;
-  }
-  return s;
+  const pad = (hi - lo) * padFraction || minPad;
+  return [lo - pad, hi + pad];
 }
 
-function niceTicks(lo, hi, count) {
-  const span = hi - lo;
-  const raw = span / count;
-  const mag = 10 ** Math.floor(Math.log10(raw));
-  const step = [1, 2, 5, 10].map((k) => k * mag).find((k) => span / k <= count) ?? 10 * mag;
-  const ticks = [];
-  for (let v = Math.ceil(lo / step) * step; v <= hi + 1e-9; v += step) ticks.push(Number(v.toPrecision(12)));
-  return ticks;
-}
-
-/** Replaces container's content with the plot; `fit` (api form) adds the window. */
+/**
+ * Replaces container's content with the plot; `fit` (api form) adds the
+ * window, the per-pair mu and the fallback normal. A trace that cannot be
+ * framed shows why instead of a plot.
+ */
 export function drawTracePlot(container, trace, fit) {
   container.replaceChildren();
-  const s = pathPositions(trace);
-  let xMax = 0;
-  for (const v of s) if (v !== null) xMax = Math.max(xMax, v);
-  if (xMax <= 0) {
-    container.textContent = 'trace has no moving samples';
+  for (const key of Object.keys(container.dataset)) delete container.dataset[key];
+  let framed;
+  try {
+    framed = dragFrameForces(trace, fit?.friction?.normal ?? null);
+  } catch (err) {
+    container.textContent = `cannot plot: ${err.message}`;
     return;
   }
+  const s = framed.s;
+  const xMax = framed.pathLength;
   const px = (x) => M.left + (x / xMax) * (W - M.left - M.right);
-  const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, role: 'img', 'aria-label': `trace ${trace.trace_id}: fx and fz along the path` });
+  const svg = el('svg', { viewBox: `0 0 ${W} ${H}`, role: 'img', 'aria-label': `trace ${trace.trace_id}: normal force and friction along the drag` });
 
-  // Panels sharing the path axis: fz (~ the normal force) and fx (~ the
-  // friction) differ by an order of magnitude, so each gets its own scale;
-  // below them mu = tan(theta/2) of each forward/reverse pair in the window.
+  // Panels sharing the path axis: the normal force (~ N) and the force along
+  // the drag (~ mu N, with the lateral force on the same scale) differ by an
+  // order of magnitude, so each gets its own scale; below them mu =
+  // tan(theta/2) of each forward/reverse pair in the window.
   const pairS = (fit && fit.friction && fit.friction.pair_s_mm) || [];
   const pairMu = (fit && fit.friction && fit.friction.pair_mu) || [];
   const withMu = pairMu.length > 0 && pairMu.length === pairS.length;
+  const hasWindow = Boolean(fit && fit.friction && fit.friction.window_end_mm > fit.friction.window_start_mm);
   const gap = 14;
   const count = withMu ? 3 : 2;
   const panelH = (H - M.top - M.bottom - gap * (count - 1)) / count;
   const panels = [
-    { key: 'fz', top: M.top, colour: '#f0a04b' },
-    { key: 'fx', top: M.top + panelH + gap, colour: '#5ab0ff' },
+    { series: [{ values: framed.normal, colour: '#f0a04b', width: 1.2 }], title: 'normal force (N)', top: M.top },
+    {
+      series: [{ values: framed.along, colour: '#5ab0ff', width: 1.2 }, { values: framed.lateral, colour: '#9aa3ad', width: 0.8 }],
+      title: 'along the drag (blue), lateral (grey), N',
+      top: M.top + panelH + gap,
+    },
   ];
   for (const panel of panels) {
-    let lo = Infinity;
-    let hi = -Infinity;
-    for (let i = 0; i < s.length; ++i) {
-      if (s[i] === null) continue;
-      lo = Math.min(lo, trace[panel.key][i]);
-      hi = Math.max(hi, trace[panel.key][i]);
-    }
-    const pad = (hi - lo) * 0.08 || 0.5;
-    lo -= pad;
-    hi += pad;
+    const [lo, hi] = rangeOf(panel.series.map((x) => x.values), (i) => s[i] !== null, 0.08, 0.5);
     const bottom = panel.top + panelH;
     const py = (y) => bottom - ((y - lo) / (hi - lo)) * panelH;
-    if (fit && fit.friction && fit.friction.window_end_mm > fit.friction.window_start_mm) {
+    if (hasWindow) {
       const x0 = px(fit.friction.window_start_mm);
       svg.append(el('rect', { x: x0, y: panel.top, width: px(fit.friction.window_end_mm) - x0, height: panelH, fill: '#ffffff', 'fill-opacity': 0.06 }));
     }
     for (const v of niceTicks(lo, hi, 4)) {
-      svg.append(el('line', { x1: M.left, x2: W - M.right, y1: py(v), y2: py(v), stroke: '#2e343e' }));
+      svg.append(el('line', { x1: M.left, x2: W - M.right, y1: py(v), y2: py(v), stroke: v === 0 ? '#4a5260' : '#2e343e' }));
       svg.append(el('text', { x: M.left - 4, y: py(v) + 3, 'text-anchor': 'end' }, String(v)));
     }
-    for (const [phase, dash] of [['fwd', ''], ['rev', '4 3']]) {
-      const pts = [];
-      for (let i = 0; i < s.length; ++i) {
-        if (trace.phases[i] === phase && s[i] !== null) pts.push(`${px(s[i]).toFixed(1)},${py(trace[panel.key][i]).toFixed(1)}`);
-      }
-      if (pts.length > 1) {
-        svg.append(el('polyline', { points: pts.join(' '), fill: 'none', stroke: panel.colour, 'stroke-width': 1.2, 'stroke-dasharray': dash }));
+    for (const { values, colour, width } of panel.series) {
+      for (const [phase, dash] of [['fwd', ''], ['rev', '4 3']]) {
+        const pts = [];
+        for (let i = 0; i < s.length; ++i) {
+          if (trace.phases[i] === phase && s[i] !== null) pts.push(`${px(s[i]).toFixed(1)},${py(values[i]).toFixed(1)}`);
+        }
+        if (pts.length > 1) {
+          svg.append(el('polyline', { points: pts.join(' '), fill: 'none', stroke: colour, 'stroke-width': width, 'stroke-dasharray': dash }));
+        }
       }
     }
-    svg.append(el('text', { x: W - M.right - 2, y: panel.top + 10, 'text-anchor': 'end' }, `${panel.key} (N)`));
+    svg.append(el('text', { x: W - M.right - 2, y: panel.top + 10, 'text-anchor': 'end' }, panel.title));
   }
   if (withMu) drawPairMu(svg, { top: M.top + 2 * (panelH + gap), height: panelH, px }, pairS, pairMu, fit.friction.mu);
   for (const v of niceTicks(0, xMax, 6)) {
@@ -121,9 +114,23 @@ export function drawTracePlot(container, trace, fit) {
     svg.append(el('text', { x: x + 22, y: 13 }, label));
   });
   container.append(svg);
+
+  // What the plot shows, for people debugging and the browser test: the mean
+  // forces over the fit's window (the middle 80 % of the path without one)
+  // and the friction they imply, (along_rev - along_fwd) / (2 normal).
+  const [w0, w1] = hasWindow ? [fit.friction.window_start_mm, fit.friction.window_end_mm] : [0.1 * xMax, 0.9 * xMax];
+  const seen = frictionInWindow(trace, framed, w0, w1);
   container.dataset.traceId = String(trace.trace_id);
   container.dataset.pointCount = String(trace.t.length);
   container.dataset.pairCount = String(withMu ? pairMu.length : 0);
+  container.dataset.normalSource = framed.normalSource;
+  if (seen) {
+    container.dataset.plotMu = seen.mu.toFixed(4);
+    container.dataset.alongFwd = seen.fwd.along.toFixed(4);
+    container.dataset.alongRev = seen.rev.along.toFixed(4);
+    container.dataset.normalMean = ((seen.fwd.normal + seen.rev.normal) / 2).toFixed(4);
+    container.dataset.lateralMean = ((seen.fwd.lateral + seen.rev.lateral) / 2).toFixed(4);
+  }
 }
 
 // The estimator's per-pair mu (dots) and its mean (line), on the path axis.

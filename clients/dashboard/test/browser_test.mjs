@@ -9,9 +9,19 @@
 //     page reports its vertex/triangle/sample counts;
 //   - the progress number on the page advances while the job runs, and the map
 //     follows (sample count), through ONE WatchJob shared by two open pages;
-//   - after completion: state, counts, colour selector and legend, fixed scale;
+//   - a probe failure of each kind, reported by the test itself as a second
+//     rig over gRPC (the dashboard is read-only): the given-up site and its
+//     reason in the failure list, both failures in the event list and the
+//     rig table;
+//   - while running: rate and time to completion from the event log;
+//   - after completion: state, counts, which rig took the samples, colour
+//     selector and legend (mu on the fixed scale by default, round ticks on
+//     the data range), fixed scale;
 //   - a click on the surface shows QueryMap values, the nearest sample's fit
 //     and its trace plot;
+//   - the trace plot of a drag along y (opened from the event list) shows the
+//     friction: the force along the drag separates the passes by 2 mu N,
+//     where world fx (what the plot used to draw) shows none;
 //   - no page errors; screenshot dashboard.png into the output folder.
 //
 // Environment (CTest sets them; a missing binary or browser FAILS the test):
@@ -27,6 +37,8 @@ import os from 'node:os';
 import path from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { promisify } from 'node:util';
+import grpc from '@grpc/grpc-js';
+import protoLoader from '@grpc/proto-loader';
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const dashboardDir = path.resolve(here, '..');
@@ -101,6 +113,26 @@ async function waitFor(what, pred, timeoutMs, child = null) {
 async function cli(surfmap, server, args) {
   const { stdout } = await execFileP(surfmap, [...args, '--server', server, '--timeout', '20']);
   return stdout.trim();
+}
+
+// A second rig, played by the test over gRPC: leases one command of the job
+// and reports it failed with this kind and reason. Returns the command.
+async function failOneCommand(address, jobId, rigId, kind, reason) {
+  const definition = protoLoader.loadSync(path.join(repoRoot, 'proto/surfmap/v1/surfmap.proto'),
+    { keepCase: true, longs: Number, enums: String, defaults: true });
+  const pkg = grpc.loadPackageDefinition(definition).surfmap.v1;
+  const probe = new pkg.ProbeService(address, grpc.credentials.createInsecure());
+  const unary = (method, request) => new Promise((resolve, reject) => {
+    probe[method](request, { deadline: new Date(Date.now() + 10000) }, (err, res) => (err ? reject(err) : resolve(res)));
+  });
+  try {
+    const lease = await unary('LeaseCommand', { rig_id: rigId, job_id: jobId });
+    if (!lease.command) throw new Error(`${rigId}: no command to lease for job ${jobId}`);
+    const answer = await unary('ReportFailure', { command_id: lease.command.command_id, rig_id: rigId, reason, kind });
+    return { command: lease.command, willRetry: answer.will_retry };
+  } finally {
+    probe.close();
+  }
 }
 
 async function stopAll() {
@@ -190,7 +222,7 @@ async function main() {
   const address = `127.0.0.1:${port}`;
   const objectId = Number(await cli(surfmap, address, ['object', 'upload', bottle, '--name', 'bottle']));
   const jobId = Number(await cli(surfmap, address, ['job', 'create', '--object', String(objectId), '--property', 'friction',
-    '--mode', 'adaptive', '--coarsest', '0', '--finest', '1', '--threshold', '2', '--seed', '2001']));
+    '--mode', 'adaptive', '--coarsest', '0', '--finest', '1', '--map-level', '1', '--threshold', '2', '--seed', '2001']));
   await check(`bottle uploaded (object ${objectId}) and friction job created (job ${jobId})`, () => {
     assert.ok(objectId > 0 && jobId > 0);
   });
@@ -257,6 +289,45 @@ async function main() {
     assert.equal(status.watches.length, 1);
   });
 
+  // ---- two probe failures from a second rig, before the simulated rig runs
+  const UNREACHABLE_REASON = 'outside the workspace of this arm (browser test)';
+  const TRANSIENT_REASON = 'force limit tripped (browser test)';
+  const failures = await check('a second rig reports one unreachable and one transient failure over gRPC', async () => {
+    const unreachable = await failOneCommand(address, jobId, 'failing-rig', 'FAILURE_KIND_UNREACHABLE', UNREACHABLE_REASON);
+    const transient = await failOneCommand(address, jobId, 'failing-rig', 'FAILURE_KIND_TRANSIENT', TRANSIENT_REASON);
+    assert.equal(transient.willRetry, true, 'a transient failure is retried');
+    // The proto says an unreachable site is given up at once; surfmapd (main
+    // at d37ca38) records the kind but re-queues the site like a transient
+    // failure. The page must show what the server answered either way.
+    return { unreachable, transient };
+  });
+
+  await check('the failure list shows each failed site with the reason the rig gave; events and rig table show both failures', async () => {
+    // The last failure of each site (a re-queued site may be leased again at once).
+    const lastPerSite = new Map();
+    for (const [failure, reason] of [[failures.unreachable, UNREACHABLE_REASON], [failures.transient, TRANSIENT_REASON]]) {
+      lastPerSite.set(`${failure.command.site.level}/${failure.command.site.vertex}`, { site: failure.command.site, failure, reason });
+    }
+    for (const { site, failure, reason } of lastPerSite.values()) {
+      const item = page.locator(`#failure-list li[data-level="${site.level}"][data-vertex="${site.vertex}"]`);
+      await page.waitForFunction(([l, v, r]) => document.querySelector(`#failure-list li[data-level="${l}"][data-vertex="${v}"]`)?.textContent.includes(r),
+        [site.level, site.vertex, reason], { timeout: 15000 });
+      const state = await item.getAttribute('data-state');
+      if (failure.willRetry) assert.ok(['ISSUED', 'PENDING'].includes(state), `site L${site.level} v${site.vertex} is re-queued: ${state}`);
+      else assert.equal(state, 'FAILED', `site L${site.level} v${site.vertex}`);
+      assert.match(await item.innerText(), failure.willRetry ? /last failure: / : /given up after \d+ attempts?: /);
+    }
+    await page.waitForFunction(() => document.querySelectorAll('#event-list li[data-kind="probe_failed"]').length === 2, null, { timeout: 10000 });
+    const texts = await page.locator('#event-list li[data-kind="probe_failed"]').allInnerTexts();
+    const retryText = (f) => (f.willRetry ? 'will retry' : 'given up');
+    assert.ok(texts.some((t) => t.includes(`failed at failing-rig (unreachable, ${retryText(failures.unreachable)}): ${UNREACHABLE_REASON}`)), texts.join('\n'));
+    assert.ok(texts.some((t) => t.includes(`failed at failing-rig (transient, will retry): ${TRANSIENT_REASON}`)), texts.join('\n'));
+    const rig = page.locator('#rig-table tr[data-rig="failing-rig"]');
+    assert.equal(await rig.getAttribute('data-failed'), '2');
+    assert.equal(await rig.getAttribute('data-accepted'), '0');
+    await page.screenshot({ path: path.join(outDir, 'dashboard_failures.png') });
+  });
+
   // ---- the throttled rig, started now that the pages are open
   let rigRuns = 0;
   let rigDone = false;
@@ -286,6 +357,8 @@ async function main() {
         measured: Number(document.querySelector('#progress').dataset.measured),
         state: document.querySelector('#progress').dataset.state,
         samples: Number(document.querySelector('#view').dataset.sampleCount),
+        rate: document.querySelector('#rate-panel').dataset.rate,
+        etaS: document.querySelector('#rate-panel').dataset.etaS,
       }));
       if (seen.length === 0 || d.measured !== seen.at(-1).measured || d.state !== seen.at(-1).state) seen.push(d);
       if (d.state === 'COMPLETED') break;
@@ -298,6 +371,10 @@ async function main() {
     assert.ok(running.length >= 4, `at least 4 distinct progress values seen while RUNNING; saw ${JSON.stringify(seen)}`);
     for (let i = 1; i < seen.length; ++i) assert.ok(seen[i].measured >= seen[i - 1].measured, 'progress never goes back');
     assert.ok(running.some((s) => s.samples > 0 && s.samples < seen.at(-1).measured), 'the map showed samples while running');
+    // The rig runs 8 commands, pauses 0.7 s: a few traces per second.
+    const rated = running.filter((s) => Number(s.rate) > 0 && Number(s.etaS) > 0);
+    assert.ok(rated.length >= 2, `rate and time to completion shown while running; saw ${JSON.stringify(running.slice(-4))}`);
+    for (const s of rated) assert.ok(Number(s.rate) > 0.5 && Number(s.rate) < 1000, `rate ${s.rate} traces/s`);
     assert.equal(seen.at(-1).state, 'COMPLETED', `the job completed; saw ${JSON.stringify(seen.slice(-3))}`);
     return seen;
   });
@@ -312,10 +389,19 @@ async function main() {
     await page.waitForFunction((n) => Number(document.querySelector('#view').dataset.sampleCount) === n, measured, { timeout: 15000 });
     const d = await page.evaluate(() => ({ ...document.querySelector('#view').dataset, ...document.querySelector('#progress').dataset }));
     assert.equal(Number(d.measured), measured);
-    assert.equal(Number(d.total), measured);
+    assert.equal(Number(d.total), api.job.progress.total, 'measured + given up');
     assert.equal(d.state, 'COMPLETED');
     assert.match(await page.locator(`#job-list li[data-job-id="${jobId}"]`).innerText(), /COMPLETED/);
     return { measured, d };
+  });
+
+  await check('the rig table says which rig took the samples; the time to completion says the job is done', async () => {
+    const rig = page.locator('#rig-table tr[data-rig="browser-test"]');
+    await page.waitForFunction((n) => document.querySelector('#rig-table tr[data-rig="browser-test"]')?.dataset.accepted === String(n),
+      final.measured, { timeout: 10000 });
+    assert.equal(await rig.getAttribute('data-failed'), '0');
+    assert.match(await page.locator('#rate-text').innerText(), /time to completion: job completed/);
+    assert.equal(await page.locator('#rate-panel').getAttribute('data-eta-s'), '');
   });
 
   const summary = await check('the WebGL canvas shows the coloured surface (pixels read back)', async () => {
@@ -328,33 +414,37 @@ async function main() {
   });
   console.log(`# canvas ${summary.width}x${summary.height}: ${(100 * summary.nonBackgroundShare).toFixed(1)}% surface, ${summary.distinctColours} colours`);
 
-  await check('the legend shows the scale; the selector recolours by uncertainty', async () => {
+  const tickTexts = () => page.locator('#legend-ticks span').allInnerTexts();
+  await check('mu starts on the fixed 0..1 scale; the data range gets round, distinct ticks; the selector recolours', async () => {
     assert.equal(await page.locator('#legend').isVisible(), true);
     assert.match(await page.locator('#legend-title').innerText(), /friction coefficient mu/);
-    const ticks = (await page.locator('#legend-ticks span').allInnerTexts()).map(Number);
-    assert.equal(ticks.length, 5);
-    assert.ok(ticks[0] > 0.4 && ticks[0] < 0.7, `top of the mu scale ${ticks[0]} (sandpaper ~0.5)`);
-    assert.ok(ticks[4] > 0.05 && ticks[4] < 0.2, `bottom of the mu scale ${ticks[4]} (glass ~0.13)`);
+    assert.equal(await page.locator('#scale-mode').inputValue(), 'fixed');
+    assert.deepEqual(await tickTexts(), ['0.0', '0.2', '0.4', '0.6', '0.8', '1.0']);
+    await page.selectOption('#scale-mode', 'data');
+    await page.waitForFunction(() => document.querySelector('#legend-ticks span').textContent !== '0.0');
+    const ticks = await tickTexts();
+    assert.equal(new Set(ticks).size, ticks.length, `distinct ticks ${ticks}`);
+    const values = ticks.map(Number);
+    assert.ok(values.length >= 3 && values.length <= 6, `${values.length} ticks`);
+    assert.ok(values[0] >= 0.1 && values.at(-1) <= 0.55, `ticks inside the data range (glass ~0.13 .. sandpaper ~0.5): ${ticks}`);
     await page.selectOption('#quantity', 'mu_uncertainty');
     await page.waitForFunction(() => /uncertainty/.test(document.querySelector('#legend-title').textContent));
+    assert.equal(await page.locator('#scale-mode').inputValue(), 'data', 'the other quantities start on the data range');
     await page.selectOption('#quantity', 'mu');
+    assert.equal(await page.locator('#scale-mode').inputValue(), 'data', 'the mode is kept per quantity');
   });
 
   await check('a fixed colour scale sets the legend to its limits; a bad limit is named and falls back', async () => {
-    const ticks = async () => (await page.locator('#legend-ticks span').allInnerTexts()).map(Number);
     await page.selectOption('#scale-mode', 'fixed');
-    await page.waitForFunction(() => document.querySelector('#legend-ticks span').textContent === '1.000');
-    const fixed = await ticks();
-    assert.deepEqual([fixed[0], fixed[4]], [1, 0], `fixed mu scale ${fixed}`);
+    await page.waitForFunction(() => document.querySelector('#legend-ticks span:last-child').textContent === '1.0');
     await page.fill('#scale-max', '0.3');
-    await page.waitForFunction(() => document.querySelector('#legend-ticks span').textContent === '0.300');
+    await page.waitForFunction(() => document.querySelector('#legend-ticks span:last-child').textContent === '0.3');
     assert.match(await page.locator('#scale-note').innerText(), /vertices outside the scale/);
     await page.fill('#scale-max', '-1');
     await page.waitForFunction(() => /min < max/.test(document.querySelector('#scale-note').textContent));
-    const fallback = await ticks();
-    assert.ok(fallback[0] > 0.4 && fallback[0] < 0.7, `fell back to the data range, top ${fallback[0]}`);
+    const fallback = (await tickTexts()).map(Number);
+    assert.ok(fallback.at(-1) > 0.3 && fallback.at(-1) <= 0.55, `fell back to the data range, top tick ${fallback.at(-1)}`);
     await page.fill('#scale-max', '1');
-    await page.selectOption('#scale-mode', 'data');
     await page.waitForFunction(() => document.querySelector('#scale-note').textContent === '');
   });
 
@@ -373,11 +463,41 @@ async function main() {
       sample: document.querySelector('#sample-body').innerText,
     }));
     assert.ok(Number(plot.traceId) > 0);
-    assert.equal(plot.lines, 4, 'fz and fx, forward and reverse');
+    assert.equal(plot.lines, 6, 'normal, along the drag and lateral, forward and reverse');
     assert.ok(plot.pairs > 50, `per-pair mu from GetSample include_series (${plot.pairs} pairs)`);
     assert.equal(plot.dots, plot.pairs, 'one dot per pair');
     assert.match(plot.sample, new RegExp(`^trace\\s+${plot.traceId} `, 'm'));
     assert.match(plot.sample, /mu \(mean ± std\)\s+0\.\d{4} ± 0\.\d{4}/);
+    assert.match(plot.sample, /^rig\s+browser-test$/m);
+  });
+
+  await check('the trace plot of a drag along y shows the friction (opened from the event list)', async () => {
+    const { samples } = await (await fetch(`${url}/api/jobs/${jobId}/samples`)).json();
+    // The newest drag along y, so its event is among the list's recent ones.
+    const alongY = samples.filter((x) => Math.abs(x.drag_direction.y) > 0.9).sort((a, b) => b.command_id - a.command_id);
+    assert.ok(alongY.length > 0, `a drag along y among ${samples.length} samples`);
+    const sample = alongY[0];
+    const row = page.locator(`#event-list li[data-command-id="${sample.command_id}"]`);
+    await row.scrollIntoViewIfNeeded();
+    await row.click();
+    await page.waitForFunction((id) => document.querySelector('#trace-plot').dataset.traceId === String(id), sample.trace_id, { timeout: 10000 });
+    const d = await page.evaluate(() => ({ ...document.querySelector('#trace-plot').dataset }));
+    const mu = sample.fit.friction.mu;
+    assert.equal(d.normalSource, 'pairs');
+    assert.ok(Number(d.alongFwd) < 0 && Number(d.alongRev) > 0, `friction opposes each pass: forward ${d.alongFwd} N, reverse ${d.alongRev} N`);
+    assert.ok(Math.abs(Number(d.plotMu) - mu) < 0.1 * mu + 0.005, `the plotted forces give mu ${d.plotMu}; the fit says ${mu}`);
+    assert.ok(Math.abs(Number(d.normalMean) - 5) < 0.5, `normal force ${d.normalMean} N (5 N commanded)`);
+    assert.ok(Math.abs(Number(d.lateralMean)) < 0.1 * mu * 5, `lateral ${d.lateralMean} N`);
+    // What the old plot drew (world fx) shows no friction on this drag.
+    const { trace } = await (await fetch(`${url}/api/traces/${sample.trace_id}`)).json();
+    const meanFx = (phase) => {
+      const v = trace.fx.filter((_, i) => trace.phases[i] === phase);
+      return v.reduce((a, b) => a + b, 0) / v.length;
+    };
+    const worldGap = Math.abs(meanFx('rev') - meanFx('fwd')) / 2;
+    assert.ok(worldGap < 0.2 * mu * 5, `world fx separates the passes by only ${worldGap.toFixed(3)} N (friction ${(mu * 5).toFixed(3)} N)`);
+    assert.match(await page.locator('#sample-body').innerText(), /drag direction\s+-?0\.\d{3}, -?1\.000, -?0\.\d{3}/);
+    await page.screenshot({ path: path.join(outDir, 'dashboard_drag_along_y.png') });
   });
 
   await check('screenshot saved', async () => {

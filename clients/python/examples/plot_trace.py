@@ -5,8 +5,11 @@
     plot_trace.py [--scene bottle] -o trace.png     # starts surfmapd + rigs, maps the scene, picks a trace
 
 Panels:
-  (a) fx, fy, fz along the path, forward and reverse pass, data window shaded
-      (the window is the server's fit: window_start_mm..window_end_mm);
+  (a) the contact force in the drag's own frame (surfmap_client.drag_frame:
+      normal force; force along the drag, which is friction, and lateral
+      force) along the path, forward and reverse pass, data window shaded
+      (the window is the server's fit: window_start_mm..window_end_mm). Not
+      world fx/fz: on a drag along y or down a wall those hide the friction;
   (b) per-point mu along the window (the server's own per-pair values,
       GetSample with include_series), with the server's mu and std;
   (c) the autocorrelation of the force variation: measured (the server's, on
@@ -36,6 +39,7 @@ import numpy as np  # noqa: E402
 
 import surfmap_client as sc  # noqa: E402
 from surfmap_client import trace_analysis as ta  # noqa: E402
+from surfmap_client.drag_frame import drag_frame_forces  # noqa: E402
 
 from example_lab import add_lab_arguments, measure, open_lab, scenes_dir  # noqa: E402
 
@@ -63,23 +67,36 @@ def choose_sample(client: sc.SurfmapClient, args: argparse.Namespace) -> sc.Samp
         raise RuntimeError(f"job {args.job} has no fitted samples yet")
     # A drag across a material boundary has a large sigma too (the step in
     # friction looks like texture), so prefer drags whose mu is uniform.
-    uniform = [s for s in samples if s.fit.friction.mu_std <= UNIFORM_MU_STD] or samples
-    chosen = max(uniform, key=lambda s: s.fit.roughness.sigma)
+    fits = [(s, s.fit) for s in samples if s.fit is not None]
+    uniform = [(s, f) for s, f in fits if f.friction.mu_std <= UNIFORM_MU_STD] or fits
+    chosen, _ = max(uniform, key=lambda pair: pair[1].roughness.sigma)
     return client.get_sample(chosen.trace_id, include_series=True)
 
 
-def draw_forces(ax, trace: sc.Trace, fit: sc.Fit) -> None:
-    g = ta.pass_geometry(trace)
-    for s, f, style, label in ((g.s_forward, g.f_forward, "-", "forward"), (g.s_reverse, g.f_reverse, "--", "reverse")):
-        ax.plot(s, f[:, 0], style, color="tab:red", lw=0.8, label=f"fx {label}")
-        ax.plot(s, f[:, 1], style, color="tab:green", lw=0.6, alpha=0.6, label=f"fy {label}")
-        ax.plot(s, f[:, 2], style, color="tab:blue", lw=0.8, label=f"fz {label}")
-    ax.axvspan(fit.friction.window_start_mm, fit.friction.window_end_mm, color="0.85", zorder=0,
-               label="data window (server)")
-    ax.set_xlabel("position along the forward path, mm")
-    ax.set_ylabel("force on the probe, N")
-    ax.set_title("(a) contact force, forward and reverse pass")
-    ax.legend(fontsize=7, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.15))
+def draw_forces(axes, trace: sc.Trace, fit: sc.Fit) -> None:
+    """(a): normal force above; force along the drag (friction) and lateral force below."""
+    framed = drag_frame_forces(trace, fit.friction.normal)
+    window = (fit.friction.window_start_mm, fit.friction.window_end_mm)
+    normal_ax, tangent_ax = axes
+    for mask, style, label in ((trace.forward, "-", "forward"), (trace.reverse, "--", "reverse")):
+        order = np.argsort(framed.s[mask], kind="stable")
+        s = framed.s[mask][order]
+        normal_ax.plot(s, framed.normal[mask][order], style, color="tab:blue", lw=0.8, label=f"normal, {label}")
+        tangent_ax.plot(s, framed.along[mask][order], style, color="tab:red", lw=0.8, label=f"along the drag, {label}")
+        tangent_ax.plot(s, framed.lateral[mask][order], style, color="0.5", lw=0.6, label=f"lateral, {label}")
+    for ax in axes:
+        ax.axvspan(*window, color="0.9", zorder=0, label="data window (server)")
+    tangent_ax.axhline(0, color="0.5", lw=0.5)
+    seen_mu = framed.window_friction(trace, *window)
+    normal_ax.set_ylabel("normal force, N")
+    normal_ax.set_title(f"(a) contact force in the drag frame (normal from {framed.normal_source}): "
+                        f"forward and reverse pass")
+    normal_ax.legend(fontsize=7, ncol=3, loc="lower center")
+    tangent_ax.set_ylabel("tangential force, N")
+    tangent_ax.set_xlabel("position along the forward path, mm")
+    tangent_ax.set_title(f"along the drag (forward ~ -mu N, reverse ~ +mu N; in the window they give "
+                         f"mu {seen_mu:.4f}) and lateral", fontsize=10)
+    tangent_ax.legend(fontsize=7, ncol=5, loc="upper center", bbox_to_anchor=(0.5, -0.22))
 
 
 def draw_point_mu(ax, fit: sc.Fit) -> None:
@@ -133,6 +150,8 @@ def draw_roughness(ax, passes, fit: sc.Fit) -> None:
 
 def draw_map(axes, surface: sc.SurfaceMap, highlight: Optional[sc.Sample]) -> None:
     positions, triangles = surface.positions, surface.triangles
+    if positions is None or triangles is None:
+        raise RuntimeError(f"the map of job {surface.job_id} came without its mesh")
     centred = positions - positions.mean(axis=0)
     # Principal axes: the longest is drawn upright, the thinnest is the view direction.
     _, _, axes_t = np.linalg.svd(centred, full_matrices=False)
@@ -165,7 +184,8 @@ def draw_map(axes, surface: sc.SurfaceMap, highlight: Optional[sc.Sample]) -> No
             ends = np.array([s.position - half, s.position + half])
             ax.plot(sign * (ends @ across), ends @ up, color="tab:orange", lw=0.8)
             ax.plot(sign * (s.position @ across), s.position @ up, ".", color="tab:red", ms=2.5)
-        if highlight is not None and sign * float(np.dot(highlight.fit.friction.normal, view)) > 0:
+        if highlight is not None and highlight.fit is not None \
+                and sign * float(np.dot(highlight.fit.friction.normal, view)) > 0:
             ax.plot(sign * (highlight.position @ across), highlight.position @ up, "o", mfc="none",
                     mec="tab:cyan", ms=12, mew=2, label=f"trace {highlight.trace_id}")
             ax.legend(fontsize=7, loc="lower right")
@@ -184,13 +204,14 @@ def plot(client: sc.SurfmapClient, args: argparse.Namespace) -> str:
     window = (fit.friction.window_start_mm, fit.friction.window_end_mm)
     passes = ta.force_variation(trace, fit.friction.mu, window, args.step_mm)
 
-    figure = plt.figure(figsize=(13, 18), dpi=100, layout="constrained")
-    grid = figure.add_gridspec(4, 2, height_ratios=[1, 1, 1, 1.6])
-    draw_forces(figure.add_subplot(grid[0, :]), trace, fit)
-    draw_point_mu(figure.add_subplot(grid[1, 0]), fit)
-    draw_acf(figure.add_subplot(grid[1, 1]), fit)
-    draw_roughness(figure.add_subplot(grid[2, :]), passes, fit)
-    draw_map([figure.add_subplot(grid[3, 0]), figure.add_subplot(grid[3, 1])], surface, sample)
+    figure = plt.figure(figsize=(13, 20), dpi=100, layout="constrained")
+    grid = figure.add_gridspec(5, 2, height_ratios=[0.8, 0.9, 1, 1, 1.6])
+    normal_ax = figure.add_subplot(grid[0, :])
+    draw_forces([normal_ax, figure.add_subplot(grid[1, :], sharex=normal_ax)], trace, fit)
+    draw_point_mu(figure.add_subplot(grid[2, 0]), fit)
+    draw_acf(figure.add_subplot(grid[2, 1]), fit)
+    draw_roughness(figure.add_subplot(grid[3, :]), passes, fit)
+    draw_map([figure.add_subplot(grid[4, 0]), figure.add_subplot(grid[4, 1])], surface, sample)
     figure.suptitle(f"trace {sample.trace_id} (job {sample.job_id}, site L{sample.level}/v{sample.vertex}): "
                     f"mu {fit.friction.mu:.4f} +- {fit.friction.mu_std:.4f}, {fit.friction.pair_count} pairs, "
                     f"fit v{fit.version} {fit.estimator}", fontsize=11)

@@ -6,22 +6,32 @@
         surface = client.get_map(3)          # numpy arrays per vertex
         trace = client.get_trace(surface.samples[0].trace_id)
 
-Needs the stubs generated from proto/ at build time on PYTHONPATH (see
-README.md). Every failed call raises SurfmapError.
+A rig in Python (lease, measure with your code, submit; spooled and retried
+like surfmap-rig): ``sc.run_rig(client, measure, rig_id="arm-1")`` (rig.py).
+
+Needs the stubs generated from proto/ at build time (found in the source
+tree's build/ or $SURFMAP_PYTHON_STUBS; see README.md). Every failed call
+raises SurfmapError.
 """
 
 from .client import DEFAULT_TIMEOUT_S, DEFAULT_WATCH_TIMEOUT_S, SurfmapClient, connect
 from .errors import SurfmapError
 from .map_file import map_to_document, write_map_file
-from .records import (ArMethod, Fit, FrictionEstimate, JobInfo, JobProgress, JobSpec, JobState, JobUpdate,
-                      LevelProgress, MapQuery, Mesh, ObjectInfo, Phase, Plan, PlanSite, ProbeParameters,
+from .probe import FailureKind, Lease, ProbeCommand, SubmitResult, check_trace, measured_trace
+from .records import (ArMethod, Fit, FrictionEstimate, JobEvent, JobInfo, JobProgress, JobSpec, JobState,
+                      JobUpdate, LevelProgress, MapQuery, Mesh, ObjectInfo, Phase, Plan, PlanSite, ProbeParameters,
                       Property, RefitResult, RoughnessEstimate, Sample, SamplingMode, SiteState, SurfaceMap,
                       Trace)
+from .rig import Rig, RigFailure, RigSummary, TracePending, TraceRejected, run_rig
+from .spool import TraceSpool, default_spool_dir
 
 __all__ = [
     "connect", "SurfmapClient", "SurfmapError", "DEFAULT_TIMEOUT_S", "DEFAULT_WATCH_TIMEOUT_S",
     "map_to_document", "write_map_file",
-    "ArMethod", "Fit", "FrictionEstimate", "JobInfo", "JobProgress", "JobSpec", "JobState", "JobUpdate",
+    "ArMethod", "Fit", "FrictionEstimate", "JobEvent", "JobInfo", "JobProgress", "JobSpec", "JobState", "JobUpdate",
     "LevelProgress", "MapQuery", "Mesh", "ObjectInfo", "Phase", "Plan", "PlanSite", "ProbeParameters",
     "Property", "RefitResult", "RoughnessEstimate", "Sample", "SamplingMode", "SiteState", "SurfaceMap", "Trace",
+    # rigs: lease, measure, submit (rig.py, probe.py, spool.py; driver_protocol.py for surfmap-rig --driver)
+    "Rig", "run_rig", "RigFailure", "RigSummary", "TraceRejected", "TracePending", "FailureKind", "Lease",
+    "ProbeCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool", "default_spool_dir",
 ]

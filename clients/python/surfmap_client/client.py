@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Iterator, List, Optional, Sequence, Union
+from typing import Callable, Generator, List, Optional, Sequence, Union
 
 import grpc
 import numpy as np
@@ -50,17 +50,25 @@ def connect(address: str, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[st
         raise invalid_argument("connect", f"timeout must be a positive number of seconds, got {timeout!r}")
     options = [("grpc.max_receive_message_length", DEFAULT_MAX_MESSAGE_BYTES),
                ("grpc.max_send_message_length", DEFAULT_MAX_MESSAGE_BYTES)]
+    credentials = None
     if root_certificates is not None or tls:
         roots = root_certificates
         if isinstance(roots, (str, os.PathLike)):
             try:
                 roots = Path(roots).read_bytes()
             except OSError as error:
-                raise invalid_argument("connect", f"cannot read root certificates '{root_certificates}': {error}")
-        channel = grpc.secure_channel(address, grpc.ssl_channel_credentials(root_certificates=roots), options)
-    else:
-        channel = grpc.insecure_channel(address, options)
-    client = SurfmapClient(channel, timeout=timeout, token=token, address=address)
+                raise invalid_argument("connect", f"cannot read root certificates '{root_certificates!s}': {error}")
+        credentials = grpc.ssl_channel_credentials(root_certificates=roots)
+
+    def make_channel(own_connection: bool = False) -> grpc.Channel:
+        channel_options = options + ([("grpc.use_local_subchannel_pool", 1)] if own_connection else [])
+        if credentials is not None:
+            return grpc.secure_channel(address, credentials, channel_options)
+        return grpc.insecure_channel(address, channel_options)
+
+    channel = make_channel()
+    client = SurfmapClient(channel, timeout=timeout, token=token, address=address,
+                           channel_factory=lambda: make_channel(own_connection=True))
     if wait_ready:
         try:
             grpc.channel_ready_future(channel).result(timeout=timeout)
@@ -89,10 +97,12 @@ class SurfmapClient:
     """A connection to surfmapd. Thread-safe (gRPC channels are); a context manager."""
 
     def __init__(self, channel: grpc.Channel, timeout: float = DEFAULT_TIMEOUT_S, token: Optional[str] = None,
-                 address: Optional[str] = None) -> None:
+                 address: Optional[str] = None,
+                 channel_factory: Optional[Callable[[], grpc.Channel]] = None) -> None:
         self._channel = channel
+        self._channel_factory = channel_factory
         self.timeout = timeout          # default deadline of every call, s
-        self.address = address          # as given to connect(), for messages and helpers
+        self.address: str = address or ""  # as given to connect(), for messages and helpers
         self.token = token
         self._metadata = (("authorization", f"Bearer {token}"),) if token else ()
         self._objects = pb_grpc.ObjectServiceStub(channel)
@@ -104,6 +114,19 @@ class SurfmapClient:
 
     def close(self) -> None:
         self._channel.close()
+
+    def new_channel(self) -> grpc.Channel:
+        """A new channel to the same server, with the same credentials and a
+        connection of its own (the caller closes it). A rig (``surfmap_client.Rig``)
+        takes a fresh one after UNAVAILABLE: gRPC's channel stays in
+        TRANSIENT_FAILURE for seconds after a restarted server is back. Falls
+        back to this client's channel when it was not made by ``connect``."""
+        return self._channel_factory() if self._channel_factory is not None else self._channel
+
+    @property
+    def metadata(self) -> tuple:
+        """The metadata every call carries (the bearer token, when set)."""
+        return self._metadata
 
     def __enter__(self) -> "SurfmapClient":
         return self
@@ -158,17 +181,20 @@ class SurfmapClient:
     # ------------------------------------------------------------ jobs
 
     def create_job(self, object_id: int, property: Union[r.Property, str] = r.Property.FRICTION,
-                   mode: Union[r.SamplingMode, str] = r.SamplingMode.ADAPTIVE, *,
+                   mode: Union[r.SamplingMode, str] = r.SamplingMode.BOUNDARY, *,
                    coarsest_level: Optional[int] = None, finest_level: Optional[int] = None,
+                   map_level: Optional[int] = None,
                    threshold: Optional[float] = None, budget: Optional[int] = None,
                    segment_length_mm: Optional[float] = None, speed_mm_s: Optional[float] = None,
                    normal_force_n: Optional[float] = None, seed: Optional[int] = None,
                    max_retries: Optional[int] = None, lease_s: Optional[float] = None,
                    timeout: Optional[float] = None) -> r.JobInfo:
         """Creates a mapping job. Settings left None take the server's defaults
-        (levels 0..3, threshold 1, unlimited budget, the paper's 20 mm drag at
-        10 mm/s and 5 N, seed 1, 2 retries, 60 s lease); the returned JobInfo
-        shows the values applied."""
+        (the boundary-seeking mode with its budget of 1.5 samples per control
+        vertex; levels chosen from the mesh: the map on ~2 mm edges, the plan
+        one level coarser; threshold 1 (ADAPTIVE only: other modes refuse
+        one); the paper's 20 mm drag at 10 mm/s and 5 N, seed 1, 2 retries,
+        60 s lease); the returned JobInfo shows the values applied."""
         try:
             prop = conv.PROPERTY_TO_PROTO[r.Property(property)]
             sampling = conv.MODE_TO_PROTO[r.SamplingMode(mode)]
@@ -177,6 +203,7 @@ class SurfmapClient:
         spec = pb.JobSpec(object_id=object_id, property=prop, mode=sampling)
         # Zero means "server default" in the proto, so unset settings stay zero.
         for field_name, value in (("coarsest_level", coarsest_level), ("finest_level", finest_level),
+                                  ("map_level", map_level),
                                   ("threshold", threshold), ("budget", budget), ("seed", seed),
                                   ("max_retries", max_retries)):
             if value is not None:
@@ -217,8 +244,27 @@ class SurfmapClient:
         """Every site of the job's plan and its state."""
         return conv.plan(self._call("GetPlan", self._jobs.GetPlan, pb.GetPlanRequest(job_id=job_id), timeout))
 
+    def list_job_events(self, job_id: int, after_event_id: int = 0, limit: Optional[int] = None,
+                        timeout: Optional[float] = None) -> List[r.JobEvent]:
+        """The job's events after ``after_event_id`` (0 = from the first), oldest
+        first, at most ``limit`` (1..10000; None = the server's 1000). Pass the
+        last event's ``event_id`` to read on::
+
+            events, cursor = [], 0
+            while batch := client.list_job_events(job_id, cursor):
+                events += batch
+                cursor = batch[-1].event_id
+        """
+        if after_event_id < 0:
+            raise invalid_argument("ListJobEvents", f"after_event_id must be >= 0, got {after_event_id}")
+        if limit is not None and not 1 <= limit <= 10000:
+            raise invalid_argument("ListJobEvents", f"limit must be 1..10000 (or None), got {limit}")
+        request = pb.ListJobEventsRequest(job_id=job_id, after_event_id=after_event_id, limit=limit or 0)
+        response = self._call("ListJobEvents", self._jobs.ListJobEvents, request, timeout)
+        return [conv.job_event(e) for e in response.events]
+
     def watch_job(self, job_id: int, include_map: bool = False,
-                  timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Iterator[r.JobUpdate]:
+                  timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Generator[r.JobUpdate, None, None]:
         """Iterates over the job's progress updates until the job ends.
 
         The first update is the current state; the last one is the update in
@@ -237,7 +283,7 @@ class SurfmapClient:
         return self._watch_updates(call)
 
     @staticmethod
-    def _watch_updates(call) -> Iterator[r.JobUpdate]:
+    def _watch_updates(call) -> Generator[r.JobUpdate, None, None]:
         try:
             for message in call:
                 yield conv.job_update(message)
@@ -265,11 +311,11 @@ class SurfmapClient:
     def get_fits(self, trace_id: int, timeout: Optional[float] = None) -> List[r.Fit]:
         """Every fit version of one trace, oldest first (refits keep the old ones)."""
         fits: List[r.Fit] = []
-        latest = self.get_sample(trace_id, 0, timeout).fit
+        latest = self.get_sample(trace_id, 0, timeout=timeout).fit
         if latest is None:
             return fits
         for version in range(1, latest.version):
-            sample = self.get_sample(trace_id, version, timeout)
+            sample = self.get_sample(trace_id, version, timeout=timeout)
             if sample.fit is not None:
                 fits.append(sample.fit)
         fits.append(latest)

@@ -2,8 +2,9 @@
 
 from __future__ import annotations
 
+import json
 from datetime import datetime, timezone
-from typing import Optional
+from typing import Any, Dict, Optional
 
 import numpy as np
 
@@ -16,6 +17,7 @@ _PROPERTY = {
     pb.PROPERTY_BOTH: r.Property.BOTH,
 }
 _MODE = {
+    pb.SAMPLING_MODE_BOUNDARY: r.SamplingMode.BOUNDARY,
     pb.SAMPLING_MODE_ADAPTIVE: r.SamplingMode.ADAPTIVE,
     pb.SAMPLING_MODE_UNIFORM: r.SamplingMode.UNIFORM,
     pb.SAMPLING_MODE_UNCERTAINTY: r.SamplingMode.UNCERTAINTY,
@@ -57,12 +59,14 @@ def job_spec(m) -> r.JobSpec:
     probe = r.ProbeParameters(m.probe.segment_length_mm, m.probe.speed_mm_s, m.probe.normal_force_n)
     lease_s = m.lease.seconds + m.lease.nanos * 1e-9
     return r.JobSpec(m.object_id, _PROPERTY.get(m.property, r.Property.FRICTION),
-                     _MODE.get(m.mode, r.SamplingMode.ADAPTIVE), m.coarsest_level, m.finest_level, m.threshold, m.budget, probe, m.seed, m.max_retries, lease_s)
+                     _MODE.get(m.mode, r.SamplingMode.BOUNDARY), m.coarsest_level, m.finest_level, m.threshold,
+                     m.budget, probe, m.seed, m.max_retries, lease_s,
+                     m.map_level if m.HasField("map_level") else m.finest_level)
 
 
 def job_progress(m) -> r.JobProgress:
-    levels = tuple(r.LevelProgress(l.level, l.measured, l.pending, l.issued, l.failed,
-                                   l.leased if l.HasField("leased") else None) for l in m.levels)
+    levels = tuple(r.LevelProgress(lv.level, lv.measured, lv.pending, lv.issued, lv.failed,
+                                   lv.leased if lv.HasField("leased") else None) for lv in m.levels)
     leased = m.leased if m.HasField("leased") else None
     return r.JobProgress(m.measured, m.pending, m.issued, m.failed, m.skipped, m.budget_left, m.complete, levels,
                          leased)
@@ -96,7 +100,22 @@ def fit(m) -> r.Fit:
 def sample(m) -> r.Sample:
     return r.Sample(m.trace_id, m.command_id, m.job_id, m.site.level, m.site.vertex, _vec(m.position),
                     _vec(m.drag_direction), m.segment_length_mm, fit(m.fit) if m.HasField("fit") else None,
-                    _time(m, "received"))
+                    _time(m, "received"), m.rig_id)
+
+
+def job_event(m) -> r.JobEvent:
+    detail: Optional[Dict[str, Any]] = None
+    problem = ""
+    try:
+        parsed = json.loads(m.detail_json or "{}")
+    except ValueError as error:
+        problem = f"event {m.event_id}: detail_json is not JSON ({error}): {m.detail_json[:200]}"
+    else:
+        if isinstance(parsed, dict):
+            detail = parsed
+        else:
+            problem = f"event {m.event_id}: detail_json is not a JSON object: {m.detail_json[:200]}"
+    return r.JobEvent(m.event_id, m.job_id, _time(m, "time"), m.kind, detail, m.detail_json, problem)
 
 
 def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
@@ -106,9 +125,14 @@ def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
     if mesh_message is not None and len(mesh_message.positions) > 0:
         mm = mesh(mesh_message)
         positions, normals, triangles = mm.positions, mm.normals, mm.triangles
+    regions = tuple(r.MapRegion(g.region, g.mu, g.mu_se, g.mu_spread, g.piece_count, g.roughness_piece_count,
+                                tuple(g.reflection), tuple(g.ar_coefficients), g.sigma, g.area_mm2)
+                    for g in m.regions)
     return r.SurfaceMap(job_id=m.job_id, level=m.level, vertex_count=m.vertex_count,
                         samples=tuple(sample(s) for s in m.samples), positions=positions, normals=normals,
-                        triangles=triangles, **arrays)
+                        triangles=triangles, region=np.array(m.region, dtype=np.int64),
+                        boundary_probability=np.array(m.boundary_probability, dtype=float), regions=regions,
+                        **arrays)
 
 
 def map_query(m) -> r.MapQuery:
@@ -116,7 +140,7 @@ def map_query(m) -> r.MapQuery:
     column = lambda name: np.array([getattr(x, name) for x in v], dtype=float)  # noqa: E731
     return r.MapQuery(vec_array([x.surface_point for x in v]), vec_array([x.normal for x in v]),
                       column("distance_mm"), column("mu"), column("mu_uncertainty"), column("sigma"),
-                      column("a1"), column("a2"))
+                      column("a1"), column("a2"), np.array([x.region for x in v], dtype=np.int64))
 
 
 def trace(m) -> r.Trace:

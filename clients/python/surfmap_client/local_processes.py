@@ -41,8 +41,9 @@ class LocalServer:
     """surfmapd on 127.0.0.1:<free port>. Use as a context manager."""
 
     def __init__(self, surfmapd: str, db_path: str, log_path: str, config_path: Optional[str] = None,
-                 start_timeout_s: float = 30.0) -> None:
+                 start_timeout_s: float = 30.0, port: int = 0) -> None:
         self.surfmapd = surfmapd
+        self.listen_port = port   # 0: a free port; restart() reuses the last one
         self.db_path = db_path
         self.log_path = log_path
         self.config_path = config_path
@@ -59,7 +60,8 @@ class LocalServer:
     def start(self) -> "LocalServer":
         port_file = Path(self.db_path + ".port")
         port_file.unlink(missing_ok=True)
-        command = [self.surfmapd, "--listen", "127.0.0.1:0", "--db", self.db_path, "--port-file", str(port_file),
+        command = [self.surfmapd, "--listen", f"127.0.0.1:{self.listen_port}", "--db", self.db_path,
+                   "--port-file", str(port_file),
                    "--log-format", "text"]
         if self.config_path:
             command += ["--config", self.config_path]
@@ -74,6 +76,7 @@ class LocalServer:
                 text = port_file.read_text().strip()
                 if text:
                     self.port = int(text)
+                    self.listen_port = self.port
                     return self
             except (OSError, ValueError):
                 pass  # not written yet, or half-written
@@ -96,6 +99,21 @@ class LocalServer:
                 process.wait()
         self.port = None
         return process.returncode
+
+    def kill(self) -> None:
+        """SIGKILL (the crash case: nothing flushed, no shutdown code runs)."""
+        process, self._process = self._process, None
+        if process is not None and process.poll() is None:
+            process.kill()
+            process.wait()
+        self.port = None
+
+    def restart(self) -> "LocalServer":
+        """Starts the stopped server again on the same database and port
+        (clients holding the address reconnect)."""
+        if self._process is not None:
+            raise LocalProcessError("restart: surfmapd is still running")
+        return self.start()
 
     def log(self) -> str:
         try:

@@ -11,7 +11,7 @@ from __future__ import annotations
 import enum
 from dataclasses import dataclass, field
 from datetime import datetime
-from typing import Optional, Tuple
+from typing import Any, Dict, Optional, Tuple
 
 import numpy as np
 
@@ -27,9 +27,10 @@ class Property(str, enum.Enum):
 class SamplingMode(str, enum.Enum):
     """How a job chooses its sites."""
 
-    ADAPTIVE = "adaptive"        # the paper's threshold rule
-    UNIFORM = "uniform"          # every vertex of the finest level
-    UNCERTAINTY = "uncertainty"  # next site where the map is most uncertain
+    BOUNDARY = "boundary"        # the default: goes looking for boundaries (drags across them)
+    ADAPTIVE = "adaptive"        # the paper's threshold rule (the only mode that reads threshold)
+    UNIFORM = "uniform"          # every vertex of coarsest_level, nothing more
+    UNCERTAINTY = "uncertainty"  # next site where the harmonic map is most uncertain (needs a budget)
 
 
 class ArMethod(str, enum.Enum):
@@ -109,13 +110,14 @@ class JobSpec:
     property: Property
     mode: SamplingMode
     coarsest_level: int
-    finest_level: int
+    finest_level: int             # the plan's finest level
     threshold: float
     budget: int                   # 0 = unlimited
     probe: ProbeParameters
     seed: int
     max_retries: int
     lease_s: float
+    map_level: int = -1           # the level the map is evaluated on (>= finest_level)
 
 
 @dataclass(frozen=True)
@@ -236,6 +238,44 @@ class Sample:
     segment_length_mm: float
     fit: Optional[Fit]
     received: Optional[datetime]
+    rig_id: str = ""              # the rig that measured it ("" from servers before the field)
+
+
+@dataclass(frozen=True)
+class JobEvent:
+    """One entry of a job's event log (``list_job_events``), oldest first.
+
+    ``kind``: ``job_created``, ``job_state`` (``from``, ``to``),
+    ``trace_accepted`` (``command_id``, ``level``, ``vertex``, ``mu``,
+    ``rig``) or ``probe_failed`` (``command_id``, ``reason``, ``kind``
+    transient/unreachable, ``rig``, ``will_retry``); ``detail`` holds those
+    fields, parsed from ``detail_json``. A detail that is not a JSON object
+    leaves ``detail`` None and says why in ``detail_error``.
+    """
+
+    event_id: int                 # increases with every event: the cursor for the next call
+    job_id: int
+    time: Optional[datetime]
+    kind: str
+    detail: Optional[Dict[str, Any]]
+    detail_json: str
+    detail_error: str = ""
+
+
+@dataclass(frozen=True)
+class MapRegion:
+    """A material region of the map: the drag pieces grouped together."""
+
+    region: int
+    mu: float
+    mu_se: float
+    mu_spread: float
+    piece_count: int
+    roughness_piece_count: int
+    reflection: Tuple[float, ...]        # empty without roughness
+    ar_coefficients: Tuple[float, ...]   # a1..ap, empty without roughness
+    sigma: float                         # N; 0 without roughness
+    area_mm2: float
 
 
 @dataclass(frozen=True)
@@ -243,8 +283,9 @@ class SurfaceMap:
     """The map at one subdivision level, as arrays.
 
     Per vertex (N = vertex_count): ``mu``, ``mu_uncertainty`` (standard
-    deviation), ``sigma`` (roughness innovation std, N), ``a1``, ``a2``; NaN
-    where unknown. ``positions``/``normals``/``triangles`` are present when
+    deviation), ``sigma`` (roughness innovation std, N), ``a1``, ``a2`` (0
+    where the region has no roughness), ``region`` (index into ``regions``,
+    -1 without data) and ``boundary_probability``. ``positions``/``normals``/``triangles`` are present when
     the map was fetched with its mesh, else None. Per measured sample (S):
     ``sample_positions`` (S, 3), ``sample_drag_directions`` (S, 3),
     ``sample_sites`` (S, 2) as (level, vertex), ``sample_mu`` (S,), and the
@@ -260,6 +301,9 @@ class SurfaceMap:
     a1: np.ndarray
     a2: np.ndarray
     samples: Tuple[Sample, ...]
+    region: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
+    boundary_probability: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    regions: Tuple[MapRegion, ...] = ()
     positions: Optional[np.ndarray] = None
     normals: Optional[np.ndarray] = None
     triangles: Optional[np.ndarray] = None
@@ -291,6 +335,7 @@ class MapQuery:
     sigma: np.ndarray
     a1: np.ndarray
     a2: np.ndarray
+    region: Optional[np.ndarray] = None  # (N,) MapRegion index, -1 without data
 
 
 @dataclass(frozen=True)
@@ -340,7 +385,8 @@ class JobUpdate:
     """One message of the WatchJob stream."""
 
     job: JobInfo
-    latest_sample: Optional[Sample]   # the newest accepted sample as of this update (updates are coalesced: list_samples has them all)
+    # The newest accepted sample as of this update (updates are coalesced: list_samples has them all).
+    latest_sample: Optional[Sample]
     map: Optional[SurfaceMap]         # finest level, when watched with include_map
 
 

@@ -18,7 +18,7 @@ def test_map_arrays_have_the_right_shapes_and_finite_values(client, completed_jo
     job = completed_job.job
     surface = client.get_map(job.job_id)
     assert surface.job_id == job.job_id
-    assert surface.level == job.spec.finest_level
+    assert surface.level == job.spec.map_level >= job.spec.finest_level
     n = surface.vertex_count
     mesh = client.get_mesh(completed_job.object.object_id, surface.level)
     assert n == len(mesh.positions)
@@ -54,12 +54,20 @@ def test_coarser_level_and_map_without_mesh(client, completed_job):
 
 def test_query_at_the_samples_returns_their_measurement(client, completed_job):
     surface = client.get_map(completed_job.job.job_id)
-    # Measured sites are constraints of the interpolation: the map there is the sample's mu.
     query = client.query_map(completed_job.job.job_id, surface.sample_positions)
     assert query.mu.shape == (len(surface.samples),)
     assert query.surface_points.shape == (len(surface.samples), 3)
     np.testing.assert_allclose(query.distance_mm, 0.0, atol=1e-6)
-    np.testing.assert_allclose(query.mu, surface.sample_mu, atol=1e-6)
+    # The map takes each region's pooled mu; a site's drag may straddle a
+    # boundary (its mean is a blend), so compare the typical site: the
+    # plate's closest materials differ by 0.05, a region's pooled mu is
+    # within its drags' repeatability (~0.01) of each pure drag.
+    assert np.median(np.abs(query.mu - surface.sample_mu)) < 0.02
+    # A query at a vertex answers the vertex's own map value and region.
+    at_vertices = client.query_map(completed_job.job.job_id, surface.positions[:50])
+    np.testing.assert_allclose(at_vertices.mu, surface.mu[:50], atol=1e-9)
+    np.testing.assert_array_equal(at_vertices.region, surface.region[:50])
+    assert len(surface.regions) >= 1 and surface.region.max() < len(surface.regions)
     # A point 5 mm above the (z = 0) plate projects onto it.
     above = client.query_map(completed_job.job.job_id, [0.0, 0.0, 5.0])
     assert above.distance_mm[0] == pytest.approx(5.0, abs=1e-6)

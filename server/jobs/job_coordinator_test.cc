@@ -1,0 +1,216 @@
+// The job layer against a store whose writes can be held, failed, delayed or
+// answered inline: nothing may wait on storage under a lock, callbacks must
+// only post, and after a failed write memory and database must agree.
+#include "server/jobs/job_coordinator.h"
+
+#include <atomic>
+#include <thread>
+
+#include "gtest/gtest.h"
+#include "server/jobs/coordinator_fixture_for_test.h"
+#include "server/jobs/job_refit.h"
+
+namespace surfmap::testing {
+namespace {
+
+using CallbackDelivery = FaultInjectingStore::CallbackDelivery;
+
+class JobCoordinatorTest : public CoordinatorFixture {};
+
+TEST_F(JobCoordinatorTest, SteeringNeverWaitsForTheStoreAndAnswersWhenDurable) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
+  ASSERT_TRUE(lease.ok() && lease->record) << lease.status();
+
+  // Hold the next write (the pause): the call must return at once.
+  const int64_t pause_write = faults_->writes_submitted() + 1;
+  faults_->HoldWrite(pause_write);
+  Awaited<absl::StatusOr<JobSnapshot>> paused;
+  const auto start = std::chrono::steady_clock::now();
+  coordinator_->SetJobState(job.record.id, JobState::kPaused, paused.Callback());
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(1)) << "SetJobState waited for the store";
+  ASSERT_TRUE(faults_->WaitUntilHeld(pause_write, absl::Seconds(10)));
+  EXPECT_FALSE(paused.Ready()) << "answered before the change was durable";
+
+  // While the pause is held: reads answer, and a rig's trace is taken (its
+  // write queues behind the pause, as on a slow disk).
+  absl::StatusOr<JobSnapshot> during = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(during.ok()) << during.status();
+  EXPECT_EQ(during->record.state, JobState::kRunning) << "the job shows the stored state until the pause is durable";
+  Awaited<absl::StatusOr<SubmitOutcome>> submitted;
+  const DragTrace trace = TraceFor(*lease);
+  coordinator_->probes().SubmitTrace(
+      lease->record->id, "rig-a", [trace]() -> absl::StatusOr<DragTrace> { return trace; }, false,
+      submitted.Callback());
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(submitted.Ready()) << "the trace was acknowledged before its (queued) write";
+
+  faults_->ReleaseWrite(pause_write);
+  std::optional<absl::StatusOr<JobSnapshot>> pause_answer = paused.Get("pause");
+  ASSERT_TRUE(pause_answer && pause_answer->ok()) << (pause_answer ? pause_answer->status() : absl::Status());
+  EXPECT_EQ((*pause_answer)->record.state, JobState::kPaused);
+  std::optional<absl::StatusOr<SubmitOutcome>> submit_answer = submitted.Get("submit");
+  ASSERT_TRUE(submit_answer && submit_answer->ok()) << (submit_answer ? submit_answer->status() : absl::Status());
+  EXPECT_FALSE((*submit_answer)->already_accepted);
+}
+
+TEST_F(JobCoordinatorTest, InlineCallbacksCannotDeadlock) {
+  // The store answers on the calling thread, which may hold a job lock: the
+  // coordinator must only post from its callbacks.
+  faults_->SetCallbackDelivery(CallbackDelivery::kInline);
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/8);
+  ASSERT_TRUE(SetState(job.record.id, JobState::kPaused).ok());
+  ASSERT_TRUE(SetState(job.record.id, JobState::kRunning).ok());
+  EXPECT_EQ(MeasureUntilDone(job.record.id, "rig-inline"), 8);
+  absl::StatusOr<JobSnapshot> done = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(done.ok());
+  EXPECT_EQ(done->record.state, JobState::kCompleted);
+}
+
+TEST_F(JobCoordinatorTest, LateCallbacksKeepCommitOrder) {
+  faults_->SetCallbackDelivery(CallbackDelivery::kLate, absl::Milliseconds(15));
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/6);
+  EXPECT_EQ(MeasureUntilDone(job.record.id, "rig-late"), 6);
+  absl::StatusOr<JobSnapshot> done = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(done.ok());
+  EXPECT_EQ(done->record.state, JobState::kCompleted);
+  EXPECT_EQ(done->progress.measured, 6);
+}
+
+TEST_F(JobCoordinatorTest, AFailedTraceWriteIsUndoneByReReadingTheJob) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
+  ASSERT_TRUE(lease.ok() && lease->record);
+  faults_->FailWrite(faults_->writes_submitted() + 1, absl::UnavailableError("disk full"));
+  absl::StatusOr<SubmitOutcome> failed = Submit(lease->record->id, "rig-a", TraceFor(*lease));
+  EXPECT_EQ(failed.status().code(), absl::StatusCode::kUnavailable) << failed.status();
+
+  // The plan had counted the site measured; the database has no trace. After
+  // the re-read the job agrees with the database, and the rig's retry lands.
+  absl::StatusOr<SubmitOutcome> retried = absl::UnavailableError("not tried");
+  for (int i = 0; i < 200 && retried.status().code() == absl::StatusCode::kUnavailable; ++i) {
+    retried = Submit(lease->record->id, "rig-a", TraceFor(*lease));
+    if (!retried.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(retried.ok()) << retried.status();
+  EXPECT_FALSE(retried->already_accepted);
+  absl::StatusOr<JobSnapshot> now = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(now.ok());
+  EXPECT_EQ(now->progress.measured, 1);
+
+  // A fresh coordinator on the same database sees the same plan.
+  const PlanProgress before = now->progress;
+  Reopen();
+  absl::StatusOr<JobSnapshot> reloaded = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(reloaded.ok()) << reloaded.status();
+  EXPECT_EQ(reloaded->progress.measured, before.measured);
+  EXPECT_EQ(reloaded->progress.issued, before.issued);
+  EXPECT_EQ(reloaded->progress.pending, before.pending);
+}
+
+TEST_F(JobCoordinatorTest, AFailedStateWriteLeavesTheStoredState) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  faults_->FailWrite(faults_->writes_submitted() + 1, absl::UnavailableError("I/O error"));
+  EXPECT_EQ(SetState(job.record.id, JobState::kCancelled).status().code(), absl::StatusCode::kUnavailable);
+  // Memory had moved to cancelled (and skipped the pending sites); the re-read
+  // puts it back, and the next change goes through.
+  absl::StatusOr<JobSnapshot> paused = absl::UnavailableError("not tried");
+  for (int i = 0; i < 200 && paused.status().code() == absl::StatusCode::kUnavailable; ++i) {
+    paused = SetState(job.record.id, JobState::kPaused);
+    if (!paused.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(paused.ok()) << paused.status();
+  EXPECT_EQ(paused->record.state, JobState::kPaused);
+  EXPECT_EQ(paused->progress.skipped, 0) << "the failed cancel's skipped sites came back";
+}
+
+TEST_F(JobCoordinatorTest, ListenersRunWithNoLockHeldAndMayCallBack) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/4);
+  std::atomic<int> calls{0};
+  std::atomic<bool> failed{false};
+  absl::StatusOr<JobCoordinator::WatchHandle> handle = coordinator_->Watch(job.record.id, [&] {
+    // Under a job lock this would deadlock (Mutex is not re-entrant).
+    if (!coordinator_->GetJob(job.record.id).ok()) failed = true;
+    calls.fetch_add(1);
+  });
+  ASSERT_TRUE(handle.ok());
+  ASSERT_TRUE(SetState(job.record.id, JobState::kPaused).ok());
+  ASSERT_TRUE(SetState(job.record.id, JobState::kRunning).ok());
+  EXPECT_EQ(MeasureUntilDone(job.record.id, "rig"), 4);
+  completions_->Drain();
+  EXPECT_GE(calls.load(), 6) << "two state changes and four traces";
+  EXPECT_FALSE(failed.load());
+  JobCoordinator::Unwatch(*handle);
+}
+
+TEST_F(JobCoordinatorTest, AnObjectAskedForBeforeItExistsIsFoundOnceUploaded) {
+  EXPECT_EQ(coordinator_->Surface(1, 0).status().code(), absl::StatusCode::kNotFound);
+  const int64_t object = UploadPlate();
+  ASSERT_EQ(object, 1);
+  absl::StatusOr<std::shared_ptr<const LoopSurface>> surface = coordinator_->Surface(1, 0);
+  EXPECT_TRUE(surface.ok()) << surface.status();
+}
+
+TEST_F(JobCoordinatorTest, OnlyRunningAndPausedJobsAreLoadedAtStart) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot running = CreateUniformJob(object);
+  const JobSnapshot paused = CreateUniformJob(object);
+  const JobSnapshot cancelled = CreateUniformJob(object);
+  const JobSnapshot completed = CreateUniformJob(object, /*budget=*/2);
+  ASSERT_TRUE(SetState(paused.record.id, JobState::kPaused).ok());
+  ASSERT_TRUE(SetState(cancelled.record.id, JobState::kCancelled).ok());
+  ASSERT_EQ(MeasureUntilDone(completed.record.id, "rig"), 2);
+  Reopen();
+  EXPECT_EQ(coordinator_->registry().loaded_jobs(), 2u);
+  EXPECT_TRUE(coordinator_->IsJobLoaded(running.record.id));
+  EXPECT_TRUE(coordinator_->IsJobLoaded(paused.record.id));
+  EXPECT_FALSE(coordinator_->IsJobLoaded(completed.record.id));
+  // A finished job is still there on demand.
+  absl::StatusOr<JobSnapshot> done = coordinator_->GetJob(completed.record.id);
+  ASSERT_TRUE(done.ok()) << done.status();
+  EXPECT_EQ(done->record.state, JobState::kCompleted);
+  EXPECT_EQ(done->progress.measured, 2);
+}
+
+TEST_F(JobCoordinatorTest, ACancelledJobStillAcknowledgesTheIdenticalRetry) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
+  ASSERT_TRUE(lease.ok() && lease->record);
+  const DragTrace trace = TraceFor(*lease);
+  absl::StatusOr<SubmitOutcome> first = Submit(lease->record->id, "rig-a", trace);
+  ASSERT_TRUE(first.ok()) << first.status();
+  ASSERT_TRUE(SetState(job.record.id, JobState::kCancelled).ok());
+  absl::StatusOr<SubmitOutcome> retry = Submit(lease->record->id, "rig-a", trace);
+  ASSERT_TRUE(retry.ok()) << retry.status();
+  EXPECT_TRUE(retry->already_accepted);
+  EXPECT_EQ(retry->trace_id, first->trace_id);
+  EXPECT_EQ(retry->fit.mu, first->fit.mu);
+  // Other samples are not silently dropped behind an OK.
+  absl::StatusOr<SubmitOutcome> other = Submit(lease->record->id, "rig-a", TraceFor(*lease, /*seed=*/99));
+  EXPECT_EQ(other.status().code(), absl::StatusCode::kAlreadyExists) << other.status();
+}
+
+TEST_F(JobCoordinatorTest, RefitsReadTracesPageByPage) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/5);
+  ASSERT_EQ(MeasureUntilDone(job.record.id, "rig"), 5);
+  FitOptions options;
+  options.ar_order = 3;
+  absl::StatusOr<RefitOutcome> refit = RefitJobTraces(*faults_, job.record.id, options, /*page_traces=*/2);
+  ASSERT_TRUE(refit.ok()) << refit.status();
+  EXPECT_EQ(refit->refitted, 5) << "three pages of 2, 2 and 1 traces";
+  EXPECT_EQ(refit->version, 2);
+  absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 2);
+  ASSERT_TRUE(samples.ok());
+  EXPECT_EQ(samples->size(), 5u);
+}
+
+}  // namespace
+}  // namespace surfmap::testing

@@ -1,0 +1,400 @@
+#include "server/jobs/probe_protocol.h"
+
+#include <algorithm>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+#include "absl/strings/str_cat.h"
+#include "server/base/status_macros.h"
+#include "server/jobs/command_json.h"
+#include "server/jobs/job_watchers.h"
+#include "server/estimate/line_sample.h"
+#include "server/jobs/stored_plan.h"
+#include "server/jobs/stored_trace.h"
+#include "server/jobs/trace_plausibility.h"
+#include "server/plan/plan_journal.h"
+
+namespace surfmap {
+namespace {
+
+absl::Status ValidateRigId(const std::string& rig_id) {
+  if (rig_id.empty() || rig_id.size() > 100) return absl::InvalidArgumentError("rig_id must have 1..100 characters");
+  return absl::OkStatus();
+}
+
+// An answer to a command (trace or failure) must come from the rig holding
+// its lease: checked before the plan is touched (the store checks again).
+absl::Status CheckLeasedTo(const CommandRecord& command, const std::string& rig_id, const char* otherwise) {
+  if (command.state != CommandState::kLeased) {
+    return absl::FailedPreconditionError(absl::StrCat("command ", command.id, " is ",
+                                                      std::string(CommandStateName(command.state)),
+                                                      ", not leased: ", otherwise));
+  }
+  if (command.lease_owner != rig_id) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "command ", command.id, " is leased to '", command.lease_owner, "' (attempt ", command.attempt,
+        "), not to '", rig_id, "': the lease of '", rig_id,
+        "' expired and the command was leased again; nothing from '", rig_id, "' was stored"));
+  }
+  return absl::OkStatus();
+}
+
+// What one answer (`change`, already applied to runtime.plan) writes to the
+// store: a journal entry, or a checkpoint of the whole plan every
+// CheckpointInterval entries and when the plan completes.
+struct PlanWrite {
+  std::string checkpoint_json;
+  std::string journal_entry;
+  int64_t expected_revision = 0;
+  std::vector<NewCommand> new_commands;
+  std::optional<JobState> new_job_state;
+
+  // Into an AcceptTraceRequest or a FailCommandRequest (same field names).
+  template <typename Request>
+  void MoveInto(Request& request) && {
+    request.new_plan_json = std::move(checkpoint_json);
+    request.plan_journal_entry = std::move(journal_entry);
+    request.expected_plan_revision = expected_revision;
+    request.new_commands = std::move(new_commands);
+    request.new_job_state = new_job_state;
+  }
+};
+
+PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change)
+    ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu) {
+  PlanWrite write;
+  write.new_commands = DrainCommands(runtime.plan);
+  // Writes of one job are queued in order under its lock and committed in
+  // queue order, so this write's base is the revision the previous one made.
+  write.expected_revision = runtime.plan_revision++;
+  const bool complete = runtime.plan.IsComplete();
+  if (complete || runtime.journal_entries + 1 >= CheckpointInterval(runtime.plan)) {
+    write.checkpoint_json = runtime.plan.SaveJson();
+    runtime.journal_entries = 0;
+  } else {
+    write.journal_entry = PlanJournalEntryToJson(change);
+    runtime.journal_entries++;
+  }
+  if (complete && !IsFinalJobState(runtime.state)) {
+    write.new_job_state = JobState::kCompleted;
+    runtime.state = JobState::kCompleted;
+  }
+  return write;
+}
+
+}  // namespace
+
+ProbeProtocol::ProbeProtocol(Store* store, JobRegistry* registry, JobExecutors executors, int64_t default_lease_ms)
+    : store_(store), registry_(registry), executors_(executors), default_lease_ms_(default_lease_ms) {}
+
+// ---------------------------------------------------------------- leasing
+
+void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, LeaseCallback done) {
+  if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
+  if (job_id < 0) return done(absl::InvalidArgumentError("job_id must be >= 0 (0 = any)"));
+  int64_t lease_ms = default_lease_ms_;
+  if (job_id != 0) {
+    bool finished = false;
+    if (std::shared_ptr<JobRuntime> runtime = registry_->Find(job_id)) {
+      MutexLock lock(&runtime->mu);
+      finished = IsFinalJobState(runtime->state);
+      lease_ms = runtime->params.lease_ms;
+    } else {
+      // Not in memory: only a finished job (one small read says so).
+      absl::StatusOr<JobRecord> record = store_->GetJob(job_id);
+      if (!record.ok()) return done(record.status());
+      finished = IsFinalJobState(record->state);
+    }
+    if (finished) {
+      LeaseOutcome outcome;
+      outcome.job_finished = true;
+      return done(outcome);
+    }
+  }
+  LeaseRequest request{job_id, rig_id, UnixMillisNow(), lease_ms};
+  store_->LeaseNextCommandAsync(request, [this, done = std::move(done)](
+                                             absl::StatusOr<std::optional<CommandRecord>> leased) mutable {
+    executors_.completions->Post([leased = std::move(leased), done = std::move(done)]() mutable {
+      if (!leased.ok()) return done(leased.status());
+      done(LeaseOutcomeOf(std::move(*leased)));
+    });
+  });
+}
+
+// ---------------------------------------------------------------- traces
+
+absl::StatusOr<ProbeProtocol::CommandContext> ProbeProtocol::LoadCommandContext(int64_t command_id) {
+  if (command_id <= 0) return absl::InvalidArgumentError("command_id must be a positive command id");
+  SURFMAP_ASSIGN_OR_RETURN(CommandRecord record, store_->GetCommand(command_id));
+  absl::StatusOr<ProbeCommand> probe = ProbeCommandFromJson(record.command_json);
+  if (!probe.ok()) {
+    return absl::DataLossError(absl::StrCat("stored command ", command_id, " cannot be read: ", probe.status().message()));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<JobRuntime> runtime, registry_->Get(record.job_id));
+  return CommandContext{std::move(record), std::move(*probe), std::move(runtime)};
+}
+
+void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource source, bool lease_next,
+                                SubmitCallback done) {
+  if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
+  if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
+  auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
+                                               shared_done] {
+    FitAndSubmit(command_id, rig_id, source, lease_next, std::move(*shared_done));
+  });
+  if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the trace later"));
+}
+
+void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source,
+                                 bool lease_next, SubmitCallback done) {
+  absl::StatusOr<DragTrace> made = source();
+  if (!made.ok()) return done(made.status());
+  DragTrace trace = std::move(*made);
+  absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
+  if (!context.ok()) return done(context.status());
+  // A done command: this is a repeated submission; the store tells a retry
+  // (same rig, same samples) from a conflict. No fit, no plan change.
+  const bool repeated = context->record.state == CommandState::kDone;
+  TraceFit fit;
+  if (!repeated) {
+    if (absl::Status held = CheckLeasedTo(context->record, rig_id, "lease it before submitting a trace"); !held.ok()) {
+      return done(held);
+    }
+    // Plausibility first: one cheap pass, before any work that grows with
+    // what the trace claims (a fit's grids follow its path length).
+    const TraceLimits& limits = context->runtime->params.limits;
+    if (absl::Status plausible = CheckTraceAgainstCommand(trace, context->probe, limits); !plausible.ok()) {
+      if (PlausibilityCheckName(plausible).empty()) {  // malformed: nothing worth keeping
+        return done(absl::Status(plausible.code(), absl::StrCat("trace for command ", command_id, ": ",
+                                                                plausible.message())));
+      }
+      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+    }
+    // The fit is pure computation: on this pool thread, outside any lock.
+    absl::StatusOr<TraceFit> fitted = FitTrace(trace, context->runtime->params.fit);
+    if (!fitted.ok()) {
+      return done(absl::Status(fitted.status().code(),
+                               absl::StrCat("trace for command ", command_id, ": ", fitted.status().message())));
+    }
+    if (absl::Status plausible = CheckFitAgainstCommand(trace, *fitted, context->probe, limits); !plausible.ok()) {
+      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+    }
+    fit = std::move(*fitted);
+  }
+  absl::Status refused = QueueTrace(*context, rig_id, repeated ? TraceFit{} : fit, ToStoredSamples(trace), lease_next,
+                                    done);
+  if (!refused.ok()) done(refused);  // after the job's lock is released
+}
+
+void ProbeProtocol::KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
+                                 const absl::Status& refusal, SubmitCallback done) {
+  NewRejectedTrace rejected;
+  rejected.command_id = context.record.id;
+  rejected.job_id = context.record.job_id;
+  rejected.rig_id = rig_id;
+  rejected.check_name = PlausibilityCheckName(refusal);
+  rejected.message = std::string(refusal.message());
+  rejected.encoded_samples = EncodeSamples(ToStoredSamples(trace));
+  rejected.events.push_back(Event("trace_rejected", {{"command_id", context.record.id},
+                                                     {"rig", rig_id},
+                                                     {"check", rejected.check_name},
+                                                     {"message", rejected.message}}));
+  const absl::Status answer(refusal.code(),
+                            absl::StrCat("trace for command ", context.record.id, " refused (kept for inspection, "
+                                         "not in the map): ", refusal.message()));
+  std::shared_ptr<JobRuntime> runtime = context.runtime;
+  store_->RecordRejectedTraceAsync(std::move(rejected), [this, runtime, answer, done = std::move(done)](
+                                                           absl::StatusOr<int64_t> kept) mutable {
+    executors_.completions->Post([runtime, answer, kept, done = std::move(done)]() mutable {
+      // The refusal stands whether or not keeping the trace worked.
+      NotifyListeners(*runtime);
+      done(kept.ok() ? answer : absl::Status(answer.code(), absl::StrCat(answer.message(), " (keeping it failed: ",
+                                                                          kept.status().message(), ")")));
+    });
+  });
+}
+
+absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
+                                       std::vector<StoredSample> samples, bool lease_next, SubmitCallback& done) {
+  JobRuntime& runtime = *context.runtime;
+  const bool repeated = context.record.state == CommandState::kDone;
+  AcceptTraceRequest request;
+  request.command_id = context.record.id;
+  request.job_id = context.record.job_id;
+  request.lease_owner = rig_id;
+  request.encoded_samples = EncodeSamples(samples);  // O(samples): before the lock
+  if (lease_next) {
+    request.lease_next = LeaseRequest{context.record.job_id, rig_id, UnixMillisNow(), runtime.params.lease_ms};
+  }
+  TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr};
+  MutexLock lock(&runtime.mu);
+  if (!repeated) {
+    SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
+    if (IsFinalJobState(runtime.state)) {
+      return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
+                                                        std::string(JobStateName(runtime.state)), "; trace for command ",
+                                                        context.record.id, " not accepted"));
+    }
+    PlanJournalEntry answer;
+    answer.sequence = context.probe.sequence;
+    answer.fit = TextureOf(fit);
+    answer.line = LineSampleOf(fit);  // the plan and the map use the whole drag
+    absl::Status recorded = ApplyPlanJournalEntry(answer, runtime.plan);
+    if (recorded.code() == absl::StatusCode::kNotFound) {
+      // The plan has this command's answer already: the same trace is being
+      // written right now. Its outcome decides; ask the rig to come back.
+      return absl::UnavailableError(absl::StrCat("a trace for command ", context.record.id,
+                                                 " is being stored; retry to learn its outcome"));
+    }
+    SURFMAP_RETURN_IF_ERROR(recorded);
+    PlanWrite write = TakePlanChangeLocked(runtime, answer);
+    pending.completes_job = write.new_job_state.has_value();
+    std::move(write).MoveInto(request);
+    runtime.measured_revision++;
+    pending.plan_changed = true;
+    request.fit = NewFitOf(fit, runtime.params.fit);
+    request.events.push_back(Event("trace_accepted", {{"command_id", context.record.id},
+                                                      {"vertex", context.probe.site.vertex},
+                                                      {"level", context.probe.site.level},
+                                                      {"mu", fit.friction.mu},
+                                                      {"rig", rig_id}}));
+    pending.decoded_fit = std::make_shared<const TraceFit>(fit);
+  }
+  store_->AcceptTraceAsync(std::move(request), [this, pending = std::move(pending), done = std::move(done)](
+                                                   absl::StatusOr<AcceptTraceResult> result) mutable {
+    executors_.completions->Post(
+        [this, pending = std::move(pending), result = std::move(result), done = std::move(done)]() mutable {
+          ApplyAcceptedTrace(pending, std::move(result), std::move(done));
+        });
+  });
+  return absl::OkStatus();
+}
+
+void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr<AcceptTraceResult> result,
+                                       SubmitCallback done) {
+  const CommandContext& context = pending.context;
+  JobRuntime& runtime = *context.runtime;
+  if (!result.ok()) {
+    if (pending.plan_changed) registry_->MarkWriteFailed(runtime);
+    return done(result.status());
+  }
+  if (!result->fit.has_value()) {
+    return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
+  }
+  SubmitOutcome outcome;
+  outcome.command = context.record;
+  outcome.command.state = CommandState::kDone;
+  outcome.command.lease_owner = context.record.lease_owner;
+  outcome.probe = context.probe;
+  outcome.trace_id = result->trace_id;
+  outcome.fit = std::move(*result->fit);
+  outcome.received_unix_ms = result->accepted_unix_ms;
+  outcome.already_accepted = result->already_accepted;
+  if (!result->already_accepted) outcome.decoded_fit = pending.decoded_fit;
+  bool finished = false;
+  {
+    MutexLock lock(&runtime.mu);
+    outcome.progress = runtime.plan.Progress();
+    if (pending.plan_changed && !result->already_accepted) {
+      auto sample = std::make_shared<AcceptedSample>();
+      sample->command = outcome.command;
+      sample->trace_id = outcome.trace_id;
+      sample->fit = outcome.fit;
+      sample->received_unix_ms = outcome.received_unix_ms;
+      // Completions run in commit order: this is the newest trace.
+      runtime.latest_sample = std::move(sample);
+      runtime.updated_unix_ms = std::max(runtime.updated_unix_ms, outcome.received_unix_ms);
+      if (pending.completes_job) runtime.durable_state = JobState::kCompleted;  // written with this trace
+    }
+    finished = IsFinalJobState(runtime.durable_state);
+  }
+  if (pending.lease_next) {
+    absl::StatusOr<LeaseOutcome> next = LeaseOutcomeOf(std::move(result->next_command));
+    if (!next.ok()) return done(next.status());
+    if (!next->record) next->job_finished = finished;
+    outcome.next = std::move(*next);
+  }
+  if (finished) registry_->NoteFinished(runtime.job_id);
+  if (pending.plan_changed) NotifyListeners(runtime);
+  done(std::move(outcome));
+}
+
+// ---------------------------------------------------------------- failures
+
+void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id, const std::string& reason,
+                                  FailureKind kind, FailureCallback done) {
+  if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
+  if (reason.empty() || reason.size() > 1000) {
+    return done(absl::InvalidArgumentError("failure reason must have 1..1000 characters"));
+  }
+  auto shared_done = std::make_shared<FailureCallback>(std::move(done));
+  const bool queued = executors_.probes->Submit([this, command_id, rig_id, reason, kind, shared_done] {
+    FailureCallback done = std::move(*shared_done);
+    absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
+    if (!context.ok()) return done(context.status());
+    if (absl::Status held = CheckLeasedTo(context->record, rig_id, "nothing to report"); !held.ok()) {
+      return done(held);
+    }
+    absl::Status refused = QueueFailure(*context, rig_id, reason, kind, done);
+    if (!refused.ok()) done(refused);
+  });
+  if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the report later"));
+}
+
+absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const std::string& rig_id,
+                                         const std::string& reason, FailureKind kind, FailureCallback& done) {
+  JobRuntime& runtime = *context.runtime;
+  MutexLock lock(&runtime.mu);
+  SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
+  if (IsFinalJobState(runtime.state)) {
+    return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
+                                                      std::string(JobStateName(runtime.state)),
+                                                      ": it takes no more failure reports"));
+  }
+  PlanJournalEntry answer;
+  answer.kind = PlanJournalEntry::Kind::kFailure;
+  answer.sequence = context.probe.sequence;
+  answer.reason = reason;
+  answer.failure = kind;
+  SURFMAP_RETURN_IF_ERROR(ApplyPlanJournalEntry(answer, runtime.plan));
+  // Read before TakePlanChangeLocked: it re-issues a re-queued site at once
+  // (pending -> issued), so afterwards a retry no longer looks pending.
+  const SiteRecord* site = runtime.plan.FindSite(context.probe.site.vertex);
+  const bool will_retry = site != nullptr && site->state == SiteState::kPending;
+  FailCommandRequest request;
+  request.command_id = context.record.id;
+  request.job_id = context.record.job_id;
+  request.lease_owner = rig_id;
+  request.reason = reason;
+  PlanWrite write = TakePlanChangeLocked(runtime, answer);
+  const bool completes_job = write.new_job_state.has_value();
+  std::move(write).MoveInto(request);
+  request.events.push_back(Event("probe_failed", {{"command_id", context.record.id},
+                                                  {"reason", reason},
+                                                  {"kind", std::string(FailureKindName(kind))},
+                                                  {"rig", rig_id},
+                                                  {"will_retry", will_retry}}));
+  std::shared_ptr<JobRuntime> runtime_ptr = context.runtime;
+  store_->FailCommandAsync(std::move(request), [this, runtime_ptr, will_retry, completes_job, done = std::move(done)](
+                                                   absl::StatusOr<FailCommandResult> result) mutable {
+    executors_.completions->Post([this, runtime_ptr, will_retry, completes_job, result = std::move(result),
+                                  done = std::move(done)]() mutable {
+      if (!result.ok()) {
+        registry_->MarkWriteFailed(*runtime_ptr);
+        return done(result.status());
+      }
+      {
+        MutexLock lock(&runtime_ptr->mu);
+        runtime_ptr->updated_unix_ms = std::max(runtime_ptr->updated_unix_ms, UnixMillisNow());
+        if (completes_job) runtime_ptr->durable_state = JobState::kCompleted;
+      }
+      if (completes_job) registry_->NoteFinished(runtime_ptr->job_id);
+      NotifyListeners(*runtime_ptr);
+      done(will_retry);
+    });
+  });
+  return absl::OkStatus();
+}
+
+}  // namespace surfmap

@@ -1,0 +1,58 @@
+// The write steps of the SQLite store. Validation runs on the caller's thread
+// before a write is queued; every other step runs on the writer thread inside
+// the write's savepoint (see GroupCommitWriter), so a step that fails leaves
+// nothing behind.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "absl/status/statusor.h"
+#include "server/base/status_macros.h"
+#include "storage/records.h"
+#include "storage/sqlite_connection.h"
+
+namespace surfmap::sqlite {
+
+// Adds context to an error without changing its code.
+absl::Status Annotate(const absl::Status& status, std::string_view context);
+
+// ---- Validation (caller's thread, before queuing) ----
+absl::Status ValidateEvents(const std::vector<NewEvent>& events);
+absl::Status ValidateFit(const NewFit& fit, const std::string& where);
+absl::Status ValidateLease(const LeaseRequest& request);
+
+// ---- Steps (writer thread) ----
+absl::StatusOr<JobRecord> LoadJob(SqliteConnection& db, int64_t job_id);
+absl::StatusOr<CommandRecord> LoadCommand(SqliteConnection& db, int64_t command_id);
+absl::Status InsertEvents(SqliteConnection& db, int64_t job_id, const std::vector<NewEvent>& events, int64_t now);
+// `field` names the list in error messages ("commands", "new_commands").
+absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_t job_id,
+                                                    const std::vector<NewCommand>& commands, int64_t now,
+                                                    const std::string& field);
+// Inserts the fit and returns it as the store now holds it, so writers answer
+// with exactly what a later read gives (a NaN headline number reads as empty).
+absl::StatusOr<FitRecord> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version, const NewFit& fit,
+                                    int64_t now);
+// FailedPrecondition if the transition from the stored state is not allowed.
+absl::Status SetJobState(SqliteConnection& db, const JobRecord& job, JobState to, int64_t now);
+// The checkpoint's revision, or the last journal entry's when there is one.
+absl::StatusOr<int64_t> CurrentPlanRevision(SqliteConnection& db, int64_t job_id);
+
+// A trace with its samples already encoded, so the writer thread only copies.
+struct EncodedTrace {
+  AcceptTraceRequest request;  // samples moved out
+  int64_t n_samples = 0;
+  std::string blob;
+};
+// See Store::AcceptTraceAsync (the idempotency rule) and AcceptTraceRequest.
+absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const EncodedTrace& in, int64_t now);
+absl::StatusOr<FailCommandResult> FailCommandWrite(SqliteConnection& db, const FailCommandRequest& req, int64_t now);
+// The oldest leasable command (pending, or leased with an expired lease) of a
+// running job, leased to request.owner; nullopt when there is none.
+absl::StatusOr<std::optional<CommandRecord>> LeaseWrite(SqliteConnection& db, const LeaseRequest& request);
+
+}  // namespace surfmap::sqlite
