@@ -53,7 +53,14 @@ struct LabelledPoint {
 struct BoundaryLinkOptions {
   double max_length_mm = 20.0;
   double min_crossing_cos = 0.866;  // cos 30 degrees
+  // Half-width of the strip checked for contradicting data: the map's
+  // points lie every RegionMapOptions::point_spacing_mm along a drag, so a
+  // drag that crosses the chord puts at least one point within this of it.
   double corridor_mm = 1.0;
+  // Link points: no sparser than the finest map level's ~1-2 mm edges can
+  // resolve (two per edge), and off the chord by about the change's own
+  // location error (RegionMapOptions::change_location_mm), so they never
+  // claim more than a crossing shows.
   double seed_spacing_mm = 0.5;
   double seed_offset_mm = 0.25;
 };

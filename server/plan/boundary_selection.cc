@@ -19,7 +19,10 @@ constexpr double kWindowShare = 0.8;
 constexpr double kCorridorShare = 0.25;
 // Directions tried: 15 degree steps over a half turn.
 constexpr int kDirections = 12;
-// Candidates whose directions are searched: the best by the disc sum.
+// Candidates whose directions are searched: the best by the disc sum. The
+// direction changes a candidate's gain by at most the corridor's share of its
+// disc, so the best drag is among the best few discs; 16 costs ~16 x 12
+// corridor sums per choice.
 constexpr int kShortlist = 16;
 
 double DistanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
