@@ -200,6 +200,7 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   std::vector<double> sum(region_count + 1, 0.0), sum_sq(region_count + 1, 0.0);
   std::vector<std::vector<double>> a1(region_count + 1), a2(region_count + 1), sigma(region_count + 1);
   std::vector<Eigen::Vector3d> misclassified;
+  std::vector<std::pair<int, double>> misclassified_truth;
   double total_sq = 0.0;
   int total_right = 0;
   for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -219,6 +220,7 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
       ++total_right;
     } else {
       misclassified.push_back(points_[i]);
+      misclassified_truth.emplace_back(m, r->mu);
     }
     if (r->has_roughness) {
       a1[slot].push_back(r->a1);
@@ -271,8 +273,12 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   } else {
     score.boundary_error_mm = score.boundary_error_p90_mm = score.missed_boundary_mm = kNaN;
   }
-  score.misclassified_distance_mm =
-      truth_boundary_.empty() || misclassified.empty() ? kNaN : Mean(NearestDistances(misclassified, truth_boundary_, kCellMm));
+  const std::vector<double> wrong_distance = NearestDistances(misclassified, truth_boundary_, kCellMm);
+  score.misclassified_distance_mm = truth_boundary_.empty() || misclassified.empty() ? kNaN : Mean(wrong_distance);
+  for (std::size_t i = 0; i < misclassified.size(); ++i) {
+    score.misclassified.push_back(
+        {misclassified[i], misclassified_truth[i].first, misclassified_truth[i].second, wrong_distance[i]});
+  }
   return score;
 }
 
@@ -320,6 +326,13 @@ nlohmann::json SurfaceScoreToJson(const SurfaceScore& s) {
     }
     regions.push_back(std::move(j));
   }
+  nlohmann::json misclassified = nlohmann::json::array();
+  for (const MisclassifiedPoint& p : s.misclassified) {
+    misclassified.push_back({{"position", {p.position.x(), p.position.y(), p.position.z()}},
+                             {"truth_material", p.truth_material},
+                             {"map_mu", p.map_mu},
+                             {"boundary_distance_mm", Number(p.boundary_distance_mm)}});
+  }
   return {{"points", s.points},
           {"classified_right", Number(s.classified_right)},
           {"mu_rmse", Number(s.mu_rmse)},
@@ -330,7 +343,8 @@ nlohmann::json SurfaceScoreToJson(const SurfaceScore& s) {
           {"boundary_error_p90_mm", Number(s.boundary_error_p90_mm)},
           {"missed_boundary_mm", Number(s.missed_boundary_mm)},
           {"misclassified_distance_mm", Number(s.misclassified_distance_mm)},
-          {"regions", regions}};
+          {"regions", regions},
+          {"misclassified", misclassified}};
 }
 
 }  // namespace surfmap

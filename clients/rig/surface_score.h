@@ -73,6 +73,14 @@ struct RegionScore {
   double a1_median = 0.0, a2_median = 0.0, sigma_median = 0.0;  // NaN without roughness
 };
 
+// A random point the map classifies wrong.
+struct MisclassifiedPoint {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  int truth_material = -1;
+  double map_mu = 0.0;
+  double boundary_distance_mm = 0.0;  // to the nearest true boundary point
+};
+
 struct SurfaceScore {
   int points = 0;
   double classified_right = 0.0;
@@ -85,6 +93,7 @@ struct SurfaceScore {
   double missed_boundary_mm = 0.0;
   double misclassified_distance_mm = 0.0;  // NaN when nothing is misclassified
   std::vector<RegionScore> regions;       // scene regions in file order, then the default material
+  std::vector<MisclassifiedPoint> misclassified;
 };
 
 class SurfaceScorer {

@@ -74,8 +74,11 @@ absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction
     piece.mu_std = std::sqrt(variance);
     piece.mu_median = Median(std::vector<double>(mu.data(), mu.data() + mu.size()));
     const SeriesDependence dependence = EstimateSeriesDependence({centred});
-    piece.mu_se = std::sqrt(dependence.mean_inflation * variance / piece.pair_count);
-    piece.effective_pairs = piece.pair_count / dependence.mean_inflation;
+    const double cap = std::max(1.0, kMaxIndependentPairsPerMm * (friction.pair_s_mm[b - 1] - friction.pair_s_mm[a]));
+    const double inflation = std::clamp(std::max(dependence.mean_inflation, piece.pair_count / cap), 1.0,
+                                        static_cast<double>(piece.pair_count));
+    piece.mu_se = std::sqrt(inflation * variance / piece.pair_count);
+    piece.effective_pairs = piece.pair_count / inflation;
     pieces.push_back(std::move(piece));
   }
   return pieces;

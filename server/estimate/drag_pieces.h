@@ -38,7 +38,8 @@ struct DragPiece {
   double mu_median = 0.0;
   // Standard error of mu, sqrt(mean_inflation * mu_std^2 / pair_count) with
   // the serial correlation of the pairs modelled (series_dependence.h):
-  // neighbouring pairs feel the same texture.
+  // neighbouring pairs feel the same texture; never more than
+  // kMaxIndependentPairsPerMm independent pairs per mm are credited.
   double mu_se = 0.0;
   double effective_pairs = 0.0;  // pair_count / mean_inflation
   PieceRoughness roughness_state = PieceRoughness::kTooShort;
@@ -46,6 +47,14 @@ struct DragPiece {
   ArFit roughness;               // when kFitted
   double length_mm() const { return end_mm - start_mm; }
 };
+
+// A piece is never credited with more than this many independent pairs per
+// mm of path: the coarsest texture of the paper's family (rubber, AR(2) root
+// 0.88 on the 0.1 mm grid) is correlated over ~0.8 mm, so one independent
+// value per 1.6 mm. An AR(2) fitted to a few mm of pairs sees much less of
+// that correlation than there is (and the sensor noise on top makes it look
+// whiter), and a standard error from it alone can be 2-4x too small.
+inline constexpr double kMaxIndependentPairsPerMm = 1.0 / 1.6;
 
 // The pieces of `friction`'s per-pair series cut at `changes` (indices into
 // the series, increasing), with their friction statistics; roughness is left

@@ -47,9 +47,11 @@ TEST(DragPiecesTest, CutsAtTheChangesWithTheirExtentsAndStatistics) {
   EXPECT_NEAR(b.mu, 0.5 + 0.01 / 59.0, 1e-12);
   EXPECT_NEAR(a.mu_median, 0.09, 1e-12);
   // A negatively correlated ripple is never credited with more than
-  // independent pairs: se = spread / sqrt(n).
-  EXPECT_NEAR(a.mu_se, a.mu_std / std::sqrt(39.0), 1e-12);
-  EXPECT_NEAR(a.effective_pairs, 39.0, 1e-9);
+  // independent pairs, and no piece with more than kMaxIndependentPairsPerMm
+  // per mm of its pairs' extent (2.0 .. 5.8 mm here): se = spread / sqrt(n_eff).
+  const double capped = kMaxIndependentPairsPerMm * (5.8 - 2.0);
+  EXPECT_NEAR(a.effective_pairs, capped, 1e-9);
+  EXPECT_NEAR(a.mu_se, a.mu_std / std::sqrt(capped), 1e-12);
   EXPECT_EQ(a.roughness_state, PieceRoughness::kTooShort);  // left for FitTrace
 }
 

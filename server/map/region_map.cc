@@ -40,6 +40,15 @@ std::vector<Eigen::Vector3d> Resample(const std::vector<Eigen::Vector3d>& points
 
 Eigen::Vector3d Tangent(const Eigen::Vector3d& v, const Eigen::Vector3d& normal) { return v - v.dot(normal) * normal; }
 
+Eigen::Vector3i Cell(const Eigen::Vector3d& p, double size) { return (p / size).array().floor().cast<int>().matrix(); }
+
+std::uint64_t CellKey(const Eigen::Vector3i& c) {
+  return (static_cast<std::uint64_t>(c.x() & 0x1fffff) << 42) | (static_cast<std::uint64_t>(c.y() & 0x1fffff) << 21) |
+         static_cast<std::uint64_t>(c.z() & 0x1fffff);
+}
+
+std::uint64_t CellKey(const Eigen::Vector3d& p, double size) { return CellKey(Cell(p, size)); }
+
 }  // namespace
 
 std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
@@ -69,6 +78,8 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(prior_mu_std_floor) && prior_mu_std_floor >= 0.0)) return fail("prior_mu_std_floor must be >= 0");
   if (!(min_mu_se > 0.0 && min_spread > 0.0)) return fail("min_mu_se and min_spread must be > 0");
+  if (!(std::isfinite(change_location_mm) && change_location_mm >= 0.0)) return fail("change_location_mm must be >= 0");
+  if (!(std::isfinite(near_data_mm) && near_data_mm >= 0.0)) return fail("near_data_mm must be >= 0 (0 = automatic)");
   return true;
 }
 
@@ -97,6 +108,15 @@ absl::StatusOr<RegionMap> RegionMap::Create(const SurfaceLevel& level, const Reg
   if (!propagation.ok()) return propagation.status();
   map.propagation_ = std::make_shared<LabelPropagation>(*std::move(propagation));
   map.correlation_length_mm_ = options.correlation_length_mm;
+  map.near_data_mm_ = options.near_data_mm;
+  if (map.near_data_mm_ == 0.0) {
+    std::vector<double> lengths;
+    for (const auto& e : level.edges) lengths.push_back((level.limit_positions[e[0]] - level.limit_positions[e[1]]).norm());
+    if (!lengths.empty()) {
+      std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+      map.near_data_mm_ = lengths[lengths.size() / 2];
+    }
+  }
   if (map.correlation_length_mm_ == 0.0) {
     Eigen::Vector3d lo = level.limit_positions[0], hi = lo;
     for (const auto& p : level.limit_positions) lo = lo.cwiseMin(p), hi = hi.cwiseMax(p);
@@ -135,6 +155,7 @@ RegionMap::PlacedPiece RegionMap::Place(const MapPiece& piece, int index) const 
     if (hit.triangle < 0) continue;
     for (int corner : level_->triangles[hit.triangle]) placed.seeds.push_back({hit.position, corner, index});
     placed.surface_seeds.push_back({hit.triangle, hit.barycentric, index});
+    placed.data_points.push_back(hit.position);
   }
   return placed;
 }
@@ -196,7 +217,18 @@ absl::Status RegionMap::Rebuild() {
   for (int i = 0; i < n; ++i) {
     const LinePiece& p = pieces_[i].piece;
     statistics[i].mu = p.texture.mu;
-    statistics[i].mu_se = std::max(p.mu_se, options_.min_mu_se);
+    double se2 = std::max(p.mu_se, options_.min_mu_se) * std::max(p.mu_se, options_.min_mu_se);
+    // The part of a neighbour across a change that may be inside the piece.
+    const double length = std::max(p.end_mm - p.start_mm, options_.change_location_mm);
+    for (int side : {-1, 1}) {
+      const int j = i + side;
+      const bool bounded = side < 0 ? p.starts_at_change : p.ends_at_change;
+      if (!bounded || j < 0 || j >= n || pieces_[j].drag != pieces_[i].drag) continue;
+      const double share = std::min(1.0, options_.change_location_mm / length);
+      const double jump = pieces_[j].piece.texture.mu - p.texture.mu;
+      se2 += share * share * jump * jump;
+    }
+    statistics[i].mu_se = std::sqrt(se2);
     statistics[i].spread = std::max(p.texture.mu_std, options_.min_spread);
     statistics[i].effective_pairs = std::max(p.effective_pairs, 1.0);
   }
@@ -250,6 +282,42 @@ absl::Status RegionMap::Rebuild() {
       s.label = piece_region_[s.label];
       surface_seeds.push_back(s);
     }
+  }
+  // Boundaries through neighbouring crossings.
+  std::vector<ChangeMark> marks;
+  for (int i = 0; i + 1 < n; ++i) {
+    const MapPiece& a = pieces_[i];
+    const MapPiece& b = pieces_[i + 1];
+    if (a.drag != b.drag || !a.piece.ends_at_change || piece_region_[i] == piece_region_[i + 1]) continue;
+    if (a.points.size() < 2 || b.points.size() < 2) continue;
+    ChangeMark m;
+    const SurfacePoint hit = locator_->Closest(b.points.front());
+    m.position = hit.position;
+    m.normal = hit.normal;
+    Eigen::Vector3d direction = b.points[1] - a.points[a.points.size() - 2];
+    direction -= direction.dot(m.normal) * m.normal;
+    if (direction.norm() < 1e-9) continue;
+    m.direction = direction.normalized();
+    m.before = piece_region_[i];
+    m.after = piece_region_[i + 1];
+    m.drag = a.drag;
+    marks.push_back(m);
+  }
+  std::vector<LabelledPoint> data;
+  for (int i = 0; i < n; ++i) {
+    for (const Eigen::Vector3d& p : placed_[i].data_points) data.push_back({p, piece_region_[i]});
+  }
+  links_ = 0;
+  for (const LabelledPoint& p : BoundaryLinkPoints(marks, data, options_.links, &links_)) {
+    const SurfacePoint hit = locator_->Closest(p.point);
+    if (hit.triangle < 0) continue;
+    surface_seeds.push_back({hit.triangle, hit.barycentric, p.label});
+    data.push_back({hit.position, p.label});
+  }
+  data_ = std::move(data);
+  data_cells_.clear();
+  if (near_data_mm_ > 0.0) {
+    for (int i = 0; i < static_cast<int>(data_.size()); ++i) data_cells_[CellKey(data_[i].point, near_data_mm_)].push_back(i);
   }
   absl::StatusOr<std::vector<std::vector<double>>> fields = propagation_->Propagate(surface_seeds, region_count);
   if (!fields.ok()) return fields.status();
@@ -359,6 +427,7 @@ absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
   const Eigen::Vector3d& b = point.barycentric;
   int best_region = -1, second_region = -1;
   double best = 0.0, second = 0.0;
+  const int near = NearestDataRegion(point.position);
   for (int c = 0; c < static_cast<int>(regions_.size()); ++c) {
     const auto& f = probability_[c];
     const double p = b[0] * f[t[0]] + b[1] * f[t[1]] + b[2] * f[t[2]];
@@ -370,6 +439,10 @@ absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
     }
   }
   if (best_region < 0) return VertexValue(t[0]);
+  if (near >= 0 && near != best_region) {
+    second_region = best_region;
+    best_region = near;
+  }
   MapValue out;
   const TextureRegion& region = regions_[best_region];
   out.region = best_region;
@@ -384,6 +457,29 @@ absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
     out.sigma = region.sigma;
   }
   return out;
+}
+
+int RegionMap::NearestDataRegion(const Eigen::Vector3d& p) const {
+  if (data_cells_.empty()) return -1;
+  const Eigen::Vector3i c = Cell(p, near_data_mm_);
+  int best = -1;
+  double best2 = near_data_mm_ * near_data_mm_;
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        auto it = data_cells_.find(CellKey(Eigen::Vector3i(c.x() + dx, c.y() + dy, c.z() + dz)));
+        if (it == data_cells_.end()) continue;
+        for (int i : it->second) {
+          const double d2 = (data_[i].point - p).squaredNorm();
+          if (d2 < best2 || (d2 == best2 && best >= 0 && data_[i].label < best)) {
+            best2 = d2;
+            best = data_[i].label;
+          }
+        }
+      }
+    }
+  }
+  return best;
 }
 
 absl::StatusOr<MapValue> RegionMap::ValueAtPosition(const Eigen::Vector3d& position) const {

@@ -46,7 +46,9 @@
 // (SetPieces) only one of them.
 #pragma once
 
+#include <cstdint>
 #include <memory>
+#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -55,6 +57,7 @@
 #include "absl/status/statusor.h"
 #include "server/estimate/line_sample.h"
 #include "server/map/friction_map.h"
+#include "server/map/boundary_links.h"
 #include "server/map/label_propagation.h"
 #include "server/map/nearest_labels.h"
 #include "server/map/texture_regions.h"
@@ -86,6 +89,22 @@ struct RegionMapOptions {
   // Lower bound on s above: a few alike pieces must not make the whole map
   // look certain.
   double prior_mu_std_floor = 0.02;
+  // Where a drag found a change, the change is located to about this much
+  // (measured on the simulator: 0.04 mm between glass and rubber, 0.2-0.35 mm
+  // between rough textures; FitOptions::change_guard_mm). So a piece bounded
+  // by a change may hold this much of its neighbour's material: its mu
+  // carries an extra error of change_location_mm / length x |mu_neighbour -
+  // mu| in the merge tests (a 1.3 mm piece next to a 0.2 step: 0.046), and a
+  // short end piece joins the region it belongs to instead of making one.
+  double change_location_mm = 0.3;
+  // Neighbouring crossings of a boundary are joined (boundary_links.h).
+  BoundaryLinkOptions links;
+  // Within this distance of a data point (a piece's point or a link's) the
+  // map takes the nearest data point's region: the propagated
+  // probabilities are linear across a triangle and cannot place a boundary
+  // more finely than the level's edges, the data can. 0 = the level's
+  // median edge length.
+  double near_data_mm = 0.0;
   // Floors on a piece's mu_se and spread: synthetic or noise-free data can
   // report 0, which the merge statistics divide by.
   double min_mu_se = 1e-4;
@@ -144,6 +163,7 @@ class RegionMap {
   const std::vector<std::vector<double>>& reflection() const { return reflection_; }
   const std::vector<double>& log_sigma() const { return log_sigma_; }  // NaN where no roughness
   int roughness_order() const { return static_cast<int>(reflection_.size()); }
+  int boundary_links() const { return links_; }  // links drawn between crossings
   double prior_mu_std() const { return prior_mu_std_; }
   double correlation_length_mm() const { return correlation_length_mm_; }
 
@@ -175,6 +195,7 @@ class RegionMap {
     std::vector<Eigen::Vector3d> points;   // as given (to recognise it next time)
     std::vector<LabelledSeed> seeds;       // label = piece index
     std::vector<SurfaceSeed> surface_seeds;  // label = piece index
+    std::vector<Eigen::Vector3d> data_points;  // the resampled points on the surface
   };
   absl::Status Validate(const std::vector<MapPiece>& pieces) const;
   PlacedPiece Place(const MapPiece& piece, int index) const;
@@ -189,6 +210,12 @@ class RegionMap {
   std::shared_ptr<const MeshLocator> locator_;
   std::shared_ptr<LabelPropagation> propagation_;
   std::vector<std::vector<double>> probability_;  // [region][vertex]
+  int links_ = 0;
+  // Data points by grid cell of near_data_mm, for the near-data rule.
+  double near_data_mm_ = 0.0;
+  std::vector<LabelledPoint> data_;
+  std::unordered_map<std::uint64_t, std::vector<int>> data_cells_;
+  int NearestDataRegion(const Eigen::Vector3d& p) const;
   double correlation_length_mm_ = 0.0;
 
   std::vector<MapPiece> pieces_;

@@ -2,26 +2,56 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <tuple>
 
 #include <Eigen/Geometry>
+#include "server/plan/drag_direction.h"
 
 namespace surfmap {
+namespace {
 
-BoundarySelector::BoundarySelector(const SurfaceLevel& level, double reach_mm)
-    : level_(&level), reach_mm_(reach_mm) {
+// The data window is the middle 80 % of a drag (FitOptions' 10 % trim at
+// each end).
+constexpr double kWindowShare = 0.8;
+// Beyond a quarter of the drag length on either side of its path, the map is
+// interpolated from other drags.
+constexpr double kCorridorShare = 0.25;
+// Directions tried: 15 degree steps over a half turn.
+constexpr int kDirections = 12;
+// Candidates whose directions are searched: the best by the disc sum. The
+// direction changes a candidate's gain by at most the corridor's share of its
+// disc, so the best drag is among the best few discs; 16 costs ~16 x 12
+// corridor sums per choice.
+constexpr int kShortlist = 16;
+
+double DistanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  const Eigen::Vector3d ab = b - a;
+  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
+  return (p - (a + t * ab)).norm();
+}
+
+}  // namespace
+
+BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm)
+    : level_(&level),
+      drag_length_mm_(drag_length_mm),
+      half_window_mm_(0.5 * kWindowShare * drag_length_mm),
+      corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
   area_.assign(x.size(), 0.0);
   for (const auto& t : level.triangles) {
     const double a = 0.5 * (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm() / 3.0;
     for (int v : t) area_[v] += a;
   }
+  cell_mm_ = std::max(1e-6, half_window_mm_);
   lo_ = x.empty() ? Eigen::Vector3d::Zero() : x.front();
   Eigen::Vector3d hi = lo_;
   for (const auto& p : x) lo_ = lo_.cwiseMin(p), hi = hi.cwiseMax(p);
-  dims_ = (((hi - lo_) / reach_mm_).array().floor().cast<int>() + 1).matrix();
+  dims_ = (((hi - lo_) / cell_mm_).array().floor().cast<int>() + 1).matrix();
   grid_.assign(static_cast<std::size_t>(dims_.x()) * dims_.y() * dims_.z(), {});
   for (int v = 0; v < static_cast<int>(x.size()); ++v) {
-    const Eigen::Vector3i c = ((x[v] - lo_) / reach_mm_).array().floor().cast<int>().matrix();
+    const Eigen::Vector3i c = ((x[v] - lo_) / cell_mm_).array().floor().cast<int>().matrix();
     grid_[(static_cast<std::size_t>(c.z()) * dims_.y() + c.y()) * dims_.x() + c.x()].push_back(v);
   }
 }
@@ -29,8 +59,8 @@ BoundarySelector::BoundarySelector(const SurfaceLevel& level, double reach_mm)
 template <typename Fn>
 void BoundarySelector::ForEachWithin(const Eigen::Vector3d& centre, double radius, const Fn& fn) const {
   const auto& x = level_->limit_positions;
-  const Eigen::Vector3i c = ((centre - lo_) / reach_mm_).array().floor().cast<int>().matrix();
-  const int span = static_cast<int>(std::ceil(radius / reach_mm_));
+  const Eigen::Vector3i c = ((centre - lo_) / cell_mm_).array().floor().cast<int>().matrix();
+  const int span = static_cast<int>(std::ceil(radius / cell_mm_));
   const double r2 = radius * radius;
   for (int z = std::max(0, c.z() - span); z <= std::min(dims_.z() - 1, c.z() + span); ++z) {
     for (int y = std::max(0, c.y() - span); y <= std::min(dims_.y() - 1, c.y() + span); ++y) {
@@ -43,77 +73,90 @@ void BoundarySelector::ForEachWithin(const Eigen::Vector3d& centre, double radiu
   }
 }
 
+double BoundarySelector::MinGain(double mu_resolution) const {
+  const double corridor_area = 4.0 * half_window_mm_ * corridor_mm_ + std::numbers::pi * corridor_mm_ * corridor_mm_;
+  return mu_resolution * mu_resolution * corridor_area;
+}
+
+BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap& map,
+                                                                const std::vector<Eigen::Vector3d>& covered) const {
+  const int nv = static_cast<int>(level_->limit_positions.size());
+  Removable r;
+  r.far.assign(nv, 0.0);
+  r.boundary.assign(nv, 0.0);
+  r.across.assign(nv, Eigen::Vector3d::Zero());
+  for (int v = 0; v < nv; ++v) {
+    r.far[v] = area_[v] * map.far_variance()[v];
+    r.boundary[v] = area_[v] * map.boundary_variance()[v];
+    if (r.boundary[v] > 0.0) r.across[v] = map.CrossingDirection(v);
+  }
+  for (const Eigen::Vector3d& p : covered) {
+    ForEachWithin(p, reach_mm(), [&](int v) { r.far[v] = r.boundary[v] = 0.0; });
+  }
+  return r;
+}
+
+BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& removable) const {
+  BoundarySelection best;
+  const auto& x = level_->limit_positions;
+  const Eigen::Vector3d n = level_->limit_normals[v].normalized();
+  const Eigen::Vector3d t1 = TangentDragDirection(n);
+  const Eigen::Vector3d t2 = n.cross(t1);
+  std::vector<int> near;
+  ForEachWithin(x[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
+  const double h2 = half_window_mm_ * half_window_mm_;
+  for (int k = 0; k < kDirections; ++k) {
+    const double angle = std::numbers::pi * k / kDirections;
+    const Eigen::Vector3d u = std::cos(angle) * t1 + std::sin(angle) * t2;
+    const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
+    double far = 0.0, on_boundary = 0.0;
+    for (int w : near) {
+      if (DistanceToSegment(x[w], a, b) <= corridor_mm_) far += removable.far[w];
+      if ((x[w] - x[v]).squaredNorm() <= h2) on_boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
+    }
+    const double gain = far + on_boundary;
+    if (gain > best.gain) {
+      best.vertex = v;
+      best.gain = gain;
+      best.boundary_share = on_boundary / gain;
+      best.direction = u;
+    }
+  }
+  return best;
+}
+
 BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const char> candidate,
                                            const std::vector<Eigen::Vector3d>& covered) const {
   BoundarySelection best;
   if (!map.has_pieces()) return best;
   const auto& x = level_->limit_positions;
   const int nv = static_cast<int>(x.size());
-  // Removable variance per vertex, zero where an issued drag will measure.
-  std::vector<double> boundary(nv), far(nv);
-  for (int v = 0; v < nv; ++v) {
-    boundary[v] = area_[v] * map.boundary_variance()[v];
-    far[v] = area_[v] * map.far_variance()[v];
-  }
-  for (const Eigen::Vector3d& p : covered) {
-    ForEachWithin(p, reach_mm_, [&](int v) { boundary[v] = far[v] = 0.0; });
-  }
+  const Removable removable = RemovableVariance(map, covered);
+  // Shortlist by the disc sum.
+  std::vector<std::pair<double, int>> scored;
   const int candidates = std::min<int>(nv, static_cast<int>(candidate.size()));
   for (int c = 0; c < candidates; ++c) {
     if (!candidate[c]) continue;
-    double b = 0.0, f = 0.0;
-    ForEachWithin(x[c], reach_mm_, [&](int v) {
-      b += boundary[v];
-      f += far[v];
-    });
-    if (b + f > best.gain) {
-      best.vertex = c;
-      best.gain = b + f;
-      best.boundary_share = b / (b + f);
-    }
+    double sum = 0.0;
+    ForEachWithin(x[c], half_window_mm_, [&](int v) { sum += removable.far[v] + removable.boundary[v]; });
+    if (sum > 0.0) scored.emplace_back(-sum, c);
   }
-  if (best.vertex < 0) return best;
-  const Eigen::Vector3d& n = level_->limit_normals[best.vertex];
-  if (best.boundary_share >= 0.5) {
-    // Across the boundary where it is least known within the drag's reach.
-    int most = -1;
-    double most_b = 0.0;
-    ForEachWithin(x[best.vertex], reach_mm_, [&](int v) {
-      if (boundary[v] > most_b || (boundary[v] == most_b && most >= 0 && v < most)) {
-        most_b = boundary[v];
-        most = v;
-      }
-    });
-    Eigen::Vector3d d = most >= 0 ? map.CrossingDirection(most) : Eigen::Vector3d::Zero();
-    if (d.norm() < 0.5) d = map.CrossingDirection(best.vertex);
-    d -= d.dot(n) * n;
-    if (d.norm() > 1e-9) best.direction = d.normalized();
-  } else {
-    // Along the iso-distance line: perpendicular to the nearest data.
-    const Eigen::Vector3d towards = map.NearestDataPoint(best.vertex) - x[best.vertex];
-    Eigen::Vector3d d = n.cross(towards);
-    d -= d.dot(n) * n;
-    if (d.norm() > 1e-9) best.direction = d.normalized();
+  const std::size_t keep = std::min<std::size_t>(kShortlist, scored.size());
+  std::partial_sort(scored.begin(), scored.begin() + keep, scored.end());
+  scored.resize(keep);
+  std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
+  for (const auto& [negative_sum, c] : scored) {
+    const BoundarySelection here = ScanDirections(c, removable);
+    if (here.gain > best.gain) best = here;
   }
   return best;
 }
 
-Eigen::Vector3d BoundarySelector::CrossingNear(const RegionMap& map, int v) const {
-  if (!map.has_pieces() || v < 0 || v >= static_cast<int>(level_->limit_positions.size())) return Eigen::Vector3d::Zero();
-  int most = -1;
-  double most_b = 0.0;
-  ForEachWithin(level_->limit_positions[v], reach_mm_, [&](int u) {
-    const double b = area_[u] * map.boundary_variance()[u];
-    if (b > most_b) {
-      most_b = b;
-      most = u;
-    }
-  });
-  if (most < 0) return Eigen::Vector3d::Zero();
-  const Eigen::Vector3d& n = level_->limit_normals[v];
-  Eigen::Vector3d d = map.CrossingDirection(most);
-  d -= d.dot(n) * n;
-  return d.norm() > 1e-9 ? Eigen::Vector3d(d.normalized()) : Eigen::Vector3d::Zero();
+BoundarySelection BoundarySelector::BestDirection(const RegionMap& map, int v,
+                                                  const std::vector<Eigen::Vector3d>& covered) const {
+  if (!map.has_pieces() || v < 0 || v >= static_cast<int>(level_->limit_positions.size())) return {};
+  return ScanDirections(v, RemovableVariance(map, covered));
 }
+
 
 }  // namespace surfmap

@@ -1,22 +1,30 @@
 // Where the boundary-seeking plan sends the next drag, and which way
-// (PlanMode::kBoundary). A drag of length L measures the surface along its
-// path and pins any boundary it crosses; its effect reaches about L/2 around
-// its centre. So the gain of a drag centred at vertex c is the map's
-// removable variance summed over the surface within L/2 of c:
+// (PlanMode::kBoundary). A drag measures the surface along its path, and
+// where it crosses a boundary it fixes a point of it; the map joins
+// neighbouring crossings (boundary_links.h, up to a drag length apart), so
+// one crossing settles the boundary about half a drag length either way
+// along it. So a drag centred at c along the unit direction u, with data
+// window c - h u .. c + h u (the middle 80 % of the drag), removes
 //
-//   gain(c) = sum over vertices v with |x_v - x_c| <= L/2 of
-//             area(v) * (boundary_variance(v) + far_variance(v))
+//   gain(c, u) = sum over v within `corridor` of the window's segment of
+//                  area(v) * far_variance(v)
+//              + sum over v within h of c of
+//                  area(v) * boundary_variance(v) * |u . n(v)|
 //
-// (region_map.h; mu^2 mm^2: the squared error mass the drag can remove).
-// Near a boundary no drag has pinned, the band where the map may be wrong
-// is as wide as the gap between the data on either side, so the sum prefers
-// unpinned stretches of boundary over the neighbourhood of a crossing that
-// is already known; far from data it prefers the middle of the gap. Vertices
-// within L/2 of a drag already issued count as covered (several rigs get
-// different places). The drag crosses the boundary when the boundary term
-// is most of the gain (across the boundary at the ball's most uncertain
-// boundary vertex); otherwise it runs perpendicular to the direction of the
-// nearest data, covering new ground.
+// (region_map.h; mu^2 mm^2, the squared error mass the drag can remove),
+// n(v) the direction across the boundary at v (RegionMap::CrossingDirection):
+// a drag across a boundary pins it, one along it settles only the strip it
+// runs on. corridor = a quarter of the drag length: beyond that on either
+// side of its path the map is interpolated from other drags. Near a boundary
+// no drag has pinned, the band where the map may be wrong is as wide as the
+// gap between the data on either side, so the gain prefers unpinned
+// stretches of boundary; far from data it prefers the middle of the gap.
+// Vertices within reach (half the drag length) of a drag already issued count
+// as covered, so several rigs get different places.
+//
+// The search: every candidate's sum over the disc of radius h (cheap, any
+// direction), then for the best kShortlist of them every direction in
+// 180 / kDirections degree steps.
 #pragma once
 
 #include <span>
@@ -29,7 +37,7 @@ namespace surfmap {
 
 struct BoundarySelection {
   int vertex = -1;           // of the map's level; -1 when no candidate has any gain
-  double gain = 0.0;         // mu^2 mm^2
+  double gain = 0.0;         // mu^2 mm^2, over the corridor
   double boundary_share = 0.0;  // of the gain
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit tangent
 };
@@ -37,33 +45,46 @@ struct BoundarySelection {
 class BoundarySelector {
  public:
   // `level` is the map's level (the selector keeps its vertex areas and a
-  // spatial grid of its vertices); `reach_mm` = half the drag length.
-  BoundarySelector(const SurfaceLevel& level, double reach_mm);
+  // spatial grid of its vertices); `drag_length_mm` the probe's segment.
+  BoundarySelector(const SurfaceLevel& level, double drag_length_mm);
 
-  // The candidate with the largest gain among those with candidate[v] != 0
-  // (one entry per vertex of the level; vertices beyond its size are not
-  // candidates). Ties go to the lower vertex. `covered` are the centres of
-  // drags issued and not yet measured.
+  // The candidate and direction with the largest gain among vertices with
+  // candidate[v] != 0 (one entry per vertex of the level; vertices beyond its
+  // size are not candidates). Ties go to the lower vertex and the first
+  // direction. `covered` are the centres of drags issued and not yet measured.
   BoundarySelection Select(const RegionMap& map, std::span<const char> candidate,
                            const std::vector<Eigen::Vector3d>& covered) const;
 
-  // The direction for a drag at v given the map alone (initial sites that are
-  // issued after some data came in): across the boundary when v is within
-  // reach of one (a second region with a boundary variance there), else zero.
-  Eigen::Vector3d CrossingNear(const RegionMap& map, int v) const;
+  // The best direction for a drag at v (e.g. a coverage site issued after
+  // some data came in) with its gain and boundary share.
+  BoundarySelection BestDirection(const RegionMap& map, int v, const std::vector<Eigen::Vector3d>& covered) const;
 
-  double reach_mm() const { return reach_mm_; }
+  // The gain below which a drag is not worth making: a resolution-sized
+  // error (mu_resolution) over the whole corridor.
+  double MinGain(double mu_resolution) const;
+
+  double reach_mm() const { return 0.5 * drag_length_mm_; }
 
  private:
   template <typename Fn>
   void ForEachWithin(const Eigen::Vector3d& centre, double radius, const Fn& fn) const;
+  struct Removable {
+    std::vector<double> far;       // area * far variance
+    std::vector<double> boundary;  // area * boundary variance
+    std::vector<Eigen::Vector3d> across;  // n(v), zero where no boundary
+  };
+  Removable RemovableVariance(const RegionMap& map, const std::vector<Eigen::Vector3d>& covered) const;
+  BoundarySelection ScanDirections(int v, const Removable& removable) const;
 
   const SurfaceLevel* level_;
-  double reach_mm_;
+  double drag_length_mm_;
+  double half_window_mm_;  // h
+  double corridor_mm_;
   std::vector<double> area_;  // a third of the area of the triangles around each vertex
   Eigen::Vector3d lo_;
   Eigen::Vector3i dims_;
-  std::vector<std::vector<int>> grid_;  // cells of reach_mm
+  double cell_mm_;
+  std::vector<std::vector<int>> grid_;
 };
 
 }  // namespace surfmap

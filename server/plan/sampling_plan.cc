@@ -114,7 +114,7 @@ absl::Status SamplingPlan::Initialise() {
             : options_.mode == PlanMode::kBoundary ? DefaultSampleBudget(levels_)
                                                    : 0;
   if (options_.mode == PlanMode::kBoundary) {
-    selector_.emplace(*levels_.back(), 0.5 * options_.probe.segment_length_mm);
+    selector_.emplace(*levels_.back(), options_.probe.segment_length_mm);
   }
   state_counts_.assign(options_.max_level - options_.coarsest_level + 1, {});
   edge_index_.assign(options_.max_level - options_.coarsest_level, {});
@@ -521,11 +521,14 @@ Eigen::Vector3d SamplingPlan::DirectionFor(const SiteRecord& r) {
   if (auto it = selected_direction_.find(r.site.vertex); it != selected_direction_.end() && it->second.norm() > 0.5) {
     return it->second;
   }
-  // Across a boundary the drags so far put within reach; where nothing is
-  // known, orientations varied from site to site.
+  // Across a boundary the drags so far put within reach (when the boundary
+  // is most of what a drag here could settle); where nothing is known,
+  // orientations varied from site to site.
   if (measured_count_ > 0 && EnsureRegionMap().ok()) {
-    const Eigen::Vector3d across = selector_->CrossingNear(*region_map_, r.site.vertex);
-    if (across.norm() > 0.5) return across;
+    const BoundarySelection best = selector_->BestDirection(*region_map_, r.site.vertex, {});
+    if (best.boundary_share >= 0.5 && best.gain > selector_->MinGain(options_.regions.merge.mu_resolution)) {
+      return best.direction;
+    }
   }
   return VariedDragDirection(normal, SiteShuffleKey(options_.seed, r.site.vertex));
 }
@@ -575,9 +578,8 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     candidate[v] = !near_no_go;
   }
   // Stop when no drag could remove more than a resolution-sized error over
-  // its whole reach.
-  const double resolution = options_.regions.merge.mu_resolution;
-  const double min_gain = std::max(options_.min_uncertainty_score, resolution * resolution * std::numbers::pi * reach * reach);
+  // its whole corridor.
+  const double min_gain = std::max(options_.min_uncertainty_score, selector_->MinGain(options_.regions.merge.mu_resolution));
   for (int k = 0; k < slots; ++k) {
     const BoundarySelection choice = selector_->Select(*region_map_, candidate, covered);
     if (choice.vertex < 0 || !(choice.gain > min_gain)) break;

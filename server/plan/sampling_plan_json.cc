@@ -172,7 +172,8 @@ json OptionsToJson(const SamplingPlanOptions& o) {
         {"correlation_length_mm", o.regions.correlation_length_mm},
         {"prior_mu_std_floor", o.regions.prior_mu_std_floor},
         {"min_mu_se", o.regions.min_mu_se},
-        {"min_spread", o.regions.min_spread}}},
+        {"min_spread", o.regions.min_spread},
+        {"change_location_mm", o.regions.change_location_mm}}},
       {"lookahead", o.lookahead},
   };
 }
@@ -239,6 +240,7 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
     o.regions.prior_mu_std_floor = in.Double(r, w, "prior_mu_std_floor");
     o.regions.min_mu_se = in.Double(r, w, "min_mu_se");
     o.regions.min_spread = in.Double(r, w, "min_spread");
+    o.regions.change_location_mm = in.Double(r, w, "change_location_mm");
   }
   if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
   return o;

@@ -1,0 +1,74 @@
+// Boundaries drawn through the places drags crossed them. A change point
+// found inside a drag fixes one point of a boundary to ~0.1-0.3 mm; between
+// two such points of the same pair of regions the boundary runs, to first
+// order, straight from one to the other. Spreading the regions from the data
+// alone (label_propagation.h) puts the boundary between two crossings
+// halfway between the nearest data of either side, which on a drag-sized
+// feature can be millimetres off. So neighbouring crossings of the same
+// boundary are linked, and the link becomes data: labelled points just
+// either side of it.
+//
+// Two change points P and Q of regions {A, B} are linked when
+//  - they are at most max_length_mm apart (a boundary that bends with a
+//    radius of curvature r leaves the chord by max_length^2 / (8 r): 0.5 mm
+//    for a 20 mm link on a 100 mm radius);
+//  - A lies on the same side of the line PQ at both (the drags crossed the
+//    same boundary the same way round), and each drag ran within
+//    acos(min_crossing_cos) = 30 degrees of perpendicular to the line. The
+//    planner drags across boundaries, so where the boundary itself turns by
+//    more than ~60 degrees between two crossings (a patch's corner, a dot
+//    smaller than a drag) the drags are not both near-perpendicular to the
+//    chord and the link is not drawn: a chord across a 60-degree arc of a
+//    7 mm dot misses 4 mm^2 of it, across a 90-degree arc 14 mm^2;
+//  - Q is P's nearest such point on that side along the boundary, or P is
+//    Q's (a chain, not a web);
+//  - no data contradicts it: within corridor_mm of the segment, every data
+//    point of A or B is on its own side (or within the corridor's width of
+//    the line, inside the uncertainty of a change), and no other region's
+//    data lies in the corridor.
+// The link's points go to A within seed_offset_mm on A's side and to B on
+// B's side, every seed_spacing_mm.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace surfmap {
+
+struct ChangeMark {
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();   // on the surface
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit, along the drag from `before` to `after`
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();    // unit surface normal there
+  int before = -1;                                      // region on the drag before the change
+  int after = -1;                                       // ... and after it
+  int drag = -1;
+};
+
+struct LabelledPoint {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  int label = -1;
+};
+
+struct BoundaryLinkOptions {
+  double max_length_mm = 20.0;
+  double min_crossing_cos = 0.866;  // cos 30 degrees
+  // Half-width of the strip checked for contradicting data: the map's
+  // points lie every RegionMapOptions::point_spacing_mm along a drag, so a
+  // drag that crosses the chord puts at least one point within this of it.
+  double corridor_mm = 1.0;
+  // Link points: no sparser than the finest map level's ~1-2 mm edges can
+  // resolve (two per edge), and off the chord by about the change's own
+  // location error (RegionMapOptions::change_location_mm), so they never
+  // claim more than a crossing shows.
+  double seed_spacing_mm = 0.5;
+  double seed_offset_mm = 0.25;
+};
+
+// The labelled points of every accepted link (not yet on the surface:
+// callers project them); *links (if given) receives the number of links.
+std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
+                                              const std::vector<LabelledPoint>& data,
+                                              const BoundaryLinkOptions& options = {}, int* links = nullptr);
+
+}  // namespace surfmap
