@@ -719,4 +719,19 @@ absl::StatusOr<std::vector<EventRecord>> SqliteStore::ListEvents(int64_t job_id,
   return CollectRows<EventRecord>(stmt, ReadEvent);
 }
 
+absl::StatusOr<std::vector<EventRecord>> SqliteStore::ListEventsNewestFirst(int64_t job_id, int64_t before_id,
+                                                                            int limit) {
+  static const std::string sql = absl::StrCat(
+      "SELECT ", kEventColumns,
+      " FROM events WHERE (?1 = 0 OR job_id = ?1) AND (?2 = 0 OR id < ?2) ORDER BY id DESC LIMIT ?3");
+  if (limit <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("limit must be > 0, got ", limit));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
+  if (job_id != 0) SURFMAP_RETURN_IF_ERROR(LoadJob(*db, job_id).status());
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt, db->Prepare(sql));
+  stmt.BindInt(1, job_id).BindInt(2, before_id).BindInt(3, limit);
+  return CollectRows<EventRecord>(stmt, ReadEvent);
+}
+
 }  // namespace surfmap

@@ -86,6 +86,8 @@ class SqliteStore : public Store {
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;
 
+  absl::StatusOr<std::vector<EventRecord>> ListEventsNewestFirst(int64_t job_id, int64_t before_id,
+                                                                 int limit) override;
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id,
                                                       int limit) override;
 

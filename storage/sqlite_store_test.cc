@@ -890,6 +890,29 @@ TEST_F(SqliteStoreTest, EventsPageByIdAcrossJobs) {
   EXPECT_EQ(store_->ListEvents(0, 0, 0).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST_F(SqliteStoreTest, EventsPageBackFromTheNewest) {
+  CreatedJob j1 = Job(1);
+  CreatedJob j2 = Job(1);
+  for (int i = 0; i < 5; ++i) {
+    ASSERT_TRUE(store_->UpdateJobState(JobStateChange{
+        j1.job.id, i % 2 == 0 ? JobState::kPaused : JobState::kRunning, {NewEvent{"toggle"}}}).ok());
+  }
+  absl::StatusOr<std::vector<EventRecord>> all = store_->ListEvents(j1.job.id, 0, 100);
+  ASSERT_TRUE(all.ok()) << all.status();
+  ASSERT_EQ(all->size(), 6u);  // created + 5 toggles
+  absl::StatusOr<std::vector<EventRecord>> newest = store_->ListEventsNewestFirst(j1.job.id, 0, 4);
+  ASSERT_TRUE(newest.ok()) << newest.status();
+  ASSERT_EQ(newest->size(), 4u);
+  for (size_t i = 0; i < 4; ++i) EXPECT_EQ((*newest)[i].id, (*all)[5 - i].id);
+  absl::StatusOr<std::vector<EventRecord>> older = store_->ListEventsNewestFirst(j1.job.id, newest->back().id, 4);
+  ASSERT_TRUE(older.ok()) << older.status();
+  ASSERT_EQ(older->size(), 2u);  // the rest, and nothing of the other job
+  EXPECT_EQ((*older)[0].id, (*all)[1].id);
+  EXPECT_EQ((*older)[1].id, (*all)[0].id);
+  EXPECT_EQ(store_->ListEventsNewestFirst(j2.job.id, 0, 100)->size(), 1u);
+  EXPECT_EQ(store_->ListEventsNewestFirst(0, 0, 0).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST_F(SqliteStoreTest, ReopenKeepsEverything) {
   CreatedJob job = Job(2);
   CommandRecord c = Lease(job.job.id, "rig-a");

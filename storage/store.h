@@ -151,6 +151,10 @@ class Store {
   // Events with id > after_id, oldest first, at most limit (> 0). job_id 0: all.
   virtual absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id,
                                                               int limit) = 0;
+  // Events with id < before_id (0: no bound), newest first, at most limit
+  // (> 0): the end of a long job's history without reading all of it.
+  virtual absl::StatusOr<std::vector<EventRecord>> ListEventsNewestFirst(int64_t job_id, int64_t before_id,
+                                                                         int limit) = 0;
 };
 
 }  // namespace surfmap

@@ -33,6 +33,9 @@ class JobReads {
   }
   absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) { return store_->GetRejectedTrace(id); }
   // The job's events with id > after_id, oldest first, at most `limit`.
+  absl::StatusOr<std::vector<EventRecord>> ListEventsNewestFirst(int64_t job_id, int64_t before_id, int limit) {
+    return store_->ListEventsNewestFirst(job_id, before_id, limit);
+  }
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id, int limit) {
     return store_->ListEvents(job_id, after_id, limit);
   }

@@ -143,9 +143,18 @@ grpc::ServerUnaryReactor* JobServiceImpl::ListJobEvents(grpc::CallbackServerCont
     if (request->limit() < 0 || request->limit() > 10'000) {
       return absl::InvalidArgumentError(absl::StrCat("limit must be in 0..10000 (0 = 1000), got ", request->limit()));
     }
+    if (request->before_event_id() < 0) return absl::InvalidArgumentError("before_event_id must be >= 0");
+    if (request->newest_first() && request->after_event_id() != 0) {
+      return absl::InvalidArgumentError("newest_first pages with before_event_id; after_event_id must be 0");
+    }
+    if (!request->newest_first() && request->before_event_id() != 0) {
+      return absl::InvalidArgumentError("before_event_id is read only with newest_first");
+    }
     const int limit = request->limit() == 0 ? 1000 : request->limit();
     absl::StatusOr<std::vector<EventRecord>> events =
-        s_.coordinator->reads().ListEvents(request->job_id(), request->after_event_id(), limit);
+        request->newest_first()
+            ? s_.coordinator->reads().ListEventsNewestFirst(request->job_id(), request->before_event_id(), limit)
+            : s_.coordinator->reads().ListEvents(request->job_id(), request->after_event_id(), limit);
     if (!events.ok()) return events.status();
     response->mutable_events()->Reserve(static_cast<int>(events->size()));
     for (const EventRecord& e : *events) {

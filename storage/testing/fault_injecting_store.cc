@@ -309,4 +309,9 @@ absl::StatusOr<std::vector<EventRecord>> FaultInjectingStore::ListEvents(int64_t
   return wrapped_->ListEvents(job_id, after_id, limit);
 }
 
+absl::StatusOr<std::vector<EventRecord>> FaultInjectingStore::ListEventsNewestFirst(int64_t job_id, int64_t before_id,
+                                                                                  int limit) {
+  return wrapped_->ListEventsNewestFirst(job_id, before_id, limit);
+}
+
 }  // namespace surfmap

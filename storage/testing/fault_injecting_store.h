@@ -90,6 +90,8 @@ class FaultInjectingStore : public Store {
   absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) override;
   absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) override;
   absl::StatusOr<std::vector<EventRecord>> ListEvents(int64_t job_id, int64_t after_id, int limit) override;
+  absl::StatusOr<std::vector<EventRecord>> ListEventsNewestFirst(int64_t job_id, int64_t before_id,
+                                                                 int limit) override;
 
  private:
   // One write on its way: `forward` hands it to the wrapped store (with a

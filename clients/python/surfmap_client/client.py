@@ -263,6 +263,20 @@ class SurfmapClient:
         response = self._call("ListJobEvents", self._jobs.ListJobEvents, request, timeout)
         return [conv.job_event(e) for e in response.events]
 
+    def latest_job_events(self, job_id: int, before_event_id: int = 0, limit: Optional[int] = None,
+                          timeout: Optional[float] = None) -> List[r.JobEvent]:
+        """The job's newest events, newest first: those with an id below
+        ``before_event_id`` (0 = the newest there are), at most ``limit``. Pass
+        the last event's ``event_id`` to page back."""
+        if before_event_id < 0:
+            raise invalid_argument("ListJobEvents", f"before_event_id must be >= 0, got {before_event_id}")
+        if limit is not None and not 1 <= limit <= 10000:
+            raise invalid_argument("ListJobEvents", f"limit must be 1..10000 (or None), got {limit}")
+        request = pb.ListJobEventsRequest(job_id=job_id, newest_first=True, before_event_id=before_event_id,
+                                          limit=limit or 0)
+        response = self._call("ListJobEvents", self._jobs.ListJobEvents, request, timeout)
+        return [conv.job_event(e) for e in response.events]
+
     def watch_job(self, job_id: int, include_map: bool = False,
                   timeout: Optional[float] = DEFAULT_WATCH_TIMEOUT_S) -> Generator[r.JobUpdate, None, None]:
         """Iterates over the job's progress updates until the job ends.

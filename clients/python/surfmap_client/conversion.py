@@ -89,12 +89,27 @@ def fit(m) -> r.Fit:
     friction = r.FrictionEstimate(f.mu, f.mu_std, f.mu_median, _vec(f.normal), f.pair_count,
                                   f.window_start_mm, f.window_end_mm,
                                   np.asarray(f.pair_s_mm, dtype=float), np.asarray(f.pair_mu, dtype=float))
-    g = m.roughness
-    roughness = r.RoughnessEstimate(tuple(g.ar_coefficients), tuple(g.ar_stderr), g.sigma, g.stationary,
-                                    tuple(g.reflection), g.acf_decay_mm, g.dominant_wavelength_mm,
-                                    g.below_noise_floor, np.asarray(g.acf, dtype=float), g.grid_step_mm)
-    return r.Fit(m.fit_id, m.version, m.estimator, m.estimator_version, m.options_json, friction, roughness,
-                 m.noise_std)
+    pieces = tuple(r.DragPiece(p.start_mm, p.end_mm, p.starts_at_change, p.ends_at_change, p.mu, p.mu_std, p.mu_se,
+                               p.pair_count, _ROUGHNESS_STATE.get(p.roughness_state, "unspecified"),
+                               p.roughness_note,
+                               _roughness(p.roughness) if p.roughness_state == _FITTED else None)
+                   for p in m.pieces)
+    return r.Fit(m.fit_id, m.version, m.estimator, m.estimator_version, m.options_json, friction,
+                 _roughness(m.roughness), m.noise_std, tuple(m.change_s_mm), pieces)
+
+
+_FITTED = pb.DragPiece.ROUGHNESS_STATE_FITTED
+_ROUGHNESS_STATE = {
+    pb.DragPiece.ROUGHNESS_STATE_FITTED: "fitted",
+    pb.DragPiece.ROUGHNESS_STATE_TOO_SHORT: "too_short",
+    pb.DragPiece.ROUGHNESS_STATE_FIT_FAILED: "fit_failed",
+}
+
+
+def _roughness(g) -> r.RoughnessEstimate:
+    return r.RoughnessEstimate(tuple(g.ar_coefficients), tuple(g.ar_stderr), g.sigma, g.stationary,
+                               tuple(g.reflection), g.acf_decay_mm, g.dominant_wavelength_mm,
+                               g.below_noise_floor, np.asarray(g.acf, dtype=float), g.grid_step_mm)
 
 
 def sample(m) -> r.Sample:

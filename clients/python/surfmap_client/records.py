@@ -213,6 +213,23 @@ class RoughnessEstimate:
 
 
 @dataclass(frozen=True)
+class DragPiece:
+    """A stretch of one drag over one material (between detected changes)."""
+
+    start_mm: float                # along the forward path (the frame of window_start_mm)
+    end_mm: float
+    starts_at_change: bool
+    ends_at_change: bool
+    mu: float
+    mu_std: float                  # spread of the per-pair mu
+    mu_se: float                   # standard error of mu
+    pair_count: int
+    roughness_state: str           # "fitted", "too_short", "fit_failed"
+    roughness_note: str
+    roughness: Optional["RoughnessEstimate"]  # when fitted
+
+
+@dataclass(frozen=True)
 class Fit:
     fit_id: int
     version: int                  # 1 = on arrival, 2.. = refits
@@ -222,6 +239,8 @@ class Fit:
     friction: FrictionEstimate
     roughness: RoughnessEstimate
     noise_std: float              # sensor noise seen in the pause, N
+    change_s_mm: Tuple[float, ...] = ()     # material changes found inside the drag
+    pieces: Tuple[DragPiece, ...] = ()      # the drag's pieces, in path order
 
 
 @dataclass(frozen=True)

@@ -49,6 +49,18 @@ def test_the_cursor_and_the_limit_page_through_the_same_events(client, completed
     assert client.list_job_events(job_id, whole[-1].event_id) == []
 
 
+def test_newest_first_pages_back_through_the_same_events(client, completed_job):
+    job_id = completed_job.job.job_id
+    whole = [e.event_id for e in client.list_job_events(job_id, limit=10000)]
+    back, cursor = [], 0
+    while batch := client.latest_job_events(job_id, cursor, limit=5):
+        assert len(batch) <= 5
+        back += [e.event_id for e in batch]
+        cursor = batch[-1].event_id
+    assert back == whole[::-1]
+    assert [e.event_id for e in client.latest_job_events(job_id, limit=1)] == [whole[-1]]
+
+
 def test_every_sample_names_its_rig(client, completed_job):
     samples = client.list_samples(completed_job.job.job_id)
     assert samples and {s.rig_id for s in samples} == {RIG}

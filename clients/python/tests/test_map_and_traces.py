@@ -95,6 +95,16 @@ def test_samples_and_their_fits(client, completed_job):
     assert len(fit.roughness.ar_coefficients) == 2  # the job maps BOTH: AR(2) by default
     assert fit.roughness.a1 == fit.roughness.ar_coefficients[0]
     assert fit.noise_std > 0
+    # Every drag comes back as pieces tiling its data window, one more than
+    # the changes found inside it.
+    for s in samples:
+        pieces = s.fit.pieces
+        assert len(pieces) == len(s.fit.change_s_mm) + 1
+        assert pieces[0].start_mm == pytest.approx(s.fit.friction.window_start_mm)
+        assert pieces[-1].end_mm == pytest.approx(s.fit.friction.window_end_mm)
+        for p in pieces:
+            assert p.roughness_state in ("fitted", "too_short", "fit_failed")
+            assert (p.roughness is not None) == (p.roughness_state == "fitted")
 
 
 def test_sample_series_from_the_server(client, completed_job):
