@@ -214,10 +214,11 @@ TEST(StandardServices, HealthIsServingPerServiceName) {
   auto health = grpc::health::v1::Health::NewStub(server->channel());
   for (const char* name : {"", "surfmap.v1.ObjectService", "surfmap.v1.JobService", "surfmap.v1.ProbeService",
                            "surfmap.v1.MapService", "surfmap.v1.TraceService"}) {
+    SCOPED_TRACE(std::string("service '") + name + "'");
     grpc::health::v1::HealthCheckRequest check;
     check.set_service(name);
     grpc::health::v1::HealthCheckResponse response;
-    GRPC_ASSERT_OK(health->Check(Context().get(), check, &response)) << "service '" << name << "'";
+    GRPC_ASSERT_OK(health->Check(Context().get(), check, &response));
     EXPECT_EQ(response.status(), grpc::health::v1::HealthCheckResponse::SERVING) << "service '" << name << "'";
   }
   grpc::health::v1::HealthCheckRequest unknown;
