@@ -15,7 +15,7 @@ find_package(gRPC CONFIG REQUIRED)
 find_package(TinyGLTF CONFIG REQUIRED)
 
 # Debian's OpenSubdiv CMake config references libosdCPU.a, which the package does
-# not ship (see ../shared/docs/BUILD-NOTES.md): locate the shared library by hand.
+# not ship (see docs/architecture.md, "Build notes"): locate the shared library by hand.
 find_library(OSD_CPU_LIBRARY osdCPU REQUIRED)
 find_path(OSD_INCLUDE_DIR opensubdiv/far/topologyRefiner.h REQUIRED)
 add_library(OpenSubdiv::osdCPU SHARED IMPORTED)

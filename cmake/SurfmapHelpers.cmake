@@ -6,7 +6,10 @@ function(surfmap_add_test)
     return()
   endif()
   add_executable(${T_NAME} ${T_SOURCES})
-  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gtest GTest::gtest_main)
+  target_link_libraries(${T_NAME} PRIVATE ${T_LIBS} GTest::gmock GTest::gtest GTest::gtest_main)
+  # Test code gets the same warnings as the code it tests (and -Werror with
+  # SURFMAP_WERROR): a warning in a test hides bugs in the test.
+  target_compile_options(${T_NAME} PRIVATE ${SURFMAP_WARNINGS})
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
   endif()
@@ -28,6 +31,9 @@ function(surfmap_add_benchmark)
 endfunction()
 
 set(SURFMAP_WARNINGS -Wall -Wextra -Wpedantic -Wno-unused-parameter)
+if(SURFMAP_WERROR)
+  list(APPEND SURFMAP_WARNINGS -Werror)
+endif()
 
 # surfmap_module(NAME lib DIR dir DEPS ... TEST_DEPS ...)
 # A module is a folder: every foo.cc is the library, every foo_test.cc goes into

@@ -4,7 +4,12 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 BUILD_DIR=${SURFMAP_BUILD_DIR:-build}
+# SURFMAP_WERROR=ON|OFF (scripts/test.sh sets ON): warnings as errors; applied
+# to an existing build tree too.
+WERROR_ARG=${SURFMAP_WERROR:+-DSURFMAP_WERROR=$SURFMAP_WERROR}
 if [ ! -f "$BUILD_DIR/build.ninja" ]; then
-  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo
+  cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo $WERROR_ARG
+elif [ -n "$WERROR_ARG" ]; then
+  cmake -S . -B "$BUILD_DIR" $WERROR_ARG >/dev/null
 fi
 cmake --build "$BUILD_DIR" -j"$(nproc)" "$@"

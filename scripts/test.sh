@@ -11,7 +11,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-scripts/build.sh
+SURFMAP_WERROR=ON scripts/build.sh
 fuzz_status=0
 scripts/fuzz.sh --smoke || fuzz_status=$?
 ctest --test-dir "${SURFMAP_BUILD_DIR:-build}" --output-on-failure -j2 --timeout 600

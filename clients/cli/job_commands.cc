@@ -7,6 +7,7 @@
 #include <google/protobuf/util/time_util.h>
 #include "absl/strings/str_format.h"
 #include "clients/cli/progress_line.h"
+#include "clients/cli/number_text.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
 namespace surfmap::cli {
@@ -116,14 +117,16 @@ pb::JobSpec SpecFromArgs(const CreateArgs& a) {
 }
 
 void PrintJobTable(const google::protobuf::RepeatedPtrField<pb::JobInfo>& jobs) {
-  std::printf("%6s %7s  %-9s %-9s %-11s %6s %8s %8s  %s\n", "job", "object", "state", "property", "mode", "levels",
-              "measured", "pending", "updated");
+  // issued = sites handed to rigs and not answered yet: with measured and
+  // pending it accounts for every open site, so a stalled rig shows here.
+  std::printf("%6s %7s  %-9s %-9s %-11s %6s %8s %6s %8s  %s\n", "job", "object", "state", "property", "mode",
+              "levels", "measured", "issued", "pending", "updated");
   for (const pb::JobInfo& j : jobs) {
-    std::printf("%6lld %7lld  %-9s %-9s %-11s %3d..%-2d %8d %8d  %s\n", static_cast<long long>(j.job_id()),
+    std::printf("%6lld %7lld  %-9s %-9s %-11s %3d..%-2d %8d %6d %8d  %s\n", static_cast<long long>(j.job_id()),
                 static_cast<long long>(j.spec().object_id()), std::string(JobStateName(j.state())).c_str(),
                 std::string(PropertyName(j.spec().property())).c_str(),
                 std::string(ModeName(j.spec().mode())).c_str(), j.spec().coarsest_level(), j.spec().finest_level(),
-                j.progress().measured(), j.progress().pending(), TimeUtil::ToString(j.updated()).c_str());
+                j.progress().measured(), j.progress().issued(), j.progress().pending(), TimeUtil::ToString(j.updated()).c_str());
   }
 }
 
@@ -283,8 +286,8 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
     std::printf("%5s %7s  %-9s %8s  %28s  %s\n", "level", "vertex", "state", "attempts", "position (mm)", "failure");
     for (const pb::PlanSite& s : response.sites()) {
       std::printf("%5d %7d  %-9s %8d  %8.2f %8.2f %8.2f    %s\n", s.site().level(), s.site().vertex(),
-                  std::string(SiteStateName(s.state())).c_str(), s.attempts(), s.position().x(), s.position().y(),
-                  s.position().z(), s.failure_reason().c_str());
+                  std::string(SiteStateName(s.state())).c_str(), s.attempts(), Shown(s.position().x(), 2),
+                  Shown(s.position().y(), 2), Shown(s.position().z(), 2), s.failure_reason().c_str());
     }
   });
 }

@@ -18,6 +18,8 @@
 #include "clients/haptics/texture_map_gltf.h"
 #include "clients/haptics/texture_map_ply.h"
 #include "clients/haptics/texture_model_json.h"
+#include "clients/cli/number_text.h"
+#include "clients/render/map_ply.h"
 #include "clients/render/map_render.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 #include "server/codec/trace_samples_proto.h"
@@ -169,9 +171,10 @@ void RunMapQuery(RemoteCli& cli, const MapQueryArgs& args) {
   for (int i = 0; i < response.values_size(); ++i) {
     const pb::MapValue& v = response.values(i);
     const std::string query = i < static_cast<int>(args.points.size()) ? args.points[i] : "?";
-    std::printf("%-24s %8.2f %8.2f %8.2f %8.3f %8.4f %8.4f %8.4f %7.3f %7.3f\n", query.c_str(), v.surface_point().x(),
-                v.surface_point().y(), v.surface_point().z(), v.distance_mm(), v.mu(), v.mu_uncertainty(), v.sigma(),
-                v.a1(), v.a2());
+    std::printf("%-24s %8.2f %8.2f %8.2f %8.3f %8.4f %8.4f %8.4f %7.3f %7.3f\n", query.c_str(),
+                Shown(v.surface_point().x(), 2), Shown(v.surface_point().y(), 2), Shown(v.surface_point().z(), 2),
+                Shown(v.distance_mm(), 3), Shown(v.mu(), 4), Shown(v.mu_uncertainty(), 4), Shown(v.sigma(), 4),
+                Shown(v.a1(), 3), Shown(v.a2(), 3));
   }
 }
 

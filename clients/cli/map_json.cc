@@ -5,7 +5,7 @@
 #include <map>
 #include <string>
 
-#include <google/protobuf/util/json_util.h>
+#include "clients/cli/proto_json.h"
 #include "absl/strings/str_cat.h"
 
 namespace surfmap::cli {
@@ -27,15 +27,8 @@ json Numbers(const Repeated& values) {
   return out;
 }
 
-// A message as protobuf JSON, parsed into nlohmann (snake_case names, zeros kept).
-json MessageJson(const google::protobuf::Message& message) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.preserve_proto_field_names = true;
-  options.always_print_primitive_fields = true;
-  std::string text;
-  if (!google::protobuf::util::MessageToJsonString(message, &text, options).ok()) return json::object();
-  return json::parse(text, nullptr, /*allow_exceptions=*/false);
-}
+// A message as JSON (proto_json.h: snake_case names, zeros kept, ids as numbers).
+json MessageJson(const google::protobuf::Message& message) { return ProtoToJson(message); }
 
 json Summary(const pb::MapLevel& map) {
   double lo = std::numeric_limits<double>::infinity(), hi = -lo, sum = 0.0, unc_sum = 0.0;

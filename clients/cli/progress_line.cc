@@ -3,8 +3,12 @@
 #include <algorithm>
 #include <cmath>
 
+#include <sys/ioctl.h>
 #include <unistd.h>
 
+#include <cstdlib>
+
+#include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 
@@ -44,6 +48,25 @@ std::string FormatProgressLine(const pb::JobProgress& progress, int bar_width) {
   return line;
 }
 
+std::string FitToWidth(std::string_view line, int columns) {
+  if (columns <= 0 || line.size() <= static_cast<std::size_t>(columns)) return std::string(line);
+  constexpr std::string_view kCut = "...";
+  if (columns <= static_cast<int>(kCut.size())) return std::string(line.substr(0, columns));
+  std::string cut(line.substr(0, columns - kCut.size()));
+  cut += kCut;
+  return cut;
+}
+
+int TerminalColumns(std::FILE* stream) {
+  struct winsize size {};
+  if (::ioctl(::fileno(stream), TIOCGWINSZ, &size) == 0 && size.ws_col > 0) return size.ws_col;
+  if (const char* env = std::getenv("COLUMNS")) {
+    int columns = 0;
+    if (absl::SimpleAtoi(env, &columns) && columns > 0) return columns;
+  }
+  return 80;
+}
+
 std::string_view JobStateName(pb::JobState state) {
   switch (state) {
     case pb::JOB_STATE_RUNNING: return "RUNNING";
@@ -58,7 +81,8 @@ void ProgressDisplay::Show(const std::string& line) {
   if (line == last_) return;
   if (redraw_) {
     // \x1b[K erases what a longer previous line left behind.
-    std::fprintf(out_, "\r%s\x1b[K", line.c_str());
+    const int columns = columns_ > 0 ? columns_ : TerminalColumns(out_);
+    std::fprintf(out_, "\r%s\x1b[K", FitToWidth(line, columns - 1).c_str());
     line_open_ = true;
   } else {
     std::fprintf(out_, "%s\n", line.c_str());

@@ -24,15 +24,31 @@ double ProgressFraction(const surfmap::v1::JobProgress& progress);
 // (0 = no bar).
 std::string FormatProgressLine(const surfmap::v1::JobProgress& progress, int bar_width = 20);
 
+// `line` cut to at most `columns` characters, ending in "..." when cut
+// (columns <= 0: unchanged). The line's start (percentage, counts) is what
+// matters; the per-level tail is what goes.
+std::string FitToWidth(std::string_view line, int columns);
+
+// The width of the terminal behind `stream` (ioctl TIOCGWINSZ), else
+// $COLUMNS when it is a positive number, else 80.
+int TerminalColumns(std::FILE* stream);
+
 // "RUNNING", "PAUSED", "COMPLETED", "CANCELLED" (or "UNSPECIFIED").
 std::string_view JobStateName(surfmap::v1::JobState state);
 
 // Shows successive progress lines: redrawn in place with '\r' (and erased to
 // the end of the line) on a terminal; otherwise one plain line per change, so
 // logs stay readable. Not thread-safe.
+//
+// A redrawn line is cut to the terminal's width minus one: a line that wraps
+// cannot be redrawn by '\r' (each update would leave a clipped line behind),
+// and one that fills the last column leaves some terminals about to wrap.
 class ProgressDisplay {
  public:
-  ProgressDisplay(std::FILE* out, bool redraw_in_place) : out_(out), redraw_(redraw_in_place) {}
+  // columns > 0 fixes the width (tests); 0 asks TerminalColumns(out) at each
+  // line, so a resized terminal is followed.
+  ProgressDisplay(std::FILE* out, bool redraw_in_place, int columns = 0)
+      : out_(out), redraw_(redraw_in_place), columns_(columns) {}
   ~ProgressDisplay() { Finish(); }
   ProgressDisplay(const ProgressDisplay&) = delete;
   ProgressDisplay& operator=(const ProgressDisplay&) = delete;
@@ -48,6 +64,7 @@ class ProgressDisplay {
  private:
   std::FILE* out_;
   bool redraw_;
+  int columns_;
   bool line_open_ = false;
   std::string last_;
 };

@@ -1,7 +1,9 @@
 #include "clients/cli/progress_line.h"
 
 #include <cstdio>
+#include <cstdlib>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -57,10 +59,10 @@ TEST(FormatProgressLineTest, MentionsBudgetAndSkipped) {
             "100%  10/10 measured, 0 issued (0 at rigs), 0 pending, 0 failed, 3 skipped, budget left 5");
 }
 
-std::string Captured(bool redraw, const std::vector<std::string>& lines) {
+std::string Captured(bool redraw, const std::vector<std::string>& lines, int columns = 0) {
   std::FILE* f = std::tmpfile();
   {
-    ProgressDisplay display(f, redraw);
+    ProgressDisplay display(f, redraw, columns);
     for (const std::string& l : lines) display.Show(l);
   }
   std::rewind(f);
@@ -78,6 +80,60 @@ TEST(ProgressDisplayTest, PlainLinesSkipRepeats) {
 
 TEST(ProgressDisplayTest, RedrawsInPlaceAndEndsTheLine) {
   EXPECT_EQ(Captured(true, {"a", "a", "b"}), "\ra\x1b[K\rb\x1b[K\n");
+}
+
+TEST(FitToWidthTest, CutsOnlyWhatDoesNotFit) {
+  EXPECT_EQ(FitToWidth("abcdef", 6), "abcdef");
+  EXPECT_EQ(FitToWidth("abcdefg", 6), "abc...");
+  EXPECT_EQ(FitToWidth("abcdefg", 2), "ab");
+  EXPECT_EQ(FitToWidth("abcdefg", 0), "abcdefg");
+}
+
+// The widest line the rig prints: its id, a 20-character bar, a job with
+// leases, failures, skipped sites, a budget and four levels. On an 80-column
+// terminal every redraw must stay on one row (at most 79 characters between
+// the '\r' and the erase), or each update leaves a clipped line behind.
+TEST(ProgressDisplayTest, FitsAnEightyColumnTerminal) {
+  pb::JobProgress p = Progress(1234, 16, 20769, 5000);
+  p.set_leased(16);
+  p.set_failed(12);
+  p.set_skipped(40);
+  for (int level = 0; level < 4; ++level) {
+    pb::LevelProgress* l = p.add_levels();
+    l->set_level(level);
+    l->set_measured(300 * level);
+    l->set_pending(5000 + level);
+  }
+  const std::string line = "sim-bottle-123456 " + FormatProgressLine(p, 20);
+  ASSERT_GT(line.size(), 80u) << "the test needs a line wider than the terminal";
+  const std::string shown = Captured(true, {line}, 80);
+  ASSERT_EQ(shown.front(), '\r');
+  const std::size_t erase = shown.find("\x1b[K");
+  ASSERT_NE(erase, std::string::npos);
+  const std::string row = shown.substr(1, erase - 1);
+  EXPECT_EQ(row.size(), 79u);
+  EXPECT_EQ(row.substr(0, 40), line.substr(0, 40));  // the start (bar, percentage, counts) is kept
+  EXPECT_EQ(row.substr(row.size() - 3), "...");
+}
+
+TEST(ProgressDisplayTest, PlainLinesAreNotCut) {
+  const std::string line(120, 'x');
+  EXPECT_EQ(Captured(false, {line}, 80), line + "\n");
+}
+
+TEST(TerminalColumnsTest, ColumnsVariableThenEighty) {
+  std::FILE* f = std::tmpfile();  // not a terminal: TIOCGWINSZ fails
+  ASSERT_NE(f, nullptr);
+  const char* saved = std::getenv("COLUMNS");
+  const std::string restore = saved ? saved : "";
+  ::setenv("COLUMNS", "132", 1);
+  EXPECT_EQ(TerminalColumns(f), 132);
+  ::setenv("COLUMNS", "wide", 1);
+  EXPECT_EQ(TerminalColumns(f), 80);
+  ::unsetenv("COLUMNS");
+  EXPECT_EQ(TerminalColumns(f), 80);
+  if (saved) ::setenv("COLUMNS", restore.c_str(), 1);
+  std::fclose(f);
 }
 
 }  // namespace

@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include <google/protobuf/util/json_util.h>
+#include "clients/cli/proto_json.h"
 
 namespace surfmap::cli {
 
@@ -32,14 +32,7 @@ void FailUsage(RemoteCli& cli, std::string_view what) {
 }
 
 std::string MessageToJson(const google::protobuf::Message& message, bool pretty) {
-  google::protobuf::util::JsonPrintOptions options;
-  options.preserve_proto_field_names = true;
-  options.always_print_primitive_fields = true;
-  options.add_whitespace = pretty;
-  std::string text;
-  if (!google::protobuf::util::MessageToJsonString(message, &text, options).ok()) return "{}";
-  if (!text.empty() && text.back() == '\n') text.pop_back();
-  return text;
+  return ProtoToJson(message).dump(pretty ? 2 : -1);
 }
 
 }  // namespace surfmap::cli

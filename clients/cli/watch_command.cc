@@ -4,6 +4,7 @@
 
 #include "absl/strings/str_format.h"
 #include "clients/cli/progress_line.h"
+#include "clients/cli/number_text.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
 namespace surfmap::cli {
@@ -14,7 +15,7 @@ namespace pb = ::surfmap::v1;
 std::string LatestSampleNote(const pb::JobUpdate& update) {
   if (!update.has_latest_sample()) return "";
   const pb::Sample& s = update.latest_sample();
-  return absl::StrFormat("  (last: L%d v%d mu %.3f)", s.site().level(), s.site().vertex(), s.fit().friction().mu());
+  return absl::StrFormat("  (last: L%d v%d mu %.3f)", s.site().level(), s.site().vertex(), Shown(s.fit().friction().mu(), 3));
 }
 
 void RunWatch(RemoteCli& cli, int64_t job_id, bool plain) {

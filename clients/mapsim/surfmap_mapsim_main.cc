@@ -24,6 +24,7 @@
 #include "clients/mapsim/mapping_report.h"
 #include "clients/mapsim/mapping_run.h"
 #include "clients/rig/scene.h"
+#include "surfmap_version.h"
 
 namespace surfmap::mapsim {
 namespace {
@@ -52,6 +53,7 @@ std::string PathFor(const std::string& path, const std::string& scene, int index
 
 int Main(int argc, char** argv) {
   CLI::App app{"surfmap-mapsim: map scenes in-process with the simulated rig and score the maps on the true surface"};
+  app.set_version_flag("--version", std::string("surfmap-mapsim ") + surfmap::kSurfmapVersion);
   std::vector<std::string> scenes = {"bottle"};
   std::string mode = "evidence";
   std::string map = "regions";

@@ -1,5 +1,5 @@
 // RigDriver: where a robot plugs in. A driver executes one probe command
-// (docs/METHOD.md section 1: touch down, forward drag, pause, reverse drag)
+// (docs/method.md section 1: touch down, forward drag, pause, reverse drag)
 // and returns the drag trace it recorded. SimulatedRig implements it for a
 // scene; a real robot's driver implements the same interface.
 #pragma once

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <sstream>
 #include <optional>
+#include <utility>
 #include <string>
 #include <vector>
 
@@ -27,6 +28,12 @@ class ScriptedEndpoint : public ProbeEndpoint {
     pb::LeaseCommandResponse response;
   };
   struct SubmitAnswer {
+    // A constructor, not an aggregate: the scripts name only what they need
+    // ({status} or {status, already_accepted}) without missing-initializer
+    // warnings on every line.
+    SubmitAnswer() = default;
+    SubmitAnswer(grpc::Status s, bool accepted = false, std::optional<pb::LeaseCommandResponse> n = std::nullopt)
+        : status(std::move(s)), already_accepted(accepted), next(std::move(n)) {}
     grpc::Status status;
     bool already_accepted = false;
     std::optional<pb::LeaseCommandResponse> next;  // answered when the request asked lease_next

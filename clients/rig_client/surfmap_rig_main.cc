@@ -43,6 +43,7 @@
 #include "clients/rig_client/scene_guard.h"
 #include "clients/rig_client/simulated_driver.h"
 #include "clients/rig_client/trace_spool.h"
+#include "surfmap_version.h"
 
 namespace {
 
@@ -372,6 +373,7 @@ int RunScore(const ScoreArgs& args, const surfmap::cli::RemoteOptions& remote) {
 int main(int argc, char** argv) {
   CLI::App app{"surfmap-rig: a probing rig as a client of surfmapd (lease, execute, submit)"};
   app.require_subcommand(0, 1);
+  app.set_version_flag("--version", std::string("surfmap-rig ") + surfmap::kSurfmapVersion);
   RunArgs run;
   run.remote.server = std::string(surfmap::cli::kDefaultServer);
   app.add_option("--server", run.remote.server, "surfmapd address host:port")

@@ -1,4 +1,4 @@
-// A seeded physical simulator of one drag measurement (docs/METHOD.md section
+// A seeded physical simulator of one drag measurement (docs/method.md section
 // 1): forward drag, pause, reverse drag over the same path, sampled at a fixed
 // rate, with the disturbances a real rig shows. Every disturbance is on by
 // default and each has an option (amplitude 0) that switches it off;

@@ -11,7 +11,7 @@
 namespace surfmap {
 namespace {
 
-constexpr int kLags = 2;                   // AR(2): the texture model of METHOD.md section 3
+constexpr int kLags = 2;                   // AR(2): the texture model of docs/method.md section 3
 constexpr int kParameters = kLags + 2;     // intercept, a1, a2, innovation variance
 constexpr int kSums = 10;
 

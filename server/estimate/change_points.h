@@ -5,7 +5,7 @@
 //
 // Method: binary segmentation with a likelihood-ratio test for a change of
 // the series' AR(2) model. The per-pair friction rides on the surface
-// texture, which the method models as an AR(2) process in space (METHOD.md
+// texture, which the method models as an AR(2) process in space (docs/method.md
 // section 3); within one material the series is that process about the
 // material's mu, with the sensor's noise. A material change changes the mean
 // (mu), the texture's correlation (a1, a2) and its amplitude (innovation

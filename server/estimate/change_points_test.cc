@@ -40,7 +40,7 @@ std::vector<double> Series(const std::vector<Stretch>& stretches, std::uint64_t 
 }
 
 // Per-pair friction textures of the paper's materials at 5 N (texture force
-// / normal force): the AR(2) of METHOD.md with sigma divided by 5 N.
+// / normal force): the AR(2) of docs/method.md with sigma divided by 5 N.
 const ArParams kGlassLike{{0.0, 0.0}, 0.003};
 const ArParams kRubberLike{{0.60, 0.25}, 0.11 / 5.0};
 const ArParams kMasoniteLike{{1.61, -0.73}, 0.16 / 5.0};

@@ -1,4 +1,4 @@
-// Coulomb friction by the differential method (Lloyd & Pai 2001, docs/METHOD.md
+// Coulomb friction by the differential method (Lloyd & Pai 2001, docs/method.md
 // section 2): pair each forward point with the same point on the reverse pass;
 // with fh, rh the unit forces and theta the angle between them,
 //   mu = tan(theta / 2),   n = (fh + rh) / |fh + rh|,

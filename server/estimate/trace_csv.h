@@ -1,6 +1,6 @@
 // Drag-trace CSV: a strict reader and a round-tripping writer (no file I/O).
 //
-// Format (docs/DESIGN.md): a header line naming the columns t,x,y,z,fx,fy,fz,phase
+// Format (docs/trace-format.md): a header line naming the columns t,x,y,z,fx,fy,fz,phase
 // (exactly these eight names, in any order), then one sample per line. Lines
 // whose first non-blank character is '#' and blank lines are skipped anywhere.
 // Units: t in s, positions in mm, forces in N (by the surface on the probe).

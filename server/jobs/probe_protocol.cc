@@ -5,6 +5,7 @@
 #include <utility>
 
 #include <nlohmann/json.hpp>
+#include <spdlog/spdlog.h>
 #include "absl/strings/str_cat.h"
 #include "server/base/status_macros.h"
 #include "server/base/utf8_text.h"
@@ -18,6 +19,13 @@
 
 namespace surfmap {
 namespace {
+
+// One info line when a job completes (durably): what an operator watching
+// the log wants to know without opening a dashboard.
+void LogJobCompleted(int64_t job_id, const PlanProgress& progress) {
+  spdlog::info("job completed job_id={} measured={} failed={} skipped={}", job_id, progress.measured,
+               progress.failed, progress.skipped);
+}
 
 absl::Status ValidateRigId(const std::string& rig_id) {
   return ValidateName("rig_id", rig_id, 1, 100);  // characters, valid UTF-8, one line
@@ -294,6 +302,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
   outcome.already_accepted = result->already_accepted;
   if (!result->already_accepted) outcome.decoded_fit = pending.decoded_fit;
   bool finished = false;
+  bool completed_now = false;
   {
     MutexLock lock(&runtime.mu);
     outcome.progress = runtime.plan.Progress();
@@ -306,7 +315,10 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
       // Completions run in commit order: this is the newest trace.
       runtime.latest_sample = std::move(sample);
       runtime.updated_unix_ms = std::max(runtime.updated_unix_ms, outcome.received_unix_ms);
-      if (pending.completes_job) runtime.durable_state = JobState::kCompleted;  // written with this trace
+      if (pending.completes_job) {
+        runtime.durable_state = JobState::kCompleted;  // written with this trace
+        completed_now = true;
+      }
     }
     finished = IsFinalJobState(runtime.durable_state);
   }
@@ -317,6 +329,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
     outcome.next = std::move(*next);
   }
   if (finished) registry_->NoteFinished(runtime.job_id);
+  if (completed_now) LogJobCompleted(runtime.job_id, outcome.progress);
   if (pending.plan_changed) NotifyListeners(runtime);
   done(std::move(outcome));
 }
@@ -389,12 +402,19 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
         registry_->MarkWriteFailed(*runtime_ptr);
         return done(result.status());
       }
+      PlanProgress progress;
       {
         MutexLock lock(&runtime_ptr->mu);
         runtime_ptr->updated_unix_ms = std::max(runtime_ptr->updated_unix_ms, UnixMillisNow());
-        if (completes_job) runtime_ptr->durable_state = JobState::kCompleted;
+        if (completes_job) {
+          runtime_ptr->durable_state = JobState::kCompleted;
+          progress = runtime_ptr->plan.Progress();
+        }
       }
-      if (completes_job) registry_->NoteFinished(runtime_ptr->job_id);
+      if (completes_job) {
+        registry_->NoteFinished(runtime_ptr->job_id);
+        LogJobCompleted(runtime_ptr->job_id, progress);
+      }
       NotifyListeners(*runtime_ptr);
       done(will_retry);
     });

@@ -130,7 +130,9 @@ TEST(SamplingPlanTest, BudgetIsRespectedWithSeveralRigs) {
   EXPECT_EQ(p.pending, 0);
   EXPECT_TRUE(p.done);
   for (const auto& r : plan->Sites()) {
-    if (r.state == SiteState::kSkipped) EXPECT_EQ(r.reason, "sample budget used up");
+    if (r.state == SiteState::kSkipped) {
+      EXPECT_EQ(r.reason, "sample budget used up");
+    }
   }
 }
 
@@ -226,7 +228,9 @@ TEST(SamplingPlanTest, DeterministicForASeedAndShuffledByIt) {
   bool seen_level1 = false;
   for (const auto& r : a) {
     if (r.site.level >= 1) seen_level1 = true;
-    if (seen_level1) EXPECT_GE(r.site.level, 1);
+    if (seen_level1) {
+      EXPECT_GE(r.site.level, 1);
+    }
   }
 }
 

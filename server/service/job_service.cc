@@ -2,6 +2,7 @@
 #include <atomic>
 
 #include "absl/strings/str_cat.h"
+#include "absl/strings/ascii.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/job_watch_reactor.h"
@@ -58,7 +59,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     spdlog::info("rpc=CreateJob job_id={} level0_sites={} expected_sites={} expected_robot_s={:.0f} warnings={}",
                  job->record.id, estimate->level0_sites, estimate->expected_sites, estimate->expected_seconds,
                  estimate->warnings.size());
-    spdlog::info("rpc=CreateJob job_id={} object_id={} mode={} levels={}..{} initial_sites={}", job->record.id,
+    spdlog::info("job created rpc=CreateJob job_id={} object_id={} mode={} levels={}..{} initial_sites={}", job->record.id,
                  params->object_id, std::string(PlanModeName(params->mode)), params->coarsest_level, params->finest_level,
                  job->progress.pending + job->progress.issued);
     return absl::OkStatus();
@@ -103,7 +104,10 @@ grpc::ServerUnaryReactor* JobServiceImpl::ChangeState(grpc::CallbackServerContex
                                                     absl::StatusOr<JobSnapshot> job) {
       if (!job.ok()) return finish(job.status());
       *response->mutable_job() = JobInfoToProto(*job);
-      spdlog::info("rpc={} job_id={} state={}", method, job_id, std::string(JobStateName(target)));
+      // "job cancelled", "job paused", "job running": one line per decision an operator made.
+      spdlog::info("job {} rpc={} job_id={} state={} measured={} failed={}",
+                   absl::AsciiStrToLower(std::string(JobStateName(target))), method, job_id, std::string(JobStateName(target)),
+                   job->progress.measured, job->progress.failed);
       finish(absl::OkStatus());
     });
   });
@@ -190,7 +194,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::ListJobEvents(grpc::CallbackServerCont
 
 grpc::ServerWriteReactor<pb::JobUpdate>* JobServiceImpl::WatchJob(grpc::CallbackServerContext* context,
                                                                   const pb::WatchJobRequest* request) {
-  absl::Status admitted = s_.gate->Admit(*context, Role::kRead, "WatchJob");
+  absl::Status admitted = AdmitCall(*context, s_, Role::kRead, "WatchJob");
   if (admitted.ok() && request->job_id() <= 0) admitted = absl::InvalidArgumentError("job_id must be a positive job id");
   if (!admitted.ok()) {
     auto* refused = new RefusedStream<pb::JobUpdate>();

@@ -1,5 +1,7 @@
-// spdlog formatter writing one JSON object per line ({"time","level","msg"}),
-// with the message escaped properly, for log collectors.
+// spdlog formatter writing one JSON object per line, for log collectors:
+// {"time_ms", "level", "msg", then every key=value field of the line as its
+// own key} (log_line_fields.h). A field named like one of the three fixed keys
+// is written as "<name>_field", so it never replaces them.
 #pragma once
 
 #include <memory>

@@ -1,4 +1,5 @@
 #include "absl/strings/str_cat.h"
+#include "server/base/log_text.h"
 #include "server/base/utf8_text.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
@@ -127,7 +128,7 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerCon
           if (!outcome.ok()) return finish(outcome.status());
           FillLeaseResponse(*outcome, response);
           if (outcome->record) {
-            spdlog::debug("rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", rig_id,
+            spdlog::debug("command leased rpc=LeaseCommand rig={} command_id={} job_id={} vertex={} attempt={}", LogQuote(rig_id),
                           outcome->record->id, outcome->record->job_id, outcome->record->site_vertex,
                           outcome->record->attempt);
           }
@@ -152,8 +153,15 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
   };
   s_.coordinator->probes().SubmitTrace(
       command_id, rig_id, source, lease_next,
-      [response, rig_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
-        if (!outcome.ok()) return finish(outcome.status());
+      [response, rig_id, command_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
+        if (!outcome.ok()) {
+          // Every refusal, whatever its cause (an implausible trace, an expired
+          // lease, a conflict): a rig whose traces keep being refused is what an
+          // operator looks for.
+          spdlog::info("trace rejected rig={} command_id={} code={} reason={}", LogQuote(rig_id), command_id,
+                       absl::StatusCodeToString(outcome.status().code()), LogQuote(std::string(outcome.status().message())));
+          return finish(outcome.status());
+        }
         SampleRecord record;
         record.trace.id = outcome->trace_id;
         record.trace.command_id = outcome->command.id;
@@ -167,7 +175,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         response->set_already_accepted(outcome->already_accepted);
         *response->mutable_progress() = ProgressToProto(outcome->progress);
         if (outcome->next) FillLeaseResponse(*outcome->next, response->mutable_next());
-        spdlog::debug("rpc=SubmitTrace rig={} command_id={} trace_id={} mu={:.4f} retry={}", rig_id,
+        spdlog::debug("trace accepted rpc=SubmitTrace rig={} command_id={} trace_id={} mu={:.4f} retry={}", LogQuote(rig_id),
                       outcome->command.id, outcome->trace_id, response->sample().fit().friction().mu(),
                       outcome->already_accepted);
         finish(absl::OkStatus());
@@ -186,7 +194,7 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerCont
 grpc::ServerReadReactor<pb::SubmitTraceChunk>* ProbeServiceImpl::SubmitTraceStream(grpc::CallbackServerContext* context,
                                                                                    pb::SubmitTraceResponse* response) {
   auto* reactor = new SubmitStreamReactor(this, s_, response);
-  absl::Status admitted = s_.gate->Admit(*context, Role::kProbe, "SubmitTraceStream");
+  absl::Status admitted = AdmitCall(*context, s_, Role::kProbe, "SubmitTraceStream");
   if (!admitted.ok()) {
     reactor->Finish(ToGrpcStatus(admitted));
     return reactor;
@@ -206,10 +214,18 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::ReportFailure(grpc::CallbackServerCo
       case pb::FAILURE_KIND_UNREACHABLE: kind = FailureKind::kUnreachable; break;
       default: return finish(absl::InvalidArgumentError(absl::StrCat("kind: unknown value ", request->kind())));
     }
+    const int64_t command_id = request->command_id();
+    const std::string rig_id = request->rig_id();
+    const std::string reason = request->reason();
     s_.coordinator->probes().ReportFailure(
-        request->command_id(), request->rig_id(), request->reason(), kind,
-        [response, finish = std::move(finish)](absl::StatusOr<bool> will_retry) {
-          if (will_retry.ok()) response->set_will_retry(*will_retry);
+        command_id, rig_id, reason, kind,
+        [response, command_id, rig_id, reason, kind, finish = std::move(finish)](absl::StatusOr<bool> will_retry) {
+          if (will_retry.ok()) {
+            response->set_will_retry(*will_retry);
+            spdlog::info("rig failure reported rig={} command_id={} kind={} will_retry={} reason={}", LogQuote(rig_id),
+                         command_id, kind == FailureKind::kUnreachable ? "unreachable" : "transient", *will_retry,
+                         LogQuote(reason));
+          }
           finish(will_retry.status());
         });
   });

@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <fstream>
 #include <set>
+#include <string>
 #include <thread>
+#include <vector>
 
 #include <grpcpp/ext/proto_server_reflection_plugin.h>
 #include <grpcpp/grpcpp.h>
@@ -21,6 +23,7 @@
 #include "server/service/grpc_services.h"
 #include "server/service/startup_checks.h"
 #include "server/service/status_interceptor.h"
+#include "server/service/reflection_v1_service.h"
 #include "server/service/watch_update_cache.h"
 #include "storage/sqlite_store.h"
 
@@ -73,7 +76,8 @@ std::set<std::string> ServedMethods() {
     for (int i = 0; i < d->method_count(); ++i) methods.insert(absl::StrCat("/", service, "/", d->method(i)->name()));
   }
   methods.insert({"/grpc.health.v1.Health/Check", "/grpc.health.v1.Health/Watch",
-                  "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo"});
+                  "/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                  "/grpc.reflection.v1.ServerReflection/ServerReflectionInfo"});
   return methods;
 }
 
@@ -113,8 +117,19 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   MapServiceImpl maps(services);
   TraceServiceImpl traces(services);
 
+  // Our services, then the standard ones: what reflection lists and what
+  // health reports per name.
+  const std::vector<std::string> api_services = {
+      pb::ObjectService::service_full_name(), pb::JobService::service_full_name(),
+      pb::ProbeService::service_full_name(), pb::MapService::service_full_name(),
+      pb::TraceService::service_full_name()};
+  std::vector<std::string> listed = api_services;
+  listed.insert(listed.end(), {"grpc.health.v1.Health", "grpc.reflection.v1.ServerReflection",
+                               "grpc.reflection.v1alpha.ServerReflection"});
+  ReflectionV1Service reflection_v1(listed);
+
   grpc::EnableDefaultHealthCheckService(true);
-  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();  // v1alpha (Debian's library)
   grpc::ServerBuilder builder;
   int port = 0;
   builder.AddListeningPort(config.listen, *credentials, &port);
@@ -128,8 +143,15 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
   builder.RegisterService(&probes);
   builder.RegisterService(&maps);
   builder.RegisterService(&traces);
+  builder.RegisterService(&reflection_v1);
   std::unique_ptr<grpc::Server> server = builder.BuildAndStart();
   if (!server || port == 0) return absl::UnavailableError(absl::StrCat("cannot listen on ", config.listen));
+  // grpc.health.v1 per service as well as "" (the whole server, SERVING by
+  // default): load balancers and Kubernetes probes ask by service name.
+  grpc::HealthCheckServiceInterface* health = server->GetHealthCheckService();
+  if (health != nullptr) {
+    for (const std::string& name : api_services) health->SetServingStatus(name, true);
+  }
 
   const std::string host = config.listen.substr(0, config.listen.rfind(':'));
   spdlog::info("surfmapd listening on {}:{} db={} auth={} transport={}", host, port, config.db_path,
@@ -145,6 +167,9 @@ absl::Status RunServer(const ServerConfig& config, const std::string& port_file)
                config.shutdown_deadline_s);
   const auto deadline = std::chrono::system_clock::now() +
                         std::chrono::milliseconds(static_cast<int64_t>(config.shutdown_deadline_s * 1000));
+  // NOT_SERVING for "" and every name while calls drain, so health checks
+  // stop sending new work here first.
+  if (health != nullptr) health->Shutdown();
   server->Shutdown(deadline);  // in-flight calls finish or are cancelled at the deadline
   server->Wait();
   // Every call has finished; work they started that outlives them (a job

@@ -4,6 +4,9 @@
 #include <exception>
 #include <memory>
 
+#include <spdlog/spdlog.h>
+#include "server/base/log_text.h"
+
 namespace surfmap {
 namespace {
 
@@ -29,9 +32,11 @@ absl::Status RunGuarded(const std::function<absl::Status()>& work, const char* m
 void FinishUnary(grpc::ServerUnaryReactor* reactor, const char* method, const absl::Status& status) {
   if (!status.ok()) {
     if (IsServerError(status.code())) {
-      spdlog::warn("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), std::string(status.message()));
+      spdlog::warn("call failed rpc={} code={} error={}", method, absl::StatusCodeToString(status.code()),
+                   LogQuote(std::string(status.message())));
     } else {
-      spdlog::debug("rpc={} code={} error=\"{}\"", method, absl::StatusCodeToString(status.code()), std::string(status.message()));
+      spdlog::debug("call refused rpc={} code={} error={}", method, absl::StatusCodeToString(status.code()),
+                    LogQuote(std::string(status.message())));
     }
   }
   reactor->Finish(ToGrpcStatus(status));
@@ -40,15 +45,27 @@ void FinishUnary(grpc::ServerUnaryReactor* reactor, const char* method, const ab
 grpc::ServerUnaryReactor* HandleUnary(grpc::CallbackServerContext* context, const ServiceContext& services,
                                       Role needed, const char* method, const std::function<absl::Status()>& work) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = services.gate->Admit(*context, needed, method);
+  absl::Status admitted = AdmitCall(*context, services, needed, method);
   FinishUnary(reactor, method, admitted.ok() ? RunGuarded(work, method) : admitted);
   return reactor;
+}
+
+absl::Status AdmitCall(const grpc::ServerContextBase& context, const ServiceContext& services, Role needed,
+                       const char* method) {
+  absl::Status admitted = services.gate->Admit(context, needed, method);
+  if (!admitted.ok()) {
+    // The gate's messages name the method and the missing role, never the
+    // token (a wrong token is "unknown token"), so the line is safe to keep.
+    spdlog::warn("auth failure rpc={} peer={} code={} reason={}", method, LogQuote(context.peer()),
+                 absl::StatusCodeToString(admitted.code()), LogQuote(std::string(admitted.message())));
+  }
+  return admitted;
 }
 
 grpc::ServerUnaryReactor* HandleUnaryOnPool(grpc::CallbackServerContext* context, const ServiceContext& services,
                                             Role needed, const char* method, std::function<absl::Status()> work) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = services.gate->Admit(*context, needed, method);
+  absl::Status admitted = AdmitCall(*context, services, needed, method);
   if (!admitted.ok()) {
     FinishUnary(reactor, method, admitted);
     return reactor;
@@ -70,7 +87,7 @@ grpc::ServerUnaryReactor* HandleUnaryAsync(grpc::CallbackServerContext* context,
                                            Role needed, const char* method,
                                            const std::function<void(FinishFn finish)>& start) {
   grpc::ServerUnaryReactor* reactor = context->DefaultReactor();
-  absl::Status admitted = services.gate->Admit(*context, needed, method);
+  absl::Status admitted = AdmitCall(*context, services, needed, method);
   if (!admitted.ok()) {
     FinishUnary(reactor, method, admitted);
     return reactor;

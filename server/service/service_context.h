@@ -32,6 +32,12 @@ struct ServiceContext {
 // server errors at warn).
 void FinishUnary(grpc::ServerUnaryReactor* reactor, const char* method, const absl::Status& status);
 
+// The gate's answer for a call (RequestGate::Admit); a refusal is logged at
+// warn with the method, the peer and why, never the token. Every handler
+// admits through here, unary or streaming.
+absl::Status AdmitCall(const grpc::ServerContextBase& context, const ServiceContext& services, Role needed,
+                       const char* method);
+
 // Cheap work (memory, one indexed read): run inline, then finish.
 grpc::ServerUnaryReactor* HandleUnary(grpc::CallbackServerContext* context, const ServiceContext& services,
                                       Role needed, const char* method, const std::function<absl::Status()>& work);

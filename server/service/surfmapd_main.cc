@@ -10,9 +10,11 @@
 #include "server/service/json_log_formatter.h"
 #include "server/service/server_runner.h"
 #include "server/service/text_log_formatter.h"
+#include "surfmap_version.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"surfmapd: robotic mapping of surface friction and roughness (gRPC service)"};
+  app.set_version_flag("--version", std::string("surfmapd ") + surfmap::kSurfmapVersion);
   std::string listen, db, config_path, port_file, log_format, log_level;
   app.add_option("--listen", listen, "Address to listen on, e.g. 127.0.0.1:50051 (port 0 = any free port)");
   app.add_option("--db", db, "SQLite database file (created if missing)");

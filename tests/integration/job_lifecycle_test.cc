@@ -6,6 +6,8 @@
 
 #include "support/grpc/health/v1/health.grpc.pb.h"
 #include "support/grpc/reflection/v1alpha/reflection.grpc.pb.h"
+#include "grpc/reflection/v1/reflection.grpc.pb.h"
+#include <google/protobuf/descriptor.pb.h>
 #include "gtest/gtest.h"
 #include "tests/support/job_helpers.h"
 #include "tests/support/rig_fleet.h"
@@ -48,9 +50,11 @@ TEST(JobLifecycle, PauseResumeAndCancelGateTheCommands) {
   EXPECT_FALSE(lease.has_command() && lease.command().command_id() != 0) << "a paused job handed out a command";
   EXPECT_FALSE(lease.job_finished()) << "a paused job is not finished";
   EXPECT_TRUE(lease.has_retry_after()) << "a paused job should tell the rig when to ask again";
-  // Pausing twice is harmless (idempotent) or a precondition error; never a crash.
+  // Pausing a paused job is a transition to the state it is in: refused as
+  // FAILED_PRECONDITION (IsJobTransitionAllowed: from != to), and the job
+  // stays paused.
   grpc::Status again = stubs.jobs->PauseJob(Context().get(), request, &response);
-  EXPECT_TRUE(again.ok() || again.error_code() == grpc::StatusCode::FAILED_PRECONDITION) << Describe(again);
+  EXPECT_EQ(again.error_code(), grpc::StatusCode::FAILED_PRECONDITION) << Describe(again);
 
   GRPC_ASSERT_OK(stubs.jobs->ResumeJob(Context().get(), request, &response));
   EXPECT_EQ(response.job().state(), pb::JOB_STATE_RUNNING);
@@ -165,6 +169,63 @@ TEST(StandardServices, HealthIsServingAndReflectionListsTheApi) {
                            "surfmap.v1.MapService", "surfmap.v1.TraceService"}) {
     EXPECT_TRUE(services.count(name)) << "reflection does not list " << name;
   }
+}
+
+// Tools ask for reflection v1 first (v1alpha is the fallback): the server
+// lists the API on v1 and answers a symbol with its file and the imports.
+TEST(StandardServices, ReflectionV1ListsTheApiAndResolvesSymbols) {
+  ITEST_ASSERT_OK_AND_ASSIGN(server, ServerProcess::Start());
+  auto reflection = grpc::reflection::v1::ServerReflection::NewStub(server->channel());
+  auto context = Context();
+  auto stream = reflection->ServerReflectionInfo(context.get());
+  grpc::reflection::v1::ServerReflectionRequest list;
+  list.set_list_services("");
+  ASSERT_TRUE(stream->Write(list));
+  grpc::reflection::v1::ServerReflectionRequest symbol;
+  symbol.set_file_containing_symbol("surfmap.v1.JobService");
+  ASSERT_TRUE(stream->Write(symbol));
+  grpc::reflection::v1::ServerReflectionRequest unknown;
+  unknown.set_file_containing_symbol("surfmap.v1.NoSuchService");
+  ASSERT_TRUE(stream->Write(unknown));
+  stream->WritesDone();
+  grpc::reflection::v1::ServerReflectionResponse listed, file, missing;
+  ASSERT_TRUE(stream->Read(&listed)) << "no reflection v1 response";
+  ASSERT_TRUE(stream->Read(&file));
+  ASSERT_TRUE(stream->Read(&missing));
+  GRPC_EXPECT_OK(stream->Finish());
+  std::set<std::string> services;
+  for (const auto& s : listed.list_services_response().service()) services.insert(s.name());
+  for (const char* name : {"surfmap.v1.ObjectService", "surfmap.v1.JobService", "surfmap.v1.ProbeService",
+                           "surfmap.v1.MapService", "surfmap.v1.TraceService", "grpc.reflection.v1.ServerReflection"}) {
+    EXPECT_TRUE(services.count(name)) << "reflection v1 does not list " << name;
+  }
+  ASSERT_TRUE(file.has_file_descriptor_response()) << file.error_response().error_message();
+  ASSERT_GE(file.file_descriptor_response().file_descriptor_proto_size(), 1);
+  google::protobuf::FileDescriptorProto first;
+  ASSERT_TRUE(first.ParseFromString(file.file_descriptor_response().file_descriptor_proto(0)));
+  EXPECT_EQ(first.package(), "surfmap.v1");
+  ASSERT_TRUE(missing.has_error_response());
+  EXPECT_EQ(missing.error_response().error_code(), static_cast<int>(grpc::StatusCode::NOT_FOUND));
+}
+
+// Health per service name as well as the server as a whole ("").
+TEST(StandardServices, HealthIsServingPerServiceName) {
+  ITEST_ASSERT_OK_AND_ASSIGN(server, ServerProcess::Start());
+  auto health = grpc::health::v1::Health::NewStub(server->channel());
+  for (const char* name : {"", "surfmap.v1.ObjectService", "surfmap.v1.JobService", "surfmap.v1.ProbeService",
+                           "surfmap.v1.MapService", "surfmap.v1.TraceService"}) {
+    SCOPED_TRACE(std::string("service '") + name + "'");
+    grpc::health::v1::HealthCheckRequest check;
+    check.set_service(name);
+    grpc::health::v1::HealthCheckResponse response;
+    GRPC_ASSERT_OK(health->Check(Context().get(), check, &response));
+    EXPECT_EQ(response.status(), grpc::health::v1::HealthCheckResponse::SERVING) << "service '" << name << "'";
+  }
+  grpc::health::v1::HealthCheckRequest unknown;
+  unknown.set_service("surfmap.v1.NoSuchService");
+  grpc::health::v1::HealthCheckResponse response;
+  const grpc::Status status = health->Check(Context().get(), unknown, &response);
+  EXPECT_EQ(status.error_code(), grpc::StatusCode::NOT_FOUND);
 }
 
 TEST(Tokens, RolesAreEnforced) {

@@ -5,7 +5,7 @@ data window, the AR coefficients, sigma and the ACF decay length, but not the
 per-point mu along the window nor the autocorrelation function itself. This
 module recomputes those from the raw trace (``SurfmapClient.get_trace``) for
 plots. It is a SIMPLIFIED re-implementation of the method in
-docs/METHOD.md (the server's estimator in server/estimate/ is the reference):
+docs/method.md (the server's estimator in server/estimate/ is the reference):
 
 - pairing: each forward sample's arc length along the forward polyline; each
   reverse sample projected onto the nearest forward segment (brute force, no
