@@ -73,7 +73,7 @@ absl::Status RequestGate::Admit(const grpc::ServerContextBase& context, Role nee
     return Refuse(context, method,
                   absl::UnauthenticatedError(absl::StrCat(method, ": authorization metadata must be 'Bearer <token>'")));
   }
-  Role role;
+  Role role = Role::kRead;  // set by RoleOf when it returns true
   if (!RoleOf(value.substr(kBearer.size()), &role)) {
     return Refuse(context, method, absl::UnauthenticatedError(absl::StrCat(method, ": unknown token")));
   }

@@ -131,7 +131,9 @@ TEST(HostileConfigTest, ADatabaseTheServerCannotWriteIsRefusedAtStart) {
     ASSERT_EQ(chmod((*server)->db_path().c_str(), 0644), 0);
     std::vector<std::string> as_nobody = {"/usr/bin/setpriv", "--reuid=65534", "--regid=65534", "--clear-groups"};
     if (getuid() != 0) as_nobody.clear();  // not root: the test's own user may not write a 0444 file
-    if (getuid() != 0) ASSERT_EQ(chmod((*server)->db_path().c_str(), 0444), 0);
+    if (getuid() != 0) {
+      ASSERT_EQ(chmod((*server)->db_path().c_str(), 0444), 0);
+    }
     ASSERT_EQ(chmod(dir->path().c_str(), 0777), 0);  // the port file and the log
     const Outcome outcome = RunSurfmapd(*dir, {"", "", {}, 1, ""}, as_nobody, (*server)->db_path());
     std::cout << "  database not writable -> exit " << outcome.exit_code << ": " << outcome.output << "\n";

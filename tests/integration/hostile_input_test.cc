@@ -371,7 +371,9 @@ TEST_F(HostileInputTest, EveryRowIsRefusedClearlyChangesNothingAndMemoryStaysBou
       const int64_t now = after->row_counts.count(table) ? after->row_counts.at(table) : -1;
       if (MayGrow(table)) {
         EXPECT_LE(count, now) << table;
-        if (table == "rejected_traces") EXPECT_LE(now, count + 1) << "one refused trace keeps at most one copy";
+        if (table == "rejected_traces") {
+          EXPECT_LE(now, count + 1) << "one refused trace keeps at most one copy";
+        }
       } else {
         EXPECT_EQ(count, now) << "table " << table << " changed: " << count << " -> " << now << " rows";
       }
