@@ -52,8 +52,8 @@ for scene in "${SCENES[@]}"; do
   [ -s "$OUT/$scene.port" ] || { echo "map_scenes: surfmapd did not start (log $OUT/$scene.surfmapd.log)" >&2; exit 1; }
   export SURFMAP_SERVER=127.0.0.1:$(cat "$OUT/$scene.port")
   start=$(date +%s%N)
-  object=$("$SURFMAP" object upload "clients/scenes/$scene.obj" --name "$scene")
-  job=$("$SURFMAP" job create --object "$object" --property friction --seed "$SEED")
+  object=$("$SURFMAP" object upload "clients/scenes/$scene.obj" --name "$scene" 2>"$OUT/$scene.upload.txt")
+  job=$("$SURFMAP" job create --object "$object" --property friction --seed "$SEED" 2>"$OUT/$scene.job.txt")
   pids=()
   for i in $(seq 1 "$RIGS"); do
     "$RIG" --sim "$scene" --job "$job" --rig-id "rig-$i" --sim-seed "$((SEED * 100 + i))" --quiet \
