@@ -1,6 +1,6 @@
 // The sampling plan: where a rig should probe next, as an explicit,
 // serialisable state machine over sites (level, vertex) of a Loop surface
-// (Lloyd & Pai 2001, section 4; METHOD.md section 4).
+// (Lloyd & Pai 2001, section 4; docs/method.md section 5).
 //
 // Site states:
 //   pending  -> issued (NextCommand)

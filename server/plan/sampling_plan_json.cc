@@ -21,6 +21,7 @@
 #include "absl/strings/str_cat.h"
 #include "server/plan/line_sample_json.h"
 #include "server/plan/sampling_plan.h"
+#include "server/plan/reachability_json.h"
 
 namespace surfmap {
 namespace {
@@ -120,13 +121,7 @@ class Reader {
 
 json Vector(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
 
-json ReachToJson(const Reachability& r) {
-  json j = {{"max_angle_deg", r.max_angle_deg}, {"support_clearance_mm", r.support_clearance_mm}};
-  j["approach_direction"] = r.approach_direction ? Vector(*r.approach_direction) : json(nullptr);
-  j["support_point"] = r.support_point ? Vector(*r.support_point) : json(nullptr);
-  j["support_normal"] = r.support_normal ? Vector(*r.support_normal) : json(nullptr);
-  return j;
-}
+json ReachToJson(const Reachability& r) { return ReachabilityToJson(r); }
 
 std::optional<Eigen::Vector3d> OptionalVector(const json& j, const std::string& where, const char* key, Reader& in) {
   auto it = j.find(key);
