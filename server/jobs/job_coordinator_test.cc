@@ -112,6 +112,59 @@ TEST_F(JobCoordinatorTest, AFailedTraceWriteIsUndoneByReReadingTheJob) {
   EXPECT_EQ(reloaded->progress.pending, before.pending);
 }
 
+TEST_F(JobCoordinatorTest, AWriteQueuedBehindAFailedOneIsAnsweredRetryAndItsRetryLands) {
+  // Found by the chaos soak: rig A's write fails in the store (its lease was
+  // taken over), and rig B's write, queued behind it on a plan revision that
+  // counted A's answer, is refused by the store's revision guard. B did
+  // nothing wrong: it must hear UNAVAILABLE (retry), not ABORTED, and its
+  // retry must land once the job was re-read.
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease_a = Lease(job.record.id, "rig-a");
+  absl::StatusOr<LeaseOutcome> lease_b = Lease(job.record.id, "rig-b");
+  ASSERT_TRUE(lease_a.ok() && lease_a->record) << lease_a.status();
+  ASSERT_TRUE(lease_b.ok() && lease_b->record) << lease_b.status();
+
+  const int64_t write_a = faults_->writes_submitted() + 1;
+  faults_->HoldWrite(write_a);
+  faults_->FailWrite(write_a, absl::FailedPreconditionError("command is leased to 'rig-c', not to 'rig-a'"));
+  Awaited<absl::StatusOr<SubmitOutcome>> submitted_a;
+  const DragTrace trace_a = TraceFor(*lease_a);
+  coordinator_->probes().SubmitTrace(
+      lease_a->record->id, "rig-a", [trace_a]() -> absl::StatusOr<DragTrace> { return trace_a; }, false,
+      submitted_a.Callback());
+  ASSERT_TRUE(faults_->WaitUntilHeld(write_a, absl::Seconds(10)));
+  Awaited<absl::StatusOr<SubmitOutcome>> submitted_b;
+  const DragTrace trace_b = TraceFor(*lease_b);
+  coordinator_->probes().SubmitTrace(
+      lease_b->record->id, "rig-b", [trace_b]() -> absl::StatusOr<DragTrace> { return trace_b; }, false,
+      submitted_b.Callback());
+  // B's write is queued behind A's (the store numbers it write_a + 1).
+  for (int i = 0; i < 500 && faults_->writes_submitted() < write_a + 1; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_GE(faults_->writes_submitted(), write_a + 1) << "rig-b's write never reached the store";
+  faults_->ReleaseWrite(write_a);
+
+  std::optional<absl::StatusOr<SubmitOutcome>> answer_a = submitted_a.Get("rig-a's submit");
+  ASSERT_TRUE(answer_a.has_value());
+  EXPECT_EQ(answer_a->status().code(), absl::StatusCode::kFailedPrecondition) << answer_a->status();
+  std::optional<absl::StatusOr<SubmitOutcome>> answer_b = submitted_b.Get("rig-b's submit");
+  ASSERT_TRUE(answer_b.has_value());
+  EXPECT_EQ(answer_b->status().code(), absl::StatusCode::kUnavailable) << answer_b->status();
+
+  absl::StatusOr<SubmitOutcome> retried = absl::UnavailableError("not tried");
+  for (int i = 0; i < 200 && retried.status().code() == absl::StatusCode::kUnavailable; ++i) {
+    retried = Submit(lease_b->record->id, "rig-b", trace_b);
+    if (!retried.ok()) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(retried.ok()) << retried.status();
+  EXPECT_FALSE(retried->already_accepted);
+  absl::StatusOr<JobSnapshot> now = coordinator_->GetJob(job.record.id);
+  ASSERT_TRUE(now.ok()) << now.status();
+  EXPECT_EQ(now->progress.measured, 1) << "only rig-b's trace is stored";
+}
+
 TEST_F(JobCoordinatorTest, AFailedStateWriteLeavesTheStoredState) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);

@@ -122,10 +122,17 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& r
   return runtime;
 }
 
-void JobRegistry::MarkWriteFailed(JobRuntime& runtime) {
-  MutexLock lock(&runtime.mu);
-  runtime.needs_reload = true;
-  StartReloadLocked(runtime);
+absl::Status JobRegistry::MarkWriteFailed(JobRuntime& runtime, const absl::Status& failed) {
+  {
+    MutexLock lock(&runtime.mu);
+    runtime.needs_reload = true;
+    StartReloadLocked(runtime);
+  }
+  if (failed.code() != absl::StatusCode::kAborted) return failed;
+  return absl::UnavailableError(absl::StrCat("job ", runtime.job_id,
+                                             " is being re-read from the database after an earlier write failed; "
+                                             "nothing of this request was stored; retry (",
+                                             failed.message(), ")"));
 }
 
 absl::Status JobRegistry::CheckWritableLocked(JobRuntime& runtime) {

@@ -41,8 +41,12 @@ class JobRegistry {
   // The job reached a final state: it may be dropped from memory later.
   void NoteFinished(int64_t job_id) ABSL_LOCKS_EXCLUDED(mu_);
 
-  // A write that changed `runtime` in memory failed (from a completion).
-  void MarkWriteFailed(JobRuntime& runtime) ABSL_LOCKS_EXCLUDED(runtime.mu);
+  // A write that changed `runtime` in memory failed with `failed` (from a
+  // completion): starts the re-read and returns what the caller should answer.
+  // A write queued behind an earlier failed one is refused by the store's
+  // plan-revision guard (ABORTED) through no fault of its sender: it is
+  // answered UNAVAILABLE, since a retry after the re-read succeeds.
+  absl::Status MarkWriteFailed(JobRuntime& runtime, const absl::Status& failed) ABSL_LOCKS_EXCLUDED(runtime.mu);
   // Under runtime.mu, before a request changes the job: UNAVAILABLE (and a
   // reload started) while the job waits to be re-read after a failed write.
   absl::Status CheckWritableLocked(JobRuntime& runtime) ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);

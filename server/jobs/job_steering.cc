@@ -141,8 +141,7 @@ absl::Status JobSteering::QueueStateChange(const std::shared_ptr<JobRuntime>& ru
 void JobSteering::ApplyStoredState(const std::shared_ptr<JobRuntime>& runtime, absl::StatusOr<JobRecord> stored,
                                    SnapshotCallback done) {
   if (!stored.ok()) {
-    registry_->MarkWriteFailed(*runtime);
-    return done(stored.status());
+    return done(registry_->MarkWriteFailed(*runtime, stored.status()));
   }
   JobSnapshot snapshot;
   {

@@ -285,8 +285,8 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
   const CommandContext& context = pending.context;
   JobRuntime& runtime = *context.runtime;
   if (!result.ok()) {
-    if (pending.plan_changed) registry_->MarkWriteFailed(runtime);
-    return done(result.status());
+    if (!pending.plan_changed) return done(result.status());
+    return done(registry_->MarkWriteFailed(runtime, result.status()));
   }
   if (!result->fit.has_value()) {
     return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
@@ -399,8 +399,7 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
     executors_.completions->Post([this, runtime_ptr, will_retry, completes_job, result = std::move(result),
                                   done = std::move(done)]() mutable {
       if (!result.ok()) {
-        registry_->MarkWriteFailed(*runtime_ptr);
-        return done(result.status());
+        return done(registry_->MarkWriteFailed(*runtime_ptr, result.status()));
       }
       PlanProgress progress;
       {
