@@ -5,6 +5,7 @@
 #include <optional>
 
 #include <google/protobuf/util/time_util.h>
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "clients/cli/import_command.h"
 #include "clients/cli/progress_line.h"

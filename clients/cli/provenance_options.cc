@@ -1,5 +1,7 @@
 #include "clients/cli/provenance_options.h"
 
+#include <algorithm>
+
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
 

@@ -46,12 +46,14 @@ class TraceImportTest : public CoordinatorFixture {
     return *got;
   }
 
-  // The plan's pieces of imported drags (drag ids past every vertex) and its measured sites.
+  // The plan's pieces of imported drags (drag ids past every vertex of the plan's finest level) and its measured
+  // sites.
   std::pair<int, int> ImportedPiecesAndMeasured(int64_t job_id) {
     absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = coordinator_->registry().Get(job_id);
     EXPECT_TRUE(runtime.ok()) << runtime.status();
+    const int vertices = static_cast<int>(
+        JobPlanLevels(*(*runtime)->surface, (*runtime)->params).back()->limit_positions.size());
     MutexLock lock(&(*runtime)->mu);
-    const int vertices = static_cast<int>((*runtime)->surface->finest().limit_positions.size());
     int imported = 0;
     for (const MapPiece& p : (*runtime)->plan.MeasuredPieces()) imported += p.drag >= vertices;
     return {imported, (*runtime)->plan.Progress().measured};

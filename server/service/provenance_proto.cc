@@ -50,7 +50,7 @@ void FillMetadata(const std::string& metadata_json, int64_t imported_unix_ms, pb
       if (p.ok()) {
         *provenance = ProvenanceToProto(*p);
       } else {
-        spdlog::warn("stored provenance cannot be read: {}", p.status().message());
+        spdlog::warn("stored provenance cannot be read: {}", std::string(p.status().message()));
       }
     }
   }
