@@ -45,10 +45,10 @@ std::string RigDragCsv(const SimulatedRig& rig, const Eigen::Vector3d& at, const
   request.normal = p.normal;
   request.drag_direction = (direction - direction.dot(p.normal) * p.normal).normalized();
   request.command_id = seed;
-  absl::StatusOr<DragTrace> trace = rig.Execute(request);
-  EXPECT_TRUE(trace.ok()) << trace.status();
-  for (DragSample& s : trace->samples) s.position += lift * p.normal;
-  return "# a hand drag, not a leased command\n" + FormatTraceCsv(*trace);
+  absl::StatusOr<ProbeExecution> executed = rig.ExecuteDetailed(request);
+  EXPECT_TRUE(executed.ok()) << executed.status();
+  for (DragSample& s : executed->trace.samples) s.position += lift * p.normal;
+  return "# a hand drag, not a leased command\n" + FormatTraceCsv(executed->trace);
 }
 
 absl::StatusOr<pb::ImportTraceResponse> Import(Stubs& stubs, int64_t job_id, const std::string& csv,
