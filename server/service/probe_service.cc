@@ -188,7 +188,8 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
                       outcome->command.id, outcome->trace_id, response->sample().fit().friction().mu(),
                       outcome->already_accepted);
         finish(absl::OkStatus());
-      });
+      },
+      metadata_json);
 }
 
 grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerContext* context,

@@ -86,7 +86,8 @@ TEST(ImportTrace, AnImportedDragIsASampleOfTheMapAndSurvivesARestartAndARefit) {
   EXPECT_EQ(sample.rig_id(), "bench-rig-2");
   EXPECT_NEAR(sample.position().x(), 31.0, 0.5);
   EXPECT_NEAR(sample.position().y(), 0.0, 0.5);
-  EXPECT_NEAR(sample.fit().friction().mu(), 0.25, 0.03);
+  // Masonite's rough texture spreads one drag's mu: 0.25 +- 0.07 (wood, around it, is 0.42).
+  EXPECT_NEAR(sample.fit().friction().mu(), 0.25, 0.07);
   ASSERT_TRUE(sample.has_import());
   EXPECT_EQ(sample.import().source(), "bench-rig-2");
   EXPECT_EQ(sample.import().file_name(), "hand_017.csv");
@@ -132,6 +133,7 @@ TEST(ImportTrace, AnImportedDragIsASampleOfTheMapAndSurvivesARestartAndARefit) {
   EXPECT_EQ(again.sample().trace_id(), sample.trace_id());
   EXPECT_EQ(again.sample().import().file_name(), "hand_017.csv");  // what the first import stored
 
+  ITEST_ASSERT_OK(setup.server->Stop(std::chrono::seconds(30)).status());
   ITEST_ASSERT_OK(setup.server->Restart());
   Stubs stubs(setup.server->channel());
   ITEST_ASSERT_OK_AND_ASSIGN(after, ListSamples(stubs, job.job_id()));
@@ -248,10 +250,11 @@ TEST(Provenance, RoundTripsOnObjectsJobsAndSubmittedTraces) {
   // Out of bounds: named, nothing created.
   pb::CreateJobRequest bad = create;
   for (int i = 0; i < 33; ++i) (*bad.mutable_provenance()->mutable_extra())["key" + std::to_string(i)] = "v";
+  ASSERT_EQ(bad.provenance().extra_size(), 34);  // and humidity_pct
   pb::CreateJobResponse refused;
   grpc::Status status = stubs.jobs->CreateJob(Context().get(), bad, &refused);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
-  EXPECT_NE(status.error_message().find("provenance extra: 33 keys; the limit is 32"), std::string::npos)
+  EXPECT_NE(status.error_message().find("provenance extra: 34 keys; the limit is 32"), std::string::npos)
       << status.error_message();
 }
 

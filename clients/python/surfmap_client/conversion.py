@@ -49,7 +49,7 @@ def provenance(m) -> r.Provenance:
     return r.Provenance(m.operator_name, m.specimen, m.probe_tip, m.sensor, m.notes, dict(m.extra))
 
 
-def provenance_to_proto(p) -> "pb.Provenance":
+def provenance_to_proto(p) -> Any:
     """A ``records.Provenance``, a dict of its fields, or None (empty)."""
     if p is None:
         return pb.Provenance()
