@@ -147,6 +147,7 @@ TEST(ImportTrace, AnImportedDragIsASampleOfTheMapAndSurvivesARestartAndARefit) {
   pb::RefitJobRequest refit;
   refit.set_job_id(job.job_id());
   refit.mutable_settings()->set_step_mm(0.2);
+  refit.mutable_settings()->set_ar_method(pb::AR_METHOD_BURG);
   pb::RefitJobResponse refitted;
   GRPC_ASSERT_OK(stubs.traces->RefitJob(Context().get(), refit, &refitted));
   EXPECT_EQ(refitted.refitted(), 1);
