@@ -42,6 +42,7 @@ struct ObjectRecord {
   int64_t control_vertices = 0;  // of the control mesh, as parsed by the service
   int64_t control_faces = 0;
   int64_t created_unix_ms = 0;
+  std::string metadata_json = "{}";  // provenance (the service's JSON object)
 };
 
 struct JobRecord {
@@ -51,6 +52,7 @@ struct JobRecord {
   std::string params_json;   // the job's parameters, as the service chose them
   int64_t created_unix_ms = 0;
   int64_t updated_unix_ms = 0;  // last state change
+  std::string metadata_json = "{}";  // provenance (the service's JSON object)
 };
 
 // The sampling plan's serialized state: a checkpoint (plan_json) plus the
@@ -91,6 +93,10 @@ struct TraceRecord {
   int64_t n_samples = 0;
   std::vector<StoredSample> samples;  // empty when listed without samples
   int64_t received_unix_ms = 0;
+  // Provenance, and for an imported trace where it came from (the service's
+  // JSON object).
+  std::string metadata_json = "{}";
+  std::string import_sha256;  // imported traces only: the file's SHA-256 (hex)
 };
 
 // An estimator's output for a trace. version 1 is the fit made on arrival;
@@ -125,6 +131,7 @@ struct NewObject {
   std::string mesh_bytes;
   int64_t control_vertices = 0;
   int64_t control_faces = 0;
+  std::string metadata_json = "{}";
 };
 
 // The newest traces of a job and the time of its last change, for restoring a
@@ -164,6 +171,7 @@ struct NewFit {
 struct NewJob {
   int64_t object_id = 0;
   std::string params_json = "{}";
+  std::string metadata_json = "{}";
   std::string plan_json;             // initial plan state (revision 1)
   std::vector<NewCommand> commands;  // initial commands, all pending
   std::vector<NewEvent> events;      // e.g. {"job_created", ...}; job_id filled in
@@ -179,6 +187,18 @@ struct LeaseRequest {
   std::string owner;                // the rig; must not be empty
   int64_t now_unix_ms = 0;
   int64_t lease_duration_ms = 0;    // > 0
+};
+
+// A trace recorded elsewhere (a hand drag, another program's file), not the
+// answer to a leased command. The write stores `command` (the command the
+// path implies) as done, measured by `source`, then the trace as an answer to
+// it. Idempotent per job on sha256: a second import of the same file writes
+// nothing and answers already_accepted with the stored trace (whatever the
+// job's state now). The job must be running or paused.
+struct TraceImport {
+  NewCommand command;
+  std::string source;   // who or what recorded it (the command's lease_owner)
+  std::string sha256;   // of the imported file, 64 lower-case hex digits
 };
 
 // The key write: a rig's trace for a leased command, with everything it changed.
@@ -207,6 +227,11 @@ struct AcceptTraceRequest {
   // Also lease the rig's next command in the same transaction (one durable
   // write per trace cycle instead of two). Not done when the write fails.
   std::optional<LeaseRequest> lease_next;
+  // Stored with the trace (provenance; see TraceRecord).
+  std::string metadata_json = "{}";
+  // An imported trace (see TraceImport); command_id and lease_owner are then
+  // unused (0 and empty).
+  std::optional<TraceImport> import;
 };
 
 struct AcceptTraceResult {
@@ -223,6 +248,7 @@ struct AcceptTraceResult {
   std::optional<CommandRecord> next_command;
   std::optional<FitRecord> fit;     // the fit version 1 as stored (also for a retry)
   int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (also for a retry)
+  int64_t command_id = 0;           // the command answered (an import's implied command)
 };
 
 // A trace refused as implausible for its command: kept, out of the map.
@@ -246,6 +272,9 @@ struct NewRejectedTrace {
   std::string message;
   std::string encoded_samples;  // EncodeSamples
   std::vector<NewEvent> events;
+  // A refused import: command_id is 0 and this command (the one its path
+  // implies) is stored first, as failed, with rig_id as its lease owner.
+  std::optional<NewCommand> implied_command;
 };
 
 // A trace with the command it answers and one of its fits, read in one

@@ -125,10 +125,25 @@ CREATE INDEX rejected_traces_by_job ON rejected_traces (job_id, id);
 CREATE INDEX rejected_traces_by_command ON rejected_traces (command_id);
 )sql";
 
+// Version 4 (import and provenance, issues 13 and 14): lab metadata
+// (operator, specimen, probe tip, sensor, notes, lab keys) kept with objects,
+// jobs and traces as a JSON object the service defines; traces recorded
+// elsewhere and imported into a job (not answers to a leased command) carry
+// the SHA-256 of their file, unique per job, so importing a file twice
+// stores it once.
+constexpr char kImportAndProvenance[] = R"sql(
+ALTER TABLE objects ADD COLUMN metadata_json TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(metadata_json));
+ALTER TABLE jobs ADD COLUMN metadata_json TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(metadata_json));
+ALTER TABLE traces ADD COLUMN metadata_json TEXT NOT NULL DEFAULT '{}' CHECK (json_valid(metadata_json));
+ALTER TABLE traces ADD COLUMN import_sha256 TEXT;
+CREATE UNIQUE INDEX traces_imported_by_job ON traces (job_id, import_sha256) WHERE import_sha256 IS NOT NULL;
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
     {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
     {3, "traces refused as implausible, kept out of the map", kRejectedTraces},
+    {4, "provenance metadata on objects, jobs and traces; imported traces by file hash", kImportAndProvenance},
 };
 
 }  // namespace

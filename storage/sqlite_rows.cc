@@ -12,6 +12,7 @@ ObjectRecord ReadObject(const SqliteStatement& s, int c) {
   r.control_vertices = s.ColumnInt(c + 3);
   r.control_faces = s.ColumnInt(c + 4);
   r.created_unix_ms = s.ColumnInt(c + 5);
+  r.metadata_json = s.ColumnText(c + 6);
   return r;
 }
 
@@ -23,6 +24,7 @@ absl::StatusOr<JobRecord> ReadJob(const SqliteStatement& s, int c) {
   r.params_json = s.ColumnText(c + 3);
   r.created_unix_ms = s.ColumnInt(c + 4);
   r.updated_unix_ms = s.ColumnInt(c + 5);
+  r.metadata_json = s.ColumnText(c + 6);
   return r;
 }
 
@@ -48,6 +50,8 @@ absl::StatusOr<TraceRecord> ReadTrace(const SqliteStatement& s, bool with_sample
   r.job_id = s.ColumnInt(c + 2);
   r.n_samples = s.ColumnInt(c + 3);
   r.received_unix_ms = s.ColumnInt(c + 5);
+  r.metadata_json = s.ColumnText(c + 6);
+  r.import_sha256 = s.ColumnText(c + 7);  // NULL (a leased trace) reads as ""
   if (with_samples) {
     if (s.ColumnInt(c + 4) != kSampleEncodingPackedLE) {
       return absl::DataLossError(absl::StrCat("trace ", r.id, " has unknown sample encoding ", s.ColumnInt(c + 4)));

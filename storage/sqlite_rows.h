@@ -14,11 +14,11 @@
 namespace surfmap::sqlite {
 
 inline constexpr char kObjectColumns[] =
-    "id, name, mesh_format, control_vertices, control_faces, created_unix_ms";
+    "id, name, mesh_format, control_vertices, control_faces, created_unix_ms, metadata_json";
 ObjectRecord ReadObject(const SqliteStatement& s, int first_column = 0);
 
 inline constexpr char kJobColumns[] =
-    "id, object_id, state, params_json, created_unix_ms, updated_unix_ms";
+    "id, object_id, state, params_json, created_unix_ms, updated_unix_ms, metadata_json";
 absl::StatusOr<JobRecord> ReadJob(const SqliteStatement& s, int first_column = 0);
 
 inline constexpr char kCommandColumns[] =
@@ -29,8 +29,8 @@ absl::StatusOr<CommandRecord> ReadCommand(const SqliteStatement& s, int first_co
 
 // The samples column follows these when samples are wanted.
 inline constexpr char kTraceColumns[] =
-    "id, command_id, job_id, n_samples, sample_encoding, received_unix_ms";
-inline constexpr int kTraceColumnCount = 6;
+    "id, command_id, job_id, n_samples, sample_encoding, received_unix_ms, metadata_json, import_sha256";
+inline constexpr int kTraceColumnCount = 8;
 // `samples_column`: the index of the samples BLOB (with_samples only).
 absl::StatusOr<TraceRecord> ReadTrace(const SqliteStatement& s, bool with_samples, int first_column = 0,
                                       int samples_column = kTraceColumnCount);

@@ -99,11 +99,11 @@ absl::StatusOr<int64_t> SqliteStore::CreateObject(const NewObject& object) {
     SURFMAP_ASSIGN_OR_RETURN(
         SqliteStatement stmt,
         db.Prepare("INSERT INTO objects (name, mesh_format, control_vertices, control_faces, "
-                   "created_unix_ms, mesh_bytes) VALUES (?1, ?2, ?3, ?4, ?5, ?6)"));
+                   "created_unix_ms, mesh_bytes, metadata_json) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"));
     stmt.BindText(1, object.name).BindText(2, object.mesh_format);
     stmt.BindInt(3, object.control_vertices).BindInt(4, object.control_faces);
-    stmt.BindInt(5, now).BindBlob(6, object.mesh_bytes);
-    SURFMAP_RETURN_IF_ERROR(stmt.Run());
+    stmt.BindInt(5, now).BindBlob(6, object.mesh_bytes).BindText(7, object.metadata_json);
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "object"));
     return db.LastInsertRowId();
   });
 }
@@ -121,7 +121,7 @@ absl::StatusOr<ObjectRecord> SqliteStore::GetObject(int64_t object_id, bool incl
   SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
   if (!found) return absl::NotFoundError(absl::StrCat("object ", object_id, " does not exist"));
   ObjectRecord record = ReadObject(stmt);
-  if (include_mesh) record.mesh_bytes = std::string(stmt.ColumnBlob(6));
+  if (include_mesh) record.mesh_bytes = std::string(stmt.ColumnBlob(7));
   return record;
 }
 
@@ -153,14 +153,15 @@ absl::StatusOr<CreatedJob> SqliteStore::CreateJob(const NewJob& job) {
       SURFMAP_ASSIGN_OR_RETURN(
           SqliteStatement stmt,
           db.Prepare("INSERT INTO jobs (object_id, state, params_json, created_unix_ms, "
-                     "updated_unix_ms) VALUES (?1, 'running', ?2, ?3, ?3)"));
-      stmt.BindInt(1, job.object_id).BindText(2, job.params_json).BindInt(3, now);
-      SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "params_json"));
+                     "updated_unix_ms, metadata_json) VALUES (?1, 'running', ?2, ?3, ?3, ?4)"));
+      stmt.BindInt(1, job.object_id).BindText(2, job.params_json).BindInt(3, now).BindText(4, job.metadata_json);
+      SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "params_json or metadata_json"));
     }
     created.job.id = db.LastInsertRowId();
     created.job.object_id = job.object_id;
     created.job.state = JobState::kRunning;
     created.job.params_json = job.params_json;
+    created.job.metadata_json = job.metadata_json;
     created.job.created_unix_ms = created.job.updated_unix_ms = now;
     {
       SURFMAP_ASSIGN_OR_RETURN(
@@ -324,6 +325,12 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
   }
   if (request.lease_next.has_value()) {
     if (absl::Status s = ValidateLease(*request.lease_next); !s.ok()) {
+      done(std::move(s));
+      return;
+    }
+  }
+  if (request.import.has_value()) {
+    if (absl::Status s = sqlite::ValidateImport(request); !s.ok()) {
       done(std::move(s));
       return;
     }
@@ -647,10 +654,26 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
     done(std::move(s));
     return;
   }
+  if (trace.implied_command.has_value() != (trace.command_id == 0)) {
+    done(absl::InvalidArgumentError("rejected trace: give a command_id or an implied command (an import), not both"));
+    return;
+  }
   auto shared = std::make_shared<NewRejectedTrace>(std::move(trace));
   const int64_t now = Now();
   writer_->SubmitForResult<int64_t>(
       [shared, now](SqliteConnection& db) -> absl::StatusOr<int64_t> {
+        if (shared->implied_command.has_value()) {
+          // A refused import: its implied command, failed, names the source.
+          SURFMAP_ASSIGN_OR_RETURN(std::vector<int64_t> ids,
+                                   InsertCommands(db, shared->job_id, {*shared->implied_command}, now,
+                                                  "implied_command"));
+          SURFMAP_ASSIGN_OR_RETURN(SqliteStatement mark,
+                                   db.Prepare("UPDATE commands SET state = 'failed', lease_owner = ?2, attempt = 1 "
+                                              "WHERE id = ?1"));
+          mark.BindInt(1, ids.front()).BindText(2, shared->rig_id);
+          SURFMAP_RETURN_IF_ERROR(Annotate(mark.Run(), "implied_command"));
+          shared->command_id = ids.front();
+        }
         SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
         if (command.job_id != shared->job_id) {
           return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
@@ -673,6 +696,15 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
         return db.LastInsertRowId();
       },
       std::move(done));
+}
+
+absl::StatusOr<int64_t> SqliteStore::FindImportedTrace(int64_t job_id, const std::string& sha256) {
+  SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
+                           db->Prepare("SELECT id FROM traces WHERE job_id = ?1 AND import_sha256 = ?2"));
+  stmt.BindInt(1, job_id).BindText(2, sha256);
+  SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+  return found ? stmt.ColumnInt(0) : int64_t{0};
 }
 
 absl::StatusOr<std::vector<RejectedTraceRecord>> SqliteStore::ListRejectedTraces(int64_t job_id) {

@@ -73,6 +73,7 @@ class SqliteStore : public Store {
   absl::StatusOr<std::vector<TraceRecord>> ListTracesPage(int64_t job_id, int64_t after_trace_id, int limit,
                                                           bool include_samples) override;
   absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) override;
+  absl::StatusOr<int64_t> FindImportedTrace(int64_t job_id, const std::string& sha256) override;
 
   absl::StatusOr<SampleRecord> ReadSample(int64_t trace_id, int32_t fit_version, bool include_samples) override;
   absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) override;

@@ -305,6 +305,7 @@ absl::StatusOr<AcceptTraceResult> AnswerRepeatedSubmission(SqliteConnection& db,
   }
   AcceptTraceResult result;
   result.trace_id = stored.id;
+  result.command_id = req.command_id;
   result.already_accepted = true;
   result.accepted_unix_ms = stored.received_unix_ms;
   SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, req.job_id));
@@ -330,8 +331,118 @@ absl::StatusOr<AcceptTraceResult> AnswerRepeatedSubmission(SqliteConnection& db,
 
 }  // namespace
 
+namespace {
+
+// An import already stored in the job (the same file): its trace and first
+// fit, as the first import answered. Nothing is written.
+absl::StatusOr<std::optional<AcceptTraceResult>> FindImported(SqliteConnection& db, int64_t job_id,
+                                                              const std::string& sha256) {
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
+                           db.Prepare("SELECT id, command_id, received_unix_ms FROM traces "
+                                      "WHERE job_id = ?1 AND import_sha256 = ?2"));
+  stmt.BindInt(1, job_id).BindText(2, sha256);
+  SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+  if (!found) return std::optional<AcceptTraceResult>();
+  AcceptTraceResult result;
+  result.trace_id = stmt.ColumnInt(0);
+  result.command_id = stmt.ColumnInt(1);
+  result.accepted_unix_ms = stmt.ColumnInt(2);
+  result.already_accepted = true;
+  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, job_id));
+  absl::StatusOr<FitRecord> fit = LoadFit(db, result.trace_id, 1);
+  if (fit.ok()) {
+    result.fit_id = fit->id;
+    result.fit = std::move(*fit);
+  } else if (fit.status().code() != absl::StatusCode::kNotFound) {
+    return fit.status();
+  }
+  return std::optional<AcceptTraceResult>(std::move(result));
+}
+
+// An import's implied command, stored as done (measured by the source).
+absl::StatusOr<int64_t> InsertImportedCommand(SqliteConnection& db, const AcceptTraceRequest& req, int64_t now) {
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
+  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
+    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ", std::string(JobStateName(job.state)),
+                                                      ": it takes no more traces, imported or not"));
+  }
+  SURFMAP_ASSIGN_OR_RETURN(std::vector<int64_t> ids,
+                           InsertCommands(db, req.job_id, {req.import->command}, now, "import.command"));
+  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
+                           db.Prepare("UPDATE commands SET state = 'done', lease_owner = ?2, attempt = 1 "
+                                      "WHERE id = ?1"));
+  stmt.BindInt(1, ids.front()).BindText(2, req.import->source);
+  SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "import.command"));
+  return ids.front();
+}
+
+// The trace, its fit and the plan change: the rows every accepted trace
+// writes, leased or imported.
+absl::Status InsertAcceptedTrace(SqliteConnection& db, const EncodedTrace& in, const JobRecord& job,
+                                 int64_t command_id, int64_t now, AcceptTraceResult* result) {
+  const AcceptTraceRequest& req = in.request;
+  const PlanChange change{req.new_plan_json, req.plan_journal_entry, req.expected_plan_revision,
+                          req.new_commands, req.new_job_state, req.events};
+  {
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("INSERT INTO traces (command_id, job_id, n_samples, sample_encoding, "
+                   "received_unix_ms, samples, metadata_json, import_sha256) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"));
+    stmt.BindInt(1, command_id).BindInt(2, req.job_id).BindInt(3, in.n_samples);
+    stmt.BindInt(4, kSampleEncodingPackedLE).BindInt(5, now).BindBlob(6, in.blob).BindText(7, req.metadata_json);
+    if (req.import.has_value()) {
+      stmt.BindText(8, req.import->sha256);
+    } else {
+      stmt.BindNull(8);
+    }
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing trace"));
+    result->trace_id = db.LastInsertRowId();
+    result->accepted_unix_ms = now;
+    result->command_id = command_id;
+  }
+  SURFMAP_RETURN_IF_ERROR(SetCommandState(db, command_id, "done"));
+  if (req.fit.has_value()) {
+    SURFMAP_ASSIGN_OR_RETURN(FitRecord fit, InsertFit(db, result->trace_id, 1, *req.fit, now));
+    result->fit_id = fit.id;
+    result->fit = std::move(fit);
+  }
+  return ApplyPlanChange(db, job, change, now, &result->plan_revision, &result->new_command_ids);
+}
+
+absl::StatusOr<AcceptTraceResult> ImportTraceWrite(SqliteConnection& db, const EncodedTrace& in, int64_t now) {
+  const AcceptTraceRequest& req = in.request;
+  SURFMAP_ASSIGN_OR_RETURN(std::optional<AcceptTraceResult> stored, FindImported(db, req.job_id, req.import->sha256));
+  if (stored.has_value()) return std::move(*stored);
+  SURFMAP_ASSIGN_OR_RETURN(int64_t command_id, InsertImportedCommand(db, req, now));
+  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
+  const PlanChange change{req.new_plan_json, req.plan_journal_entry, req.expected_plan_revision,
+                          req.new_commands, req.new_job_state, req.events};
+  AcceptTraceResult result;
+  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
+  SURFMAP_RETURN_IF_ERROR(InsertAcceptedTrace(db, in, job, command_id, now, &result));
+  return result;
+}
+
+}  // namespace
+
+absl::Status ValidateImport(const AcceptTraceRequest& request) {
+  const TraceImport& import = *request.import;
+  if (import.sha256.size() != 64 ||
+      import.sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
+    return absl::InvalidArgumentError("import: sha256 must be 64 lower-case hex digits");
+  }
+  if (import.source.empty()) return absl::InvalidArgumentError("import: source must not be empty");
+  if (request.command_id != 0 || !request.lease_owner.empty() || request.lease_next.has_value()) {
+    return absl::InvalidArgumentError("import: an imported trace answers no leased command (command_id 0, "
+                                      "no lease_owner, no lease_next)");
+  }
+  if (import.command.command_json.empty()) return absl::InvalidArgumentError("import: command_json is empty");
+  return absl::OkStatus();
+}
+
 absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const EncodedTrace& in, int64_t now) {
   const AcceptTraceRequest& req = in.request;
+  if (req.import.has_value()) return ImportTraceWrite(db, in, now);
   {
     static const std::string sql =
         absl::StrCat("SELECT ", kTraceColumns, ", samples FROM traces WHERE command_id = ?1");
@@ -352,24 +463,7 @@ absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const E
   SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
 
   // All checks passed: the writes.
-  {
-    SURFMAP_ASSIGN_OR_RETURN(
-        SqliteStatement stmt,
-        db.Prepare("INSERT INTO traces (command_id, job_id, n_samples, sample_encoding, "
-                   "received_unix_ms, samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6)"));
-    stmt.BindInt(1, req.command_id).BindInt(2, req.job_id).BindInt(3, in.n_samples);
-    stmt.BindInt(4, kSampleEncodingPackedLE).BindInt(5, now).BindBlob(6, in.blob);
-    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing trace"));
-    result.trace_id = db.LastInsertRowId();
-    result.accepted_unix_ms = now;
-  }
-  SURFMAP_RETURN_IF_ERROR(SetCommandState(db, req.command_id, "done"));
-  if (req.fit.has_value()) {
-    SURFMAP_ASSIGN_OR_RETURN(FitRecord fit, InsertFit(db, result.trace_id, 1, *req.fit, now));
-    result.fit_id = fit.id;
-    result.fit = std::move(fit);
-  }
-  SURFMAP_RETURN_IF_ERROR(ApplyPlanChange(db, job, change, now, &result.plan_revision, &result.new_command_ids));
+  SURFMAP_RETURN_IF_ERROR(InsertAcceptedTrace(db, in, job, req.command_id, now, &result));
   if (req.lease_next.has_value()) {
     SURFMAP_ASSIGN_OR_RETURN(result.next_command, LeaseWrite(db, *req.lease_next));
   }

@@ -24,6 +24,8 @@ absl::Status Annotate(const absl::Status& status, std::string_view context);
 absl::Status ValidateEvents(const std::vector<NewEvent>& events);
 absl::Status ValidateFit(const NewFit& fit, const std::string& where);
 absl::Status ValidateLease(const LeaseRequest& request);
+// An import's fields (request.import set): its hash, source and command.
+absl::Status ValidateImport(const AcceptTraceRequest& request);
 
 // ---- Steps (writer thread) ----
 absl::StatusOr<JobRecord> LoadJob(SqliteConnection& db, int64_t job_id);

@@ -108,6 +108,9 @@ class Store {
   // order: for reading every trace with its samples in bounded memory.
   virtual absl::StatusOr<std::vector<TraceRecord>> ListTracesPage(int64_t job_id, int64_t after_trace_id, int limit,
                                                                   bool include_samples) = 0;
+  // The trace imported into the job from the file with this SHA-256 (see
+  // TraceImport), if any: one indexed lookup. 0 when there is none.
+  virtual absl::StatusOr<int64_t> FindImportedTrace(int64_t job_id, const std::string& sha256) = 0;
   // The job's newest trace and newest event time (two indexed lookups).
   // NotFound for an unknown job.
   virtual absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) = 0;

@@ -5,8 +5,11 @@
 #include <optional>
 
 #include <google/protobuf/util/time_util.h>
+#include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "clients/cli/import_command.h"
 #include "clients/cli/progress_line.h"
+#include "clients/cli/provenance_options.h"
 #include "clients/cli/number_text.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
@@ -62,6 +65,7 @@ struct CreateArgs {
   std::optional<double> lease_s;
   std::optional<int> max_retries;
   std::optional<double> spacing_mm;
+  ProvenanceArgs provenance;
   bool json = false;
 };
 
@@ -119,14 +123,16 @@ pb::JobSpec SpecFromArgs(const CreateArgs& a) {
 void PrintJobTable(const google::protobuf::RepeatedPtrField<pb::JobInfo>& jobs) {
   // issued = sites handed to rigs and not answered yet: with measured and
   // pending it accounts for every open site, so a stalled rig shows here.
-  std::printf("%6s %7s  %-9s %-9s %-11s %6s %8s %6s %8s  %s\n", "job", "object", "state", "property", "mode",
-              "levels", "measured", "issued", "pending", "updated");
+  std::printf("%6s %7s  %-9s %-9s %-11s %6s %8s %6s %8s  %-24s %s\n", "job", "object", "state", "property", "mode",
+              "levels", "measured", "issued", "pending", "updated", "operator / specimen");
   for (const pb::JobInfo& j : jobs) {
-    std::printf("%6lld %7lld  %-9s %-9s %-11s %3d..%-2d %8d %6d %8d  %s\n", static_cast<long long>(j.job_id()),
+    std::printf("%6lld %7lld  %-9s %-9s %-11s %3d..%-2d %8d %6d %8d  %-24s %s\n", static_cast<long long>(j.job_id()),
                 static_cast<long long>(j.spec().object_id()), std::string(JobStateName(j.state())).c_str(),
                 std::string(PropertyName(j.spec().property())).c_str(),
                 std::string(ModeName(j.spec().mode())).c_str(), j.spec().coarsest_level(), j.spec().finest_level(),
-                j.progress().measured(), j.progress().issued(), j.progress().pending(), TimeUtil::ToString(j.updated()).c_str());
+                j.progress().measured(), j.progress().issued(), j.progress().pending(),
+                TimeUtil::ToString(j.updated()).c_str(),
+                (j.provenance().operator_name() + " / " + j.provenance().specimen()).c_str());
   }
 }
 
@@ -166,6 +172,9 @@ std::string FormatJobInfo(const pb::JobInfo& job) {
   absl::StrAppendFormat(&out, "  created %s, updated %s\n", TimeUtil::ToString(job.created()),
                         TimeUtil::ToString(job.updated()));
   absl::StrAppendFormat(&out, "  progress: %s%s\n", FormatProgressLine(p, 0), p.complete() ? " (complete)" : "");
+  if (const std::string provenance = FormatProvenance(job.provenance(), "    "); !provenance.empty()) {
+    absl::StrAppend(&out, "  provenance:\n", provenance);
+  }
   absl::StrAppendFormat(&out, "  %5s %8s %8s %8s %8s\n", "level", "measured", "issued", "pending", "failed");
   for (const pb::LevelProgress& l : p.levels()) {
     absl::StrAppendFormat(&out, "  %5d %8d %8d %8d %8d\n", l.level(), l.measured(), l.issued(), l.pending(),
@@ -175,7 +184,7 @@ std::string FormatJobInfo(const pb::JobInfo& job) {
 }
 
 void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
-  CLI::App* job = app.add_subcommand("job", "Mapping jobs: create, list, show, pause, resume, cancel, plan");
+  CLI::App* job = app.add_subcommand("job", "Mapping jobs: create, list, show, import, pause, resume, cancel, plan");
   job->require_subcommand(1);
 
   auto a = std::make_shared<CreateArgs>();
@@ -210,11 +219,14 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
                      "Target distance between level-0 sites, mm (default: the drag length); a denser mesh is "
                      "simplified to it")
       ->check(CLI::PositiveNumber);
+  AddProvenanceOptions(create, &a->provenance);
   create->add_flag("--json", a->json, "Print the JobInfo as JSON instead of the id");
   create->callback([cli, a] {
     auto stub = pb::JobService::NewStub(cli->Channel());
     pb::CreateJobRequest request;
     *request.mutable_spec() = SpecFromArgs(*a);
+    std::string error;
+    if (!ProvenanceFromArgs(a->provenance, request.mutable_provenance(), &error)) return FailUsage(*cli, error);
     pb::CreateJobResponse response;
     if (!CallRpc(*cli, "CreateJob", *stub, &pb::JobService::Stub::CreateJob, request, &response)) return;
     if (a->json) {
@@ -261,6 +273,7 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
     }
   });
 
+  AddImportCommand(job, cli);
   AddSetStateCommand(job, cli, "pause", "Stop issuing probe commands (leased ones may still be submitted)",
                      "PauseJob", &pb::JobService::Stub::PauseJob);
   AddSetStateCommand(job, cli, "resume", "Resume a paused job", "ResumeJob", &pb::JobService::Stub::ResumeJob);

@@ -1,4 +1,4 @@
-// `surfmap job create|list|show|pause|resume|cancel|plan`: steering mapping jobs.
+// `surfmap job create|list|show|import|pause|resume|cancel|plan`: steering mapping jobs.
 #pragma once
 
 #include <memory>

@@ -7,6 +7,7 @@
 
 #include <google/protobuf/util/time_util.h>
 #include "absl/strings/ascii.h"
+#include "clients/cli/provenance_options.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
 namespace surfmap::cli {
@@ -24,11 +25,13 @@ std::string_view FormatName(pb::MeshFormat format) {
 }
 
 void PrintObjectTable(const google::protobuf::RepeatedPtrField<pb::ObjectInfo>& objects) {
-  std::printf("%6s  %-30s %-6s %9s %9s  %s\n", "id", "name", "format", "vertices", "faces", "created");
+  std::printf("%6s  %-30s %-6s %9s %9s  %-24s %s\n", "id", "name", "format", "vertices", "faces", "created",
+              "operator / specimen");
   for (const pb::ObjectInfo& o : objects) {
-    std::printf("%6lld  %-30s %-6s %9d %9d  %s\n", static_cast<long long>(o.object_id()), o.name().c_str(),
+    std::printf("%6lld  %-30s %-6s %9d %9d  %-24s %s\n", static_cast<long long>(o.object_id()), o.name().c_str(),
                 std::string(FormatName(o.format())).c_str(), o.control_vertex_count(), o.control_face_count(),
-                google::protobuf::util::TimeUtil::ToString(o.created()).c_str());
+                google::protobuf::util::TimeUtil::ToString(o.created()).c_str(),
+                (o.provenance().operator_name() + " / " + o.provenance().specimen()).c_str());
   }
 }
 
@@ -37,6 +40,7 @@ struct UploadArgs {
   std::string name;
   std::string units;     // mm, cm, m, in; empty = not stated (the server assumes mm)
   double scale = 0;      // mm per file unit; 0 = not given
+  ProvenanceArgs provenance;
   bool json = false;
 };
 
@@ -72,6 +76,8 @@ void RunUpload(RemoteCli& cli, const UploadArgs& args) {
   bytes << in.rdbuf();
   request.set_mesh(bytes.str());
   request.set_name(args.name.empty() ? path.stem().string() : args.name);
+  std::string error;
+  if (!ProvenanceFromArgs(args.provenance, request.mutable_provenance(), &error)) return FailUsage(cli, error);
   pb::UploadObjectResponse response;
   auto stub = pb::ObjectService::NewStub(cli.Channel());
   if (!CallRpc(cli, "UploadObject", *stub, &pb::ObjectService::Stub::UploadObject, request, &response)) return;
@@ -106,6 +112,7 @@ void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   upload->add_option("--units", upload_args->units, "The file's length unit: mm, cm, m or in (default: mm, unchecked)");
   upload->add_option("--scale", upload_args->scale, "mm per file unit (instead of --units)")
       ->check(CLI::PositiveNumber);
+  AddProvenanceOptions(upload, &upload_args->provenance);
   upload->add_flag("--json", upload_args->json, "Print the ObjectInfo as JSON");
   upload->callback([cli, upload_args] { RunUpload(*cli, *upload_args); });
 

@@ -19,6 +19,7 @@ JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, Coordinator
       registry_(store, executors, options.retained_finished_jobs),
       steering_(store, &registry_, executors),
       probes_(store, &registry_, executors, options.default_lease_ms),
+      imports_(store, &registry_, executors),
       reads_(store) {}
 
 absl::StatusOr<ObjectRecord> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
@@ -29,6 +30,13 @@ absl::StatusOr<ObjectRecord> JobCoordinator::UploadObject(const std::string& nam
 
 absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
                                                             std::string bytes, const UploadOptions& options) {
+  return UploadObject(name, format, std::move(bytes), options, Provenance{});
+}
+
+absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
+                                                            std::string bytes, const UploadOptions& options,
+                                                            const Provenance& provenance) {
+  SURFMAP_RETURN_IF_ERROR(ValidateProvenance(provenance));
   // Characters, not bytes: "瓶" is one character of three bytes.
   SURFMAP_RETURN_IF_ERROR(ValidateName("object name", name, 1, 200));
   if (bytes.empty()) return absl::InvalidArgumentError("mesh is empty (0 bytes)");
@@ -52,6 +60,7 @@ absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& n
   SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());
   NewObject object;
   object.name = name;
+  object.metadata_json = MetadataJsonOf(provenance);
   // A clean file in mm is stored as it came; anything changed is stored as
   // the repaired mesh in mm (OBJ, coordinates exact: shortest round trip).
   if (out.repairs.empty() && options.mm_per_unit == 1.0 && format != MeshFormat::kStl) {

@@ -57,6 +57,8 @@
 #include "server/jobs/job_registry.h"
 #include "server/jobs/job_steering.h"
 #include "server/jobs/probe_protocol.h"
+#include "server/jobs/provenance.h"
+#include "server/jobs/trace_import.h"
 #include "server/mesh/control_mesh.h"
 #include "server/mesh/mesh_repair.h"
 #include "storage/store.h"
@@ -100,11 +102,16 @@ class JobCoordinator {
   };
   absl::StatusOr<UploadedObject> UploadObject(const std::string& name, MeshFormat format, std::string bytes,
                                               const UploadOptions& options);
+  // With provenance (stored as the object's metadata_json, provenance.h).
+  absl::StatusOr<UploadedObject> UploadObject(const std::string& name, MeshFormat format, std::string bytes,
+                                              const UploadOptions& options, const Provenance& provenance);
   absl::StatusOr<std::shared_ptr<const LoopSurface>> Surface(int64_t object_id, int level,
                                                              double site_spacing_mm = 0);
 
   // ---- Jobs ----
-  absl::StatusOr<JobSnapshot> CreateJob(const JobParams& params) { return steering_.CreateJob(params); }
+  absl::StatusOr<JobSnapshot> CreateJob(const JobParams& params, const std::string& metadata_json = "{}") {
+    return steering_.CreateJob(params, metadata_json);
+  }
   // Cheap when IsJobLoaded(job_id); otherwise it loads the job (a pool thread).
   absl::StatusOr<JobSnapshot> GetJob(int64_t job_id) { return steering_.GetJob(job_id); }
   absl::StatusOr<std::vector<JobSnapshot>> ListJobs(int64_t object_id) { return steering_.ListJobs(object_id); }
@@ -123,6 +130,8 @@ class JobCoordinator {
 
   // ---- Probing ----
   ProbeProtocol& probes() { return probes_; }
+  // Drags recorded elsewhere, imported into a job's map (trace_import.h).
+  TraceImporter& imports() { return imports_; }
 
   // ---- The map and refits (pool threads) ----
   absl::StatusOr<MapSnapshot> Map(int64_t job_id);
@@ -152,6 +161,7 @@ class JobCoordinator {
   JobRegistry registry_;
   JobSteering steering_;
   ProbeProtocol probes_;
+  TraceImporter imports_;
   JobReads reads_;
 };
 

@@ -112,11 +112,12 @@ absl::StatusOr<std::shared_ptr<JobRuntime>> JobRegistry::Load(const JobRecord& r
                            LatestSample(*store_, record.id, activity.latest_trace));
   auto runtime = std::make_shared<JobRuntime>(record.id, record.object_id, std::move(params), std::move(surface),
                                               std::move(plan), record.created_unix_ms);
+  runtime->metadata_json = record.metadata_json;
   MutexLock lock(&runtime->mu);
   runtime->state = runtime->durable_state = record.state;
   runtime->plan_revision = plan_record.revision;
   runtime->journal_entries = static_cast<int>(plan_record.journal.size());
-  runtime->measured_revision = runtime->plan.Progress().measured;
+  runtime->measured_revision = runtime->plan.Progress().measured + runtime->plan.ImportedCount();
   runtime->updated_unix_ms = std::max(record.updated_unix_ms, activity.last_event_unix_ms.value_or(0));
   runtime->latest_sample = std::move(latest);
   return runtime;

@@ -57,6 +57,9 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   const JobParams params;
   const std::shared_ptr<const LoopSurface> surface;
   const int64_t created_unix_ms;
+  // Provenance given at creation (JobRecord::metadata_json): set before the
+  // runtime is shared, never changed after, so read without a lock.
+  std::string metadata_json = "{}";
 
   Mutex map_mu ABSL_ACQUIRED_BEFORE(mu);
   Mutex mu;

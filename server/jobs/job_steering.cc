@@ -19,6 +19,7 @@ JobSnapshot JobSteering::SnapshotLocked(JobRuntime& runtime) {
   s.record.state = runtime.durable_state;
   s.record.created_unix_ms = runtime.created_unix_ms;
   s.record.updated_unix_ms = runtime.updated_unix_ms;
+  s.record.metadata_json = runtime.metadata_json;
   s.params = runtime.params;
   s.progress = runtime.plan.Progress();
   s.latest_sample = runtime.latest_sample;
@@ -43,7 +44,7 @@ absl::StatusOr<JobSnapshot> JobSteering::WithLeasedCount(JobSnapshot snapshot) {
   return snapshot;
 }
 
-absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested) {
+absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested, const std::string& metadata_json) {
   JobParams params = requested;
   if (params.finest_level == kAutoLevel || params.map_level == kAutoLevel) {
     SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const LoopSurface> control,
@@ -59,6 +60,7 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested) {
   NewJob job;
   job.object_id = params.object_id;
   job.params_json = JobParamsToJson(params).dump();
+  job.metadata_json = metadata_json;
   job.commands = DrainCommands(plan);
   job.plan_json = plan.SaveJson();
   job.events.push_back(Event("job_created", {{"initial_commands", job.commands.size()}}));
@@ -66,6 +68,7 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested) {
 
   auto runtime = std::make_shared<JobRuntime>(created.job.id, params.object_id, params, std::move(surface),
                                               std::move(plan), created.job.created_unix_ms);
+  runtime->metadata_json = metadata_json;
   JobSnapshot snapshot;
   {
     MutexLock lock(&runtime->mu);

@@ -37,7 +37,8 @@ class JobSteering {
 
   // Refines the object's surface and writes the job with its first commands
   // (waits for that write: call from a pool thread, with no lock held).
-  absl::StatusOr<JobSnapshot> CreateJob(const JobParams& params);
+  // metadata_json: the job's provenance (provenance.h), stored with it.
+  absl::StatusOr<JobSnapshot> CreateJob(const JobParams& params, const std::string& metadata_json = "{}");
 
   // From memory, plus one small store read for the leased counts. The job
   // must be loaded (JobRegistry::Find) unless called from a pool thread.

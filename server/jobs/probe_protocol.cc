@@ -11,6 +11,7 @@
 #include "server/base/utf8_text.h"
 #include "server/jobs/command_json.h"
 #include "server/jobs/job_watchers.h"
+#include "server/jobs/plan_write.h"
 #include "server/estimate/line_sample.h"
 #include "server/jobs/stored_plan.h"
 #include "server/jobs/stored_trace.h"
@@ -46,49 +47,6 @@ absl::Status CheckLeasedTo(const CommandRecord& command, const std::string& rig_
         "' expired and the command was leased again; nothing from '", rig_id, "' was stored"));
   }
   return absl::OkStatus();
-}
-
-// What one answer (`change`, already applied to runtime.plan) writes to the
-// store: a journal entry, or a checkpoint of the whole plan every
-// CheckpointInterval entries and when the plan completes.
-struct PlanWrite {
-  std::string checkpoint_json;
-  std::string journal_entry;
-  int64_t expected_revision = 0;
-  std::vector<NewCommand> new_commands;
-  std::optional<JobState> new_job_state;
-
-  // Into an AcceptTraceRequest or a FailCommandRequest (same field names).
-  template <typename Request>
-  void MoveInto(Request& request) && {
-    request.new_plan_json = std::move(checkpoint_json);
-    request.plan_journal_entry = std::move(journal_entry);
-    request.expected_plan_revision = expected_revision;
-    request.new_commands = std::move(new_commands);
-    request.new_job_state = new_job_state;
-  }
-};
-
-PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change)
-    ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu) {
-  PlanWrite write;
-  write.new_commands = DrainCommands(runtime.plan);
-  // Writes of one job are queued in order under its lock and committed in
-  // queue order, so this write's base is the revision the previous one made.
-  write.expected_revision = runtime.plan_revision++;
-  const bool complete = runtime.plan.IsComplete();
-  if (complete || runtime.journal_entries + 1 >= CheckpointInterval(runtime.plan)) {
-    write.checkpoint_json = runtime.plan.SaveJson();
-    runtime.journal_entries = 0;
-  } else {
-    write.journal_entry = PlanJournalEntryToJson(change);
-    runtime.journal_entries++;
-  }
-  if (complete && !IsFinalJobState(runtime.state)) {
-    write.new_job_state = JobState::kCompleted;
-    runtime.state = JobState::kCompleted;
-  }
-  return write;
 }
 
 }  // namespace
@@ -144,19 +102,19 @@ absl::StatusOr<ProbeProtocol::CommandContext> ProbeProtocol::LoadCommandContext(
 }
 
 void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource source, bool lease_next,
-                                SubmitCallback done) {
+                                SubmitCallback done, std::string metadata_json) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
   auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
   const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
-                                               shared_done] {
-    FitAndSubmit(command_id, rig_id, source, lease_next, std::move(*shared_done));
+                                               metadata_json = std::move(metadata_json), shared_done] {
+    FitAndSubmit(command_id, rig_id, source, lease_next, metadata_json, std::move(*shared_done));
   });
   if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the trace later"));
 }
 
 void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source,
-                                 bool lease_next, SubmitCallback done) {
+                                 bool lease_next, const std::string& metadata_json, SubmitCallback done) {
   absl::StatusOr<DragTrace> made = source();
   if (!made.ok()) return done(made.status());
   DragTrace trace = std::move(*made);
@@ -192,7 +150,7 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
     fit = std::move(*fitted);
   }
   absl::Status refused = QueueTrace(*context, rig_id, repeated ? TraceFit{} : fit, ToStoredSamples(trace), lease_next,
-                                    done);
+                                    metadata_json, done);
   if (!refused.ok()) done(refused);  // after the job's lock is released
 }
 
@@ -225,7 +183,8 @@ void ProbeProtocol::KeepRejected(const CommandContext& context, const std::strin
 }
 
 absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
-                                       std::vector<StoredSample> samples, bool lease_next, SubmitCallback& done) {
+                                       std::vector<StoredSample> samples, bool lease_next,
+                                       const std::string& metadata_json, SubmitCallback& done) {
   JobRuntime& runtime = *context.runtime;
   const bool repeated = context.record.state == CommandState::kDone;
   AcceptTraceRequest request;
@@ -233,6 +192,7 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
   request.job_id = context.record.job_id;
   request.lease_owner = rig_id;
   request.encoded_samples = EncodeSamples(samples);  // O(samples): before the lock
+  request.metadata_json = metadata_json;
   if (lease_next) {
     request.lease_next = LeaseRequest{context.record.job_id, rig_id, UnixMillisNow(), runtime.params.lease_ms};
   }

@@ -60,8 +60,9 @@ class ProbeProtocol {
   // queues one write (trace, fit, plan change, new commands and, with
   // lease_next, this rig's next lease) and answers once it is durable.
   // UNAVAILABLE when the pool is full.
+  // metadata_json: the trace's provenance (provenance.h), stored with it.
   void SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource trace, bool lease_next,
-                   SubmitCallback done);
+                   SubmitCallback done, std::string metadata_json = "{}");
 
   using FailureCallback = std::function<void(absl::StatusOr<bool>)>;  // will the site be retried?
   // Runs on the pool (reads the command, may load the job).
@@ -76,14 +77,15 @@ class ProbeProtocol {
   };
   absl::StatusOr<CommandContext> LoadCommandContext(int64_t command_id);
   void FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source, bool lease_next,
-                    SubmitCallback done);
+                    const std::string& metadata_json, SubmitCallback done);
   // Keeps a trace refused as implausible (out of the map, with an event) and
   // answers the refusal.
   void KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
                     const absl::Status& refusal, SubmitCallback done);
   // Under the job's lock: the checks, the plan change and the queued write.
   absl::Status QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
-                          std::vector<StoredSample> samples, bool lease_next, SubmitCallback& done);
+                          std::vector<StoredSample> samples, bool lease_next, const std::string& metadata_json,
+                          SubmitCallback& done);
   // A queued trace write, as its completion needs it.
   struct TraceWrite {
     CommandContext context;

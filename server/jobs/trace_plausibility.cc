@@ -124,6 +124,16 @@ absl::Status CheckTraceAgainstCommand(const DragTrace& trace, const ProbeCommand
   return absl::OkStatus();
 }
 
+absl::Status CheckTraceNearSurface(double max_distance_mm, int sample, const TraceLimits& limits) {
+  if (max_distance_mm > limits.max_offset_mm) {
+    return Implausible("surface", absl::StrFormat("sample %d is %.1f mm from the object's surface; the limit is %.1f mm "
+                                                  "(max_offset_mm): a drag on another object, in another frame, or "
+                                                  "positions in other units?",
+                                                  sample, max_distance_mm, limits.max_offset_mm));
+  }
+  return absl::OkStatus();
+}
+
 absl::Status CheckFitAgainstCommand(const DragTrace& trace, const TraceFit& fit, const ProbeCommand& command,
                                     const TraceLimits& limits) {
   const double normal_angle = AngleDeg(fit.friction.normal, command.normal);

@@ -21,6 +21,7 @@
 //                x segment_length
 //   direction    the forward pass's line within max_direction_deg of the
 //                commanded drag direction (either way: rigs may reverse at an edge)
+//   surface      (imports only) every sample within max_offset_mm of the surface
 // After the fit (cheap: uses its normal and mu):
 //   normal       the estimated normal within max_normal_deg of the commanded normal
 //   force        mean normal force in [commanded / normal_force_factor,
@@ -55,6 +56,11 @@ struct TraceLimits {
 
 // The checks before the fit.
 absl::Status CheckTraceAgainstCommand(const DragTrace& trace, const ProbeCommand& command, const TraceLimits& limits);
+// An imported drag (import_locate.h): its largest distance from the object's
+// surface, sample `sample`, within max_offset_mm ("surface" check). A leased
+// trace needs no such check: its command's site is on the surface and the
+// offset check measures from there.
+absl::Status CheckTraceNearSurface(double max_distance_mm, int sample, const TraceLimits& limits);
 // The checks on the fit.
 absl::Status CheckFitAgainstCommand(const DragTrace& trace, const TraceFit& fit, const ProbeCommand& command,
                                     const TraceLimits& limits);

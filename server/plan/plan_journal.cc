@@ -18,7 +18,11 @@ absl::Status Malformed(const std::string& what) {
 
 std::string PlanJournalEntryToJson(const PlanJournalEntry &entry) {
   json j = {{"sequence", entry.sequence}};
-  if (entry.kind == PlanJournalEntry::Kind::kFit) {
+  if (entry.kind == PlanJournalEntry::Kind::kImport) {
+    j["op"] = "import";
+    j["line"] = entry.line ? LineSampleToJson(*entry.line) : json::object();
+    j["position"] = {entry.position.x(), entry.position.y(), entry.position.z()};
+  } else if (entry.kind == PlanJournalEntry::Kind::kFit) {
     j["op"] = "fit";
     const TextureParams fit = entry.line ? SummaryTexture(*entry.line) : entry.fit;
     j["fit"] = {{"mu", fit.mu}, {"mu_std", fit.mu_std}, {"reflection", fit.reflection}, {"sigma", fit.sigma}};
@@ -65,6 +69,19 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
       if (!parsed.ok()) return parsed.status();
       entry.line = *std::move(parsed);
     }
+  } else if (*op == "import") {
+    entry.kind = PlanJournalEntry::Kind::kImport;
+    auto line = j.find("line");
+    if (line == j.end()) return Malformed("\"line\" is missing");
+    absl::StatusOr<LineSample> parsed = LineSampleFromJson(*line, "plan journal entry: line");
+    if (!parsed.ok()) return parsed.status();
+    entry.line = *std::move(parsed);
+    auto p = j.find("position");
+    if (p == j.end() || !p->is_array() || p->size() != 3 || !(*p)[0].is_number() || !(*p)[1].is_number() ||
+        !(*p)[2].is_number()) {
+      return Malformed("\"position\" is missing or not 3 numbers");
+    }
+    entry.position = Eigen::Vector3d((*p)[0].get<double>(), (*p)[1].get<double>(), (*p)[2].get<double>());
   } else if (*op == "failure") {
     auto reason = j.find("reason");
     if (reason == j.end() || !reason->is_string()) return Malformed("\"reason\" is missing or not a string");
@@ -76,7 +93,7 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
       entry.failure = *parsed;
     }
   } else {
-    return Malformed(absl::StrCat("\"op\" is \"", op->get<std::string>(), "\", not \"fit\" or \"failure\""));
+    return Malformed(absl::StrCat("\"op\" is \"", op->get<std::string>(), "\", not \"fit\", \"failure\" or \"import\""));
   }
   return entry;
 }
@@ -84,6 +101,10 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
 absl::Status ApplyPlanJournalEntry(const PlanJournalEntry &entry, SamplingPlan &plan) {
   if (entry.kind == PlanJournalEntry::Kind::kFailure) {
     return plan.RecordFailure(entry.sequence, entry.reason, entry.failure);
+  }
+  if (entry.kind == PlanJournalEntry::Kind::kImport) {
+    if (!entry.line) return absl::InvalidArgumentError("plan journal entry: an import without its line");
+    return plan.RecordImportedLineSample(*entry.line, entry.position);
   }
   return entry.line ? plan.RecordLineSample(entry.sequence, *entry.line) : plan.RecordFit(entry.sequence, entry.fit);
 }

@@ -21,7 +21,7 @@
 namespace surfmap {
 
 struct PlanJournalEntry {
-  enum class Kind { kFit, kFailure };
+  enum class Kind { kFit, kFailure, kImport };
   Kind kind = Kind::kFit;
   std::uint64_t sequence = 0;  // the answered command's plan sequence
   // kFit: the drag as a line sample (path and pieces: what the plan and the
@@ -30,13 +30,17 @@ struct PlanJournalEntry {
   std::optional<LineSample> line;
   TextureParams fit;           // kFit without a line
   std::string reason;          // kFailure
+  // kImport: an imported drag (sequence 0, `line` set) and where it lies on
+  // the surface (SamplingPlan::RecordImportedLineSample).
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
   FailureKind failure = FailureKind::kTransient;  // kFailure
 };
 
 // {"op":"fit","sequence":n,"fit":{"mu","mu_std","reflection","sigma"}} (the
 // summary texture) plus "line":{line_sample_json.h} when it has a line, or
 // {"op":"failure","sequence":n,"reason":"..."} plus "kind":"unreachable" for
-// an unreachable site. A 20 mm drag's line is ~17 path points and a few
+// an unreachable site, or {"op":"import","sequence":0,"line":{...},
+// "position":[x,y,z]} for an imported drag. A 20 mm drag's line is ~17 path points and a few
 // pieces: ~1-2 KB.
 std::string PlanJournalEntryToJson(const PlanJournalEntry &entry);
 // INVALID_ARGUMENT naming the field for malformed text.

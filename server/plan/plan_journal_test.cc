@@ -64,6 +64,59 @@ TEST(PlanJournalTest, MalformedEntriesNameTheProblem) {
   }
 }
 
+// An imported drag (not an answer to a command): its pieces join the map's,
+// no site is marked measured, and a checkpoint or the journal carries it.
+TEST(PlanJournalTest, ImportedDragsJoinThePiecesAndSurviveCheckpointAndJournal) {
+  const auto levels = TwoMaterialPlate(3);
+  const SurfaceLevel &finest = levels.back();
+  SamplingPlanOptions options;
+  options.mode = PlanMode::kBoundary;
+  options.max_level = 3;
+  options.seed = 5;
+  absl::StatusOr<SamplingPlan> live = SamplingPlan::Create(Pointers(levels), options);
+  ASSERT_TRUE(live.ok()) << live.status();
+  Drain(*live, nullptr);
+  const std::string checkpoint = live->SaveJson();
+  const int vertices = static_cast<int>(finest.limit_positions.size());
+
+  const Eigen::Vector3d at = finest.limit_positions[vertices / 2];
+  PlanJournalEntry imported;
+  imported.kind = PlanJournalEntry::Kind::kImport;
+  imported.line = PointLineSample(at, SynthesiseFit(at, vertices / 2));
+  imported.position = at;
+  const std::string text = PlanJournalEntryToJson(imported);
+  absl::StatusOr<PlanJournalEntry> back = PlanJournalEntryFromJson(text);
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->kind, PlanJournalEntry::Kind::kImport);
+  EXPECT_EQ(back->position, at);
+  ASSERT_TRUE(back->line.has_value());
+  ASSERT_TRUE(ApplyPlanJournalEntry(*back, *live).ok());
+  Drain(*live, nullptr);
+
+  auto imported_pieces = [vertices](const SamplingPlan &plan) {
+    int n = 0;
+    for (const MapPiece &p : plan.MeasuredPieces()) n += p.drag >= vertices;
+    return n;
+  };
+  EXPECT_EQ(imported_pieces(*live), 1);
+  EXPECT_EQ(live->ImportedCount(), 1);
+  EXPECT_EQ(live->Progress().measured, 0);
+
+  absl::StatusOr<SamplingPlan> replayed = SamplingPlan::Restore(checkpoint, Pointers(levels));
+  ASSERT_TRUE(replayed.ok()) << replayed.status();
+  ASSERT_TRUE(ApplyPlanJournalEntry(*PlanJournalEntryFromJson(text), *replayed).ok());
+  Drain(*replayed, nullptr);
+  EXPECT_EQ(replayed->SaveJson(), live->SaveJson());
+  absl::StatusOr<SamplingPlan> restored = SamplingPlan::Restore(live->SaveJson(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(imported_pieces(*restored), 1);
+
+  PlanJournalEntry no_line;
+  no_line.kind = PlanJournalEntry::Kind::kImport;
+  EXPECT_FALSE(ApplyPlanJournalEntry(no_line, *live).ok());
+  EXPECT_FALSE(PlanJournalEntryFromJson(R"({"op":"import","sequence":0,"line":{}})").ok());
+}
+
 class PlanJournalReplayTest : public ::testing::TestWithParam<PlanMode> {};
 
 // A checkpoint plus the journal after it, replayed with a drain after each

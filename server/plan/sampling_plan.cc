@@ -496,7 +496,26 @@ std::vector<MapPiece> SamplingPlan::MeasuredPieces() const {
     std::vector<MapPiece> pieces = MapPiecesOf(*r.line, v, finest.limit_positions[v]);
     out.insert(out.end(), std::make_move_iterator(pieces.begin()), std::make_move_iterator(pieces.end()));
   }
+  // Imported drags' ids follow every vertex's, so they never merge with a site's drag.
+  const int first_import_id = static_cast<int>(finest.limit_positions.size());
+  for (size_t i = 0; i < imported_.size(); ++i) {
+    std::vector<MapPiece> pieces =
+        MapPiecesOf(imported_[i].line, first_import_id + static_cast<int>(i), imported_[i].position);
+    out.insert(out.end(), std::make_move_iterator(pieces.begin()), std::make_move_iterator(pieces.end()));
+  }
   return out;
+}
+
+absl::Status SamplingPlan::RecordImportedLineSample(const LineSample& line, const Eigen::Vector3d& position) {
+  if (!position.allFinite()) return absl::InvalidArgumentError("imported drag: position is not finite");
+  if (absl::Status valid = line.Validate(); !valid.ok()) {
+    return absl::InvalidArgumentError(absl::StrCat("imported drag: ", valid.message()));
+  }
+  imported_.push_back({line, position});
+  region_map_stale_ = true;
+  // A finished plan stays finished: an import adds to the map only.
+  if (IsComplete() || cancelled_) return absl::OkStatus();
+  return RefreshBoundarySelection();
 }
 
 absl::Status SamplingPlan::EnsureRegionMap() {
@@ -506,7 +525,7 @@ absl::Status SamplingPlan::EnsureRegionMap() {
     region_map_ = std::move(*map);
     region_map_stale_ = true;
   }
-  if (region_map_stale_ && measured_count_ > 0) {
+  if (region_map_stale_ && HasDrags()) {
     if (auto status = region_map_->SetPieces(MeasuredPieces()); !status.ok()) return status;
     region_map_stale_ = false;
   }
@@ -524,7 +543,7 @@ Eigen::Vector3d SamplingPlan::DirectionFor(const SiteRecord& r) {
   // Across a boundary the drags so far put within reach (when the boundary
   // is most of what a drag here could settle); where nothing is known,
   // orientations varied from site to site.
-  if (measured_count_ > 0 && EnsureRegionMap().ok()) {
+  if (HasDrags() && EnsureRegionMap().ok()) {
     const BoundarySelection best = selector_->BestDirection(*region_map_, r.site.vertex, {});
     if (best.boundary_share >= 0.5 && best.gain > selector_->MinGain(options_.regions.merge.mu_resolution)) {
       return best.direction;
@@ -548,7 +567,7 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     }
   }
   selected_direction_.clear();
-  if (measured_count_ == 0) return absl::OkStatus();
+  if (!HasDrags()) return absl::OkStatus();
   // Coverage first: every reachable vertex of the coarsest level is issued
   // before any site is chosen.
   for (const auto& key : pending_) {

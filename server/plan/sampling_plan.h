@@ -163,6 +163,15 @@ class SamplingPlan {
   absl::Status RecordFailureForSite(SiteId site, std::string_view reason,
                                     FailureKind kind = FailureKind::kTransient);
 
+  // A drag recorded elsewhere and imported into the job (not the answer to a
+  // command): its pieces join the map and the boundary plan's choices, but
+  // it marks no site measured, counts against no budget and is not a point
+  // sample of kUncertainty's map. `position` is where it lies on the surface
+  // (the piece position of a line without a path). INVALID_ARGUMENT for a
+  // line sample that LineSample::Validate rejects or a non-finite position.
+  absl::Status RecordImportedLineSample(const LineSample& line, const Eigen::Vector3d& position);
+  int ImportedCount() const { return static_cast<int>(imported_.size()); }
+
   // Skips every pending site; answers to issued commands are still accepted
   // but create no new sites.
   void Cancel();
@@ -180,7 +189,9 @@ class SamplingPlan {
   // The measured sites as map samples (finest-level vertex indices).
   std::vector<MapSample> MeasuredSamples() const;
   // The pieces of every measured drag, drags in the order they were
-  // measured (drag id = the site's vertex), for a RegionMap.
+  // measured (drag id = the site's vertex), then of every imported drag in
+  // import order (drag id = finest vertex count + import index), for a
+  // RegionMap.
   std::vector<MapPiece> MeasuredPieces() const;
   const std::vector<int>& measured_order() const { return measured_order_; }
   // The sample budget in force: options.sample_budget, or for kBoundary
@@ -232,6 +243,12 @@ class SamplingPlan {
 
   int budget_ = 0;                   // see budget()
   std::vector<int> measured_order_;  // vertices, in the order their drags were recorded
+  struct ImportedDrag {
+    LineSample line;
+    Eigen::Vector3d position;
+  };
+  std::vector<ImportedDrag> imported_;  // in import order
+  bool HasDrags() const { return measured_count_ > 0 || !imported_.empty(); }
   // Sites the rig reported unreachable: no site is selected within reach of them.
   std::vector<Eigen::Vector3d> no_go_;
   // kBoundary: the map of the measured drags' pieces and the selector on

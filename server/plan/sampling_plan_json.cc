@@ -279,6 +279,10 @@ std::string SamplingPlan::SaveJson() const {
   }
   json no_go = json::array();
   for (const Eigen::Vector3d& p : no_go_) no_go.push_back(Vector(p));
+  json imported = json::array();
+  for (const ImportedDrag& d : imported_) {
+    imported.push_back({{"line", LineSampleToJson(d.line)}, {"position", Vector(d.position)}});
+  }
   json j = {{"format", kFormat},
             {"version", kVersion},
             {"options", OptionsToJson(options_)},
@@ -286,6 +290,7 @@ std::string SamplingPlan::SaveJson() const {
             {"next_sequence", next_sequence_},
             {"cancelled", cancelled_},
             {"measured_order", measured_order_},
+            {"imported", std::move(imported)},
             {"no_go", std::move(no_go)},
             {"sites", std::move(sites)}};
   return j.dump();
@@ -447,6 +452,26 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
   } else {
     for (const auto& [v, r] : plan.sites_) {
       if (r.state == SiteState::kMeasured) plan.measured_order_.push_back(v);
+    }
+  }
+  // Imported drags (absent in plans saved before imports existed).
+  if (j.contains("imported")) {
+    const json& imported = j.at("imported");
+    if (!imported.is_array()) return absl::InvalidArgumentError("plan JSON: imported must be an array");
+    for (std::size_t i = 0; i < imported.size(); ++i) {
+      const std::string where = absl::StrCat("plan JSON: imported[", i, "]");
+      const json& d = imported[i];
+      if (!d.is_object() || !d.contains("line") || !d.contains("position")) {
+        return absl::InvalidArgumentError(absl::StrCat(where, " must hold a line and a position"));
+      }
+      absl::StatusOr<LineSample> line = LineSampleFromJson(d.at("line"), where + ".line");
+      if (!line.ok()) return line.status();
+      const json& p = d.at("position");
+      if (!p.is_array() || p.size() != 3 || !p[0].is_number() || !p[1].is_number() || !p[2].is_number()) {
+        return absl::InvalidArgumentError(absl::StrCat(where, ".position must be 3 numbers"));
+      }
+      plan.imported_.push_back({std::move(*line), Eigen::Vector3d(p[0].get<double>(), p[1].get<double>(),
+                                                                   p[2].get<double>())});
     }
   }
   if (j.contains("no_go")) {

@@ -69,8 +69,9 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
   // Shared by the unary and streamed submissions: validates, fits, stores,
   // then calls `finish` once the trace is durable (or was refused).
   // `samples` must live until `finish` was called.
+  // `provenance` lives until the call finishes, like `samples`.
   void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples, bool lease_next,
-              pb::SubmitTraceResponse* response, FinishFn finish);
+              const pb::Provenance& provenance, pb::SubmitTraceResponse* response, FinishFn finish);
 
  private:
   ServiceContext s_;
@@ -105,6 +106,9 @@ class TraceServiceImpl final : public pb::TraceService::CallbackService {
                                                pb::ListRejectedTracesResponse*) override;
   grpc::ServerUnaryReactor* GetRejectedTrace(grpc::CallbackServerContext*, const pb::GetRejectedTraceRequest*,
                                              pb::GetRejectedTraceResponse*) override;
+  // import and provenance (issue 13): trace_import_handler.cc
+  grpc::ServerUnaryReactor* ImportTrace(grpc::CallbackServerContext*, const pb::ImportTraceRequest*,
+                                        pb::ImportTraceResponse*) override;
 
  private:
   ServiceContext s_;

@@ -3,6 +3,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/ascii.h"
+#include "server/service/provenance_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/job_watch_reactor.h"
@@ -34,6 +35,8 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     absl::StatusOr<JobParams> params =
         JobParamsFromProto(request->spec(), static_cast<int64_t>(s_.config->default_lease_s * 1000));
     if (!params.ok()) return params.status();
+    absl::StatusOr<Provenance> provenance = ProvenanceFromProto(request->provenance());
+    if (!provenance.ok()) return provenance.status();
     // The levels and the surface the job will plan on (cached: CreateJob
     // reuses them), so the estimate can refuse a job before anything is stored.
     if (params->finest_level == kAutoLevel || params->map_level == kAutoLevel) {
@@ -50,7 +53,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::CreateJob(grpc::CallbackServerContext*
     if (!estimate.ok()) return estimate.status();
     absl::StatusOr<ObjectRecord> object = s_.coordinator->reads().GetObject(params->object_id);
     if (!object.ok()) return object.status();
-    absl::StatusOr<JobSnapshot> job = s_.coordinator->CreateJob(*params);
+    absl::StatusOr<JobSnapshot> job = s_.coordinator->CreateJob(*params, MetadataJsonOf(*provenance));
     if (!job.ok()) return job.status();
     *response->mutable_job() = JobInfoToProto(*job);
     *response->mutable_estimate() =

@@ -1,5 +1,6 @@
 #include "absl/strings/str_cat.h"
 #include "server/base/utf8_text.h"
+#include "server/service/provenance_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/mesh/mesh_units.h"
@@ -22,6 +23,8 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
       default: return absl::InvalidArgumentError(absl::StrCat("format: unknown value ", request->format()));
     }
     if (absl::Status s = ValidateName("name", request->name(), 1, 200); !s.ok()) return s;
+    absl::StatusOr<Provenance> provenance = ProvenanceFromProto(request->provenance());
+    if (!provenance.ok()) return provenance.status();
     if (format == MeshFormat::kObj) {
       if (absl::Status s = CheckObjPolygonSizes(request->mesh()); !s.ok()) return s;
     }
@@ -44,7 +47,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
       options.unit_stated = true;
     }
     absl::StatusOr<UploadedObject> uploaded =
-        s_.coordinator->UploadObject(request->name(), format, request->mesh(), options);
+        s_.coordinator->UploadObject(request->name(), format, request->mesh(), options, *provenance);
     if (!uploaded.ok()) return uploaded.status();
     const ObjectRecord& object = uploaded->object;
     *response->mutable_object() = ObjectInfoToProto(object);

@@ -4,6 +4,7 @@
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"
+#include "server/service/provenance_proto.h"
 
 namespace surfmap {
 namespace {
@@ -76,7 +77,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
         Finish(ToGrpcStatus(absl::InvalidArgumentError("stream carried no chunk with a command_id")));
         return;
       }
-      service_->Submit(command_id_, rig_id_, &samples_, lease_next_, response_,
+      service_->Submit(command_id_, rig_id_, &samples_, lease_next_, provenance_, response_,
                        [this](absl::Status status) { Finish(ToGrpcStatus(status)); });
       return;
     }
@@ -84,6 +85,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
       command_id_ = chunk_.command_id();
       rig_id_ = chunk_.rig_id();
       lease_next_ = chunk_.lease_next();
+      provenance_ = chunk_.provenance();
     } else if (chunk_.command_id() != 0 && chunk_.command_id() != command_id_) {
       Finish(ToGrpcStatus(absl::InvalidArgumentError(
           absl::StrCat("chunk for command ", chunk_.command_id(), " in a stream for command ", command_id_))));
@@ -113,6 +115,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   int64_t chunks_ = 0;
   std::string rig_id_;
   bool lease_next_ = false;
+  pb::Provenance provenance_;
   pb::TraceSamples samples_;  // lives until OnDone, after the submission finished
 };
 
@@ -138,9 +141,13 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerCon
 }
 
 void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples,
-                              bool lease_next, pb::SubmitTraceResponse* response, FinishFn finish) {
+                              bool lease_next, const pb::Provenance& provenance_proto, pb::SubmitTraceResponse* response,
+                              FinishFn finish) {
   if (command_id <= 0) return finish(absl::InvalidArgumentError("command_id must be a positive command id"));
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return finish(s);
+  absl::StatusOr<Provenance> provenance = ProvenanceFromProto(provenance_proto);
+  if (!provenance.ok()) return finish(provenance.status());
+  std::string metadata_json = MetadataJsonOf(*provenance);
   const int max_samples = s_.config->max_trace_samples;
   // The conversion is O(samples): it runs on the pool with the fit. `samples`
   // lives until the call finishes.
@@ -153,7 +160,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
   };
   s_.coordinator->probes().SubmitTrace(
       command_id, rig_id, source, lease_next,
-      [response, rig_id, command_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
+      [response, rig_id, command_id, metadata_json, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
         if (!outcome.ok()) {
           // Every refusal, whatever its cause (an implausible trace, an expired
           // lease, a conflict): a rig whose traces keep being refused is what an
@@ -167,6 +174,8 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
         record.trace.command_id = outcome->command.id;
         record.trace.job_id = outcome->command.job_id;
         record.trace.received_unix_ms = outcome->received_unix_ms;
+        // A retry answers with what the first submission stored; its metadata is the request's own.
+        record.trace.metadata_json = metadata_json;
         record.command = outcome->command;
         record.fit = outcome->fit;
         absl::StatusOr<pb::Sample> sample = BuildSample(record, &outcome->probe, outcome->decoded_fit.get());
@@ -179,15 +188,16 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
                       outcome->command.id, outcome->trace_id, response->sample().fit().friction().mu(),
                       outcome->already_accepted);
         finish(absl::OkStatus());
-      });
+      },
+      metadata_json);
 }
 
 grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerContext* context,
                                                         const pb::SubmitTraceRequest* request,
                                                         pb::SubmitTraceResponse* response) {
   return HandleUnaryAsync(context, s_, Role::kProbe, "SubmitTrace", [this, request, response](FinishFn finish) {
-    Submit(request->command_id(), request->rig_id(), &request->samples(), request->lease_next(), response,
-           std::move(finish));
+    Submit(request->command_id(), request->rig_id(), &request->samples(), request->lease_next(),
+           request->provenance(), response, std::move(finish));
   });
 }
 

@@ -1,5 +1,7 @@
 #include "server/service/proto_builders.h"
 
+#include "server/service/provenance_proto.h"
+
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -49,6 +51,7 @@ pb::JobInfo JobInfoToProto(const JobSnapshot& job) {
   *out.mutable_progress() = ProgressToProto(job.progress, job.leased ? &*job.leased : nullptr);
   *out.mutable_created() = TimestampFromUnixMs(job.record.created_unix_ms);
   *out.mutable_updated() = TimestampFromUnixMs(job.record.updated_unix_ms);
+  FillMetadata(job.record.metadata_json, 0, out.mutable_provenance(), nullptr);
   return out;
 }
 
@@ -60,6 +63,7 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   out.set_control_vertex_count(static_cast<int32_t>(o.control_vertices));
   out.set_control_face_count(static_cast<int32_t>(o.control_faces));
   *out.mutable_created() = TimestampFromUnixMs(o.created_unix_ms);
+  FillMetadata(o.metadata_json, 0, out.mutable_provenance(), nullptr);
   return out;
 }
 
@@ -112,6 +116,8 @@ absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCo
   *s.mutable_fit() = std::move(*fit_proto);
   *s.mutable_received() = TimestampFromUnixMs(trace.received_unix_ms);
   s.set_rig_id(command.lease_owner);  // a done command's last lessee measured it
+  FillMetadata(trace.metadata_json, trace.received_unix_ms, s.mutable_provenance(), s.mutable_import());
+  if (s.import().source().empty()) s.clear_import();  // a leased trace
   return s;
 }
 

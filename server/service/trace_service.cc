@@ -1,5 +1,6 @@
 #include "absl/strings/str_cat.h"
 #include "server/jobs/stored_trace.h"
+#include "server/service/provenance_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_conversion.h"
 
@@ -16,6 +17,9 @@ grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext
     response->set_command_id(trace->command_id);
     response->set_job_id(trace->job_id);
     *response->mutable_samples() = DragTraceToProto(FromStoredSamples(trace->samples));
+    FillMetadata(trace->metadata_json, trace->received_unix_ms, response->mutable_provenance(),
+                 response->mutable_import());
+    if (response->import().source().empty()) response->clear_import();  // a leased trace
     return absl::OkStatus();
   });
 }

@@ -290,6 +290,10 @@ absl::StatusOr<std::vector<TraceRecord>> FaultInjectingStore::ListTracesPage(int
                                                                              bool include_samples) {
   return wrapped_->ListTracesPage(job_id, after, limit, include_samples);
 }
+absl::StatusOr<int64_t> FaultInjectingStore::FindImportedTrace(int64_t job_id, const std::string& sha256) {
+  return wrapped_->FindImportedTrace(job_id, sha256);
+}
+
 absl::StatusOr<JobActivity> FaultInjectingStore::GetJobActivity(int64_t job_id) {
   return wrapped_->GetJobActivity(job_id);
 }

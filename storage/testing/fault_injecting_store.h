@@ -80,6 +80,7 @@ class FaultInjectingStore : public Store {
   absl::StatusOr<std::vector<TraceRecord>> ListTracesPage(int64_t job_id, int64_t after_trace_id, int limit,
                                                           bool include_samples) override;
   absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) override;
+  absl::StatusOr<int64_t> FindImportedTrace(int64_t job_id, const std::string& sha256) override;
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;

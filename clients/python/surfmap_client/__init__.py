@@ -18,10 +18,10 @@ from .client import DEFAULT_TIMEOUT_S, DEFAULT_WATCH_TIMEOUT_S, SurfmapClient, c
 from .errors import SurfmapError
 from .map_file import map_to_document, write_map_file
 from .probe import FailureKind, Lease, ProbeCommand, SubmitResult, check_trace, measured_trace
-from .records import (ArMethod, Fit, FrictionEstimate, JobEvent, JobInfo, JobProgress, JobSpec, JobState,
+from .records import (ArMethod, Fit, FrictionEstimate, ImportInfo, JobEvent, JobInfo, JobProgress, JobSpec, JobState,
                       JobUpdate, LevelProgress, MapQuery, Mesh, ObjectInfo, Phase, Plan, PlanSite, ProbeParameters,
-                      Property, RefitResult, RoughnessEstimate, Sample, SamplingMode, SiteState, SurfaceMap,
-                      Trace)
+                      Property, Provenance, RefitResult, RejectedTrace, RoughnessEstimate, Sample, SamplingMode,
+                      SiteState, SurfaceMap, Trace)
 from .rig import Rig, RigFailure, RigSummary, TracePending, TraceRejected, run_rig
 from .spool import TraceSpool, default_spool_dir
 
@@ -31,6 +31,8 @@ __all__ = [
     "ArMethod", "Fit", "FrictionEstimate", "JobEvent", "JobInfo", "JobProgress", "JobSpec", "JobState", "JobUpdate",
     "LevelProgress", "MapQuery", "Mesh", "ObjectInfo", "Phase", "Plan", "PlanSite", "ProbeParameters",
     "Property", "RefitResult", "RoughnessEstimate", "Sample", "SamplingMode", "SiteState", "SurfaceMap", "Trace",
+    # import and provenance (issues 13, 14)
+    "ImportInfo", "Provenance", "RejectedTrace",
     # rigs: lease, measure, submit (rig.py, probe.py, spool.py; driver_protocol.py for surfmap-rig --driver)
     "Rig", "run_rig", "RigFailure", "RigSummary", "TraceRejected", "TracePending", "FailureKind", "Lease",
     "ProbeCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool", "default_spool_dir",

@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import os
 from pathlib import Path
-from typing import Callable, Generator, List, Optional, Sequence, Union
+from datetime import datetime, timezone
+from typing import Callable, Generator, List, Optional, Sequence, Tuple, Union
 
 import grpc
 import numpy as np
@@ -157,7 +158,8 @@ class SurfmapClient:
 
     def upload_object(self, mesh: PathOrBytes, name: Optional[str] = None, format: Optional[str] = None,
                       timeout: Optional[float] = None, units: Optional[str] = None,
-                      scale: Optional[float] = None) -> r.ObjectInfo:
+                      scale: Optional[float] = None,
+                      provenance: Optional[Union[r.Provenance, dict]] = None) -> r.ObjectInfo:
         """Uploads a mesh (OBJ, PLY or STL): a file path or the file's bytes.
 
         The format comes from ``format`` ("obj"/"ply"/"stl"), else the file
@@ -166,6 +168,7 @@ class SurfmapClient:
         ``scale`` (mm per file unit) say what the coordinates are; the server
         refuses an implausible size in stated units, repairs innocuous defects
         and stores the object in mm (README: "Bring your own mesh").
+        ``provenance``: a ``Provenance`` (or a dict of its fields) kept with it.
         """
         if isinstance(mesh, (bytes, bytearray)):
             data, hint = bytes(mesh), ""
@@ -178,7 +181,8 @@ class SurfmapClient:
                 raise invalid_argument("UploadObject", f"cannot read mesh file '{path}': {error}") from None
             hint, default_name = path.name, path.stem
         request = pb.UploadObjectRequest(name=name if name is not None else default_name,
-                                         format=_mesh_format(data, hint, format), mesh=data)
+                                         format=_mesh_format(data, hint, format), mesh=data,
+                                         provenance=conv.provenance_to_proto(provenance))
         if scale is not None:
             request.scale = scale
         elif units is not None:
@@ -210,6 +214,7 @@ class SurfmapClient:
                    segment_length_mm: Optional[float] = None, speed_mm_s: Optional[float] = None,
                    normal_force_n: Optional[float] = None, seed: Optional[int] = None,
                    max_retries: Optional[int] = None, lease_s: Optional[float] = None,
+                   provenance: Optional[Union[r.Provenance, dict]] = None,
                    timeout: Optional[float] = None) -> r.JobInfo:
         """Creates a mapping job. Settings left None take the server's defaults
         (the boundary-seeking mode with its budget of 1.5 samples per control
@@ -236,7 +241,8 @@ class SurfmapClient:
                 setattr(spec.probe, field_name, value)
         if lease_s is not None:
             spec.lease.FromNanoseconds(int(round(lease_s * 1e9)))
-        response = self._call("CreateJob", self._jobs.CreateJob, pb.CreateJobRequest(spec=spec), timeout)
+        request = pb.CreateJobRequest(spec=spec, provenance=conv.provenance_to_proto(provenance))
+        response = self._call("CreateJob", self._jobs.CreateJob, request, timeout)
         return conv.job_info(response.job)
 
     def get_job(self, job_id: int, timeout: Optional[float] = None) -> r.JobInfo:
@@ -390,6 +396,44 @@ class SurfmapClient:
         return conv.map_query(self._call("QueryMap", self._maps.QueryMap, request, timeout))
 
     # ------------------------------------------------------------ traces
+
+    def import_trace(self, job_id: int, csv: PathOrBytes, source: str = "surfmap_client", *,
+                     file_name: Optional[str] = None, recorded: Optional[datetime] = None,
+                     provenance: Optional[Union[r.Provenance, dict]] = None,
+                     timeout: Optional[float] = None) -> Tuple[r.Sample, bool]:
+        """Imports a drag recorded elsewhere (a positioned trace CSV: a path or
+        the file's bytes; docs/trace-format.md) into the job's map. The server
+        locates it on the object, checks it as it checks a rig's trace, fits it
+        and stores it with ``source`` (who or what recorded it), the file's
+        name and SHA-256, ``recorded`` and ``provenance``. Returns the sample
+        and whether this file had been imported into the job before (then the
+        sample is that import: nothing is stored twice). Refused drags raise
+        SurfmapError(INVALID_ARGUMENT "implausible trace: <check>: ...") and
+        are kept in ``list_rejected_traces``."""
+        if isinstance(csv, (bytes, bytearray)):
+            data, default_name = bytes(csv), ""
+        else:
+            path = Path(csv)
+            try:
+                data = path.read_bytes()
+            except OSError as error:
+                raise invalid_argument("ImportTrace", f"cannot read trace file '{path}': {error}") from None
+            default_name = path.name
+        request = pb.ImportTraceRequest(job_id=job_id, csv=data, source=source,
+                                        file_name=file_name if file_name is not None else default_name,
+                                        provenance=conv.provenance_to_proto(provenance))
+        if recorded is not None:
+            if recorded.tzinfo is None:
+                raise invalid_argument("ImportTrace", "recorded must be a timezone-aware datetime")
+            request.recorded.FromDatetime(recorded.astimezone(timezone.utc))
+        response = self._call("ImportTrace", self._traces.ImportTrace, request, timeout)
+        return conv.sample(response.sample), response.already_imported
+
+    def list_rejected_traces(self, job_id: int, timeout: Optional[float] = None) -> List[r.RejectedTrace]:
+        """Traces the job refused as implausible (rigs' and imports'), oldest first."""
+        request = pb.ListRejectedTracesRequest(job_id=job_id)
+        response = self._call("ListRejectedTraces", self._traces.ListRejectedTraces, request, timeout)
+        return [conv.rejected_trace(t) for t in response.rejected_traces]
 
     def get_trace(self, trace_id: int, timeout: Optional[float] = None) -> r.Trace:
         """Every sample of a stored drag trace, bit-exact."""

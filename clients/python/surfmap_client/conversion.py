@@ -45,9 +45,33 @@ def vec_array(vectors) -> np.ndarray:
     return out
 
 
+def provenance(m) -> r.Provenance:
+    return r.Provenance(m.operator_name, m.specimen, m.probe_tip, m.sensor, m.notes, dict(m.extra))
+
+
+def provenance_to_proto(p) -> Any:
+    """A ``records.Provenance``, a dict of its fields, or None (empty)."""
+    if p is None:
+        return pb.Provenance()
+    if isinstance(p, dict):
+        p = r.Provenance(**p)
+    return pb.Provenance(operator_name=p.operator, specimen=p.specimen, probe_tip=p.probe_tip, sensor=p.sensor,
+                         notes=p.notes, extra=dict(p.extra))
+
+
+def import_info(m) -> r.ImportInfo:
+    return r.ImportInfo(m.source, m.file_name, m.file_sha256, _time(m, "recorded"), _time(m, "imported"))
+
+
+def rejected_trace(m) -> r.RejectedTrace:
+    return r.RejectedTrace(m.rejected_trace_id, m.command_id, m.job_id, m.rig_id, m.check, m.message,
+                           m.sample_count, _time(m, "received"))
+
+
 def object_info(m) -> r.ObjectInfo:
     fmt = {pb.MESH_FORMAT_OBJ: "obj", pb.MESH_FORMAT_PLY: "ply"}.get(m.format, "unspecified")
-    return r.ObjectInfo(m.object_id, m.name, fmt, m.control_vertex_count, m.control_face_count, _time(m, "created"))
+    return r.ObjectInfo(m.object_id, m.name, fmt, m.control_vertex_count, m.control_face_count, _time(m, "created"),
+                        provenance(m.provenance))
 
 
 def mesh(m) -> r.Mesh:
@@ -74,7 +98,7 @@ def job_progress(m) -> r.JobProgress:
 
 def job_info(m) -> r.JobInfo:
     return r.JobInfo(m.job_id, job_spec(m.spec), r.JobState(m.state), job_progress(m.progress),
-                     _time(m, "created"), _time(m, "updated"))
+                     _time(m, "created"), _time(m, "updated"), provenance(m.provenance))
 
 
 def plan(m) -> r.Plan:
@@ -115,7 +139,8 @@ def _roughness(g) -> r.RoughnessEstimate:
 def sample(m) -> r.Sample:
     return r.Sample(m.trace_id, m.command_id, m.job_id, m.site.level, m.site.vertex, _vec(m.position),
                     _vec(m.drag_direction), m.segment_length_mm, fit(m.fit) if m.HasField("fit") else None,
-                    _time(m, "received"), m.rig_id)
+                    _time(m, "received"), m.rig_id, provenance(m.provenance),
+                    import_info(getattr(m, "import")) if m.HasField("import") else None)
 
 
 def job_event(m) -> r.JobEvent:

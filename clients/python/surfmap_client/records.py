@@ -75,6 +75,47 @@ class Phase(enum.IntEnum):
 
 
 @dataclass(frozen=True)
+class Provenance:
+    """What a lab keeps with its data (objects, jobs, traces), given at creation.
+
+    Bounded by the server: each named field and extra value at most 200
+    characters on one line, notes at most 4000, at most 32 extra keys of
+    letters, digits, '_', '.' and '-'."""
+
+    operator: str = ""
+    specimen: str = ""
+    probe_tip: str = ""
+    sensor: str = ""
+    notes: str = ""
+    extra: Dict[str, str] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class ImportInfo:
+    """Where an imported trace came from (``import_trace``)."""
+
+    source: str
+    file_name: str
+    file_sha256: str
+    recorded: Optional[datetime]
+    imported: Optional[datetime]
+
+
+@dataclass(frozen=True)
+class RejectedTrace:
+    """A trace refused as implausible (a rig's, or an import: ``rig_id`` is then its source)."""
+
+    rejected_trace_id: int
+    command_id: int
+    job_id: int
+    rig_id: str
+    check: str                    # offset, surface, length, direction, normal, force, friction, ...
+    message: str
+    sample_count: int
+    received: Optional[datetime]
+
+
+@dataclass(frozen=True)
 class ObjectInfo:
     object_id: int
     name: str
@@ -82,6 +123,7 @@ class ObjectInfo:
     control_vertex_count: int
     control_face_count: int
     created: Optional[datetime]
+    provenance: Provenance = field(default_factory=Provenance)
 
 
 @dataclass(frozen=True)
@@ -154,6 +196,7 @@ class JobInfo:
     progress: JobProgress
     created: Optional[datetime]
     updated: Optional[datetime]
+    provenance: Provenance = field(default_factory=Provenance)
 
 
 @dataclass(frozen=True)
@@ -258,6 +301,8 @@ class Sample:
     fit: Optional[Fit]
     received: Optional[datetime]
     rig_id: str = ""              # the rig that measured it ("" from servers before the field)
+    provenance: Provenance = field(default_factory=Provenance)
+    import_info: Optional[ImportInfo] = None  # set for a trace imported from a file
 
 
 @dataclass(frozen=True)
