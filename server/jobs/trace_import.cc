@@ -233,14 +233,11 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
           executors_.completions->Post([this, runtime_ptr, command, implied, decoded, completes_job, metadata_json,
                                         result = std::move(result), done = std::move(done)]() mutable {
             JobRuntime& runtime = *runtime_ptr;
-            if (!result.ok()) {
-              registry_->MarkWriteFailed(runtime);
-              return done(result.status());
-            }
+            if (!result.ok()) return done(registry_->MarkWriteFailed(runtime, result.status()));
             if (result->already_accepted) {
               // Another import of the same file won the race: memory recorded
               // this one too, the database did not; reload the job from it.
-              registry_->MarkWriteFailed(runtime);
+              (void)registry_->MarkWriteFailed(runtime, absl::OkStatus());
               return AnswerStored(result->trace_id, std::move(done));
             }
             if (!result->fit.has_value()) {
