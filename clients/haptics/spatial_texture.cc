@@ -3,22 +3,13 @@
 #include <cmath>
 #include <random>
 
+#include "server/base/splitmix64.h"
+
 namespace surfmap::haptics {
 namespace {
 
 constexpr int kTableBits = 16;
 constexpr std::uint64_t kTableMask = (1u << kTableBits) - 1;
-
-// splitmix64's finaliser: a bijective mix in which every input bit affects
-// every output bit, so consecutive cells index unrelated table entries.
-std::uint64_t Mix(std::uint64_t x) {
-  x ^= x >> 30;
-  x *= 0xbf58476d1ce4e5b9ULL;
-  x ^= x >> 27;
-  x *= 0x94d049bb133111ebULL;
-  x ^= x >> 31;
-  return x;
-}
 
 }  // namespace
 
@@ -87,7 +78,9 @@ SpatialTexture::SpatialTexture(std::uint64_t seed) : seed_(seed), table_(kTableM
 }
 
 double SpatialTexture::Innovation(std::int64_t k) const {
-  return table_[Mix(static_cast<std::uint64_t>(k) ^ Mix(seed_)) & kTableMask];
+  // SplitMix64's finaliser: every input bit affects every output bit, so
+  // consecutive cells index unrelated table entries.
+  return table_[SplitMix64Finalize(static_cast<std::uint64_t>(k) ^ SplitMix64Finalize(seed_)) & kTableMask];
 }
 
 double SpatialTexture::Roughness(std::int64_t k, double sigma, const ArImpulse& impulse) const {

@@ -6,18 +6,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/base/splitmix64.h"
 
 namespace surfmap {
 namespace {
-
-// SplitMix64 finaliser: a bijective mix, so distinct inputs give distinct,
-// well-spread seeds.
-std::uint64_t Mix(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // A drag that cannot go on along the surface: OUT_OF_RANGE is the mesh
 // module's "leaves the open boundary"; INTERNAL "stuck" is what a walk
@@ -69,7 +61,8 @@ absl::StatusOr<std::unique_ptr<SimulatedRig>> SimulatedRig::Create(Scene scene, 
 }
 
 std::uint64_t SimulatedRig::SeedFor(std::int64_t command_id) const {
-  return Mix(Mix(scene_.seed ^ Mix(options_.seed)) ^ static_cast<std::uint64_t>(command_id));
+  // SplitMix64: a bijective mix, so distinct inputs give distinct, well-spread seeds.
+  return SplitMix64(SplitMix64(scene_.seed ^ SplitMix64(options_.seed)) ^ static_cast<std::uint64_t>(command_id));
 }
 
 absl::StatusOr<DragTrace> SimulatedRig::Execute(const ProbeRequest& request) {
