@@ -96,9 +96,7 @@ int Main(int argc, char** argv) {
   base.sample_budget = budget;
   base.seed = seed;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
-  base.property = property == "roughness" ? TextureProperty::kRoughness
-                  : property == "both"    ? TextureProperty::kBoth
-                                          : TextureProperty::kFriction;
+  base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;
   score_options.points = points;
 
