@@ -137,7 +137,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"max_retries", o.max_retries},
       {"probe",
        {{"segment_length_mm", o.probe.segment_length_mm},
-        {"speed_mm_per_s", o.probe.speed_mm_per_s},
+        {"speed_mm_s", o.probe.speed_mm_per_s},
         {"normal_force_n", o.probe.normal_force_n}}},
       {"seed", o.seed},
       {"gradient_weight", o.gradient_weight},
@@ -187,7 +187,11 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.max_retries = static_cast<int>(in.Int(j, "options", "max_retries"));
   if (const json* p = in.Field(j, "options", "probe")) {
     o.probe.segment_length_mm = in.Double(*p, "options.probe", "segment_length_mm");
-    o.probe.speed_mm_per_s = in.Double(*p, "options.probe", "speed_mm_per_s");
+    // "speed_mm_s" as in the job parameters and probe commands; plans saved
+    // before the names were one (databases written until 2026-11) say
+    // "speed_mm_per_s", and still load.
+    const bool old_key = !p->contains("speed_mm_s") && p->contains("speed_mm_per_s");
+    o.probe.speed_mm_per_s = in.Double(*p, "options.probe", old_key ? "speed_mm_per_s" : "speed_mm_s");
     o.probe.normal_force_n = in.Double(*p, "options.probe", "normal_force_n");
   }
   o.seed = in.Unsigned(j, "options", "seed");
