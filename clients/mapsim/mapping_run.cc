@@ -14,6 +14,7 @@
 #include "server/map/region_map.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
+#include "server/plan/plan_request.h"
 #include "server/plan/sampling_plan.h"
 #include "server/plan/site_order.h"
 
@@ -66,15 +67,18 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
 // Drives the sampling plan to completion with one rig.
 absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options, int finest,
                      MappingRunResult& result, std::vector<MapSample>& samples) {
-  SamplingPlanOptions plan_options;
-  plan_options.mode = options.mode;
-  plan_options.coarsest_level = options.coarsest_level;
-  plan_options.max_level = finest;
-  plan_options.threshold = options.threshold;
-  plan_options.distance.property = options.property;
-  plan_options.sample_budget = options.sample_budget;
-  plan_options.seed = options.seed;
-  plan_options.reach = options.reach;
+  // Built as a job's are (server/plan/plan_request.h); retries and the
+  // probe at their defaults, as in the service's default job.
+  PlanRequest request;
+  request.mode = options.mode;
+  request.coarsest_level = options.coarsest_level;
+  request.finest_level = finest;
+  request.threshold = options.threshold;
+  request.property = options.property;
+  request.budget = options.sample_budget;
+  request.seed = options.seed;
+  request.reach = options.reach;
+  const SamplingPlanOptions plan_options = PlanOptionsFor(request);
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
@@ -189,7 +193,7 @@ bool MappingRunOptions::IsValid(std::string* why) const {
   }
   if (sample_budget < 0) return fail(absl::StrCat("sample_budget must be >= 0, got ", sample_budget));
   if (uniform_spread && mode != PlanMode::kUniform) {
-    return fail(absl::StrCat("uniform_spread is a uniform design; mode is ", PlanModeName(mode)));
+    return fail(absl::StrCat("uniform_spread is a uniform design; mode is ", std::string(PlanModeName(mode))));
   }
   if ((mode == PlanMode::kUncertainty || uniform_spread) && sample_budget == 0) {
     return fail(absl::StrCat(std::string(RunModeName(*this)), " mode needs a sample_budget > 0"));

@@ -76,20 +76,20 @@ bool JobParams::IsValid(std::string* why) const {
   return true;
 }
 
-SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
-  SamplingPlanOptions o;
-  o.mode = p.mode;
-  o.coarsest_level = p.coarsest_level;
-  o.max_level = p.finest_level;
-  o.threshold = p.threshold;
-  o.distance.property = p.property;
-  o.sample_budget = p.budget;
-  o.max_retries = p.max_retries;
-  o.probe = p.probe;
-  o.seed = p.seed;
-  o.reach = p.reach;
-  return o;
+PlanRequest PlanRequestOf(const JobParams& p) {
+  return {.mode = p.mode,
+          .coarsest_level = p.coarsest_level,
+          .finest_level = p.finest_level,
+          .threshold = p.threshold,
+          .property = p.property,
+          .budget = p.budget,
+          .max_retries = p.max_retries,
+          .probe = p.probe,
+          .seed = p.seed,
+          .reach = p.reach};
 }
+
+SamplingPlanOptions PlanOptionsFor(const JobParams& p) { return PlanOptionsFor(PlanRequestOf(p)); }
 
 void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
   // The median edge of level 0 (limit positions: within a fraction of an
