@@ -18,8 +18,7 @@
 # Rooms, in any order: the longest matching prefix wins.
 set(SURFMAP_ROOMS
   server/base server/estimate server/mesh server/map server/plan server/codec server/haptics
-  storage server/jobs server/service proto clients tests
-  server/dragsim)  # until it moves beside the simulated rig
+  storage server/jobs server/service proto clients tests)
 
 set(SURFMAP_ROOM_MAY_LINK_server/base "")
 set(SURFMAP_ROOM_MAY_LINK_server/estimate server/base)
@@ -34,7 +33,6 @@ set(SURFMAP_ROOM_MAY_LINK_server/jobs
   server/base server/estimate server/mesh server/map server/plan server/codec storage)
 set(SURFMAP_ROOM_MAY_LINK_server/service
   server/base server/estimate server/mesh server/map server/plan server/codec server/haptics storage server/jobs proto)
-set(SURFMAP_ROOM_MAY_LINK_server/dragsim server/base server/estimate)
 set(SURFMAP_ROOM_MAY_LINK_clients "*")
 set(SURFMAP_ROOM_MAY_LINK_tests "*")
 

@@ -4,7 +4,7 @@
 
 #include <gtest/gtest.h>
 #include "clients/haptics/test_meshes.h"
-#include "server/dragsim/material.h"
+#include "clients/sim/dragsim/material.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap::haptics {

@@ -101,7 +101,7 @@ inline void PaintSplit(TextureMap& map, double split_x, const TestMaterial& a, c
   }
 }
 
-// Lloyd & Pai's rubber and masonite (server/dragsim/material.h).
+// Lloyd & Pai's rubber and masonite (clients/sim/dragsim/material.h).
 inline constexpr TestMaterial kRubber{0.305, 0.60, 0.25, 0.11};
 inline constexpr TestMaterial kMasonite{0.25, 1.61, -0.73, 0.16};
 

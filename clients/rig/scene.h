@@ -23,7 +23,7 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "server/dragsim/material.h"
+#include "clients/sim/dragsim/material.h"
 #include "server/mesh/control_mesh.h"
 
 namespace surfmap {

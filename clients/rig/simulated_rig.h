@@ -1,7 +1,7 @@
 // SimulatedRig: the physics of a lab rig on a scene, no network. The scene's
 // control mesh is refined to a smooth Loop surface; a probe is projected onto
 // it, the drag path is traced on the surface from there along the requested
-// direction, and the drag simulator (server/dragsim) turns the path and the
+// direction, and the drag simulator (clients/sim/dragsim) turns the path and the
 // scene's materials into a drag trace with the disturbances of a real rig.
 //
 // Deterministic: the simulator is seeded from (scene seed, options seed,
@@ -17,7 +17,7 @@
 #include "clients/rig/rig_driver.h"
 #include "clients/rig/scene.h"
 #include "clients/rig/scene_truth.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/mesh/loop_surface.h"
 
 namespace surfmap {

@@ -1,4 +1,4 @@
-#include "server/dragsim/material.h"
+#include "clients/sim/dragsim/material.h"
 
 #include <cmath>
 

@@ -1,4 +1,4 @@
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "server/dragsim/roughness_field.h"
+#include "clients/sim/dragsim/roughness_field.h"
 
 namespace surfmap {
 namespace {

@@ -21,9 +21,9 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/material.h"
-#include "server/dragsim/roughness_field.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/material.h"
+#include "clients/sim/dragsim/roughness_field.h"
 #include "server/estimate/drag_trace.h"
 
 namespace surfmap {

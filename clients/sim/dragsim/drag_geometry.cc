@@ -1,4 +1,4 @@
-#include "server/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_geometry.h"
 
 #include <algorithm>
 #include <cmath>

@@ -6,8 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/material.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/material.h"
 
 namespace surfmap {
 

@@ -1,4 +1,4 @@
-#include "server/dragsim/roughness_field.h"
+#include "clients/sim/dragsim/roughness_field.h"
 
 #include <algorithm>
 #include <cmath>

@@ -9,7 +9,7 @@
 #include <string>
 
 #include "CLI/CLI.hpp"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/estimate/trace_csv.h"
 
 namespace {

@@ -1,12 +1,12 @@
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 
 #include <cmath>
 #include <string>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/roughness_field.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/roughness_field.h"
 
 namespace surfmap {
 namespace {
