@@ -2,7 +2,7 @@
 // probe commands, the simulated rig executes them on the scene, FitTrace fits
 // each trace, the fit goes back to the plan, until the plan is complete; then
 // the map is built from the measured drags and scored on the scene's true
-// surface (clients/rig/surface_score.h).
+// surface (clients/sim/rig/surface_score.h).
 //
 // The rig is seeded per site and drag direction (command id = f(vertex,
 // attempt)), not per command sequence, so the same drag gives the same trace
@@ -18,9 +18,9 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/rig/scene.h"
-#include "clients/rig/simulated_rig.h"
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/simulated_rig.h"
+#include "clients/sim/rig/surface_score.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"

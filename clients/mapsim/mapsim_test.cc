@@ -5,7 +5,7 @@
 #include <gtest/gtest.h>
 #include "clients/mapsim/mapping_report.h"
 #include "clients/mapsim/mapping_run.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 namespace surfmap::mapsim {
 namespace {

@@ -23,7 +23,7 @@
 #include "absl/strings/str_format.h"
 #include "clients/mapsim/mapping_report.h"
 #include "clients/mapsim/mapping_run.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "surfmap_version.h"
 
 namespace surfmap::mapsim {

@@ -30,7 +30,7 @@
 
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 #include "proto/surfmap/v1/surfmap.pb.h"
 #include "server/estimate/drag_trace.h"
 

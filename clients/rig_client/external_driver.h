@@ -21,7 +21,7 @@
 #include <string>
 
 #include "absl/status/statusor.h"
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 #include "clients/rig_client/driver_process.h"
 
 namespace surfmap::rig {

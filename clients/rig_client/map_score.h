@@ -9,7 +9,7 @@
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
 #include "clients/cli/map_json.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 namespace surfmap::rig {
 

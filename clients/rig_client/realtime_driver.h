@@ -8,7 +8,7 @@
 
 #include <atomic>
 
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 
 namespace surfmap::rig {
 

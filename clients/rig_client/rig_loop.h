@@ -31,7 +31,7 @@
 #include <string>
 
 #include <grpcpp/grpcpp.h>
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 #include "clients/rig_client/probe_endpoint.h"
 #include "clients/rig_client/trace_spool.h"
 

@@ -16,8 +16,8 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/rig/rig_driver.h"
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/rig_driver.h"
+#include "clients/sim/rig/simulated_rig.h"
 
 namespace surfmap::rig {
 

@@ -2,7 +2,7 @@
 
 #include <chrono>
 
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "clients/rig_client/realtime_driver.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"

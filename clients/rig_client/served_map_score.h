@@ -1,5 +1,5 @@
 // `surfmap-rig score --job JOB`: a job's map scored on the scene's TRUE
-// surface (clients/rig/surface_score.h) through the real server: every point
+// surface (clients/sim/rig/surface_score.h) through the real server: every point
 // is read with QueryMap, so the score is of the map as the service answers
 // it to any client, not of a file or of the vertices it was built on.
 #pragma once
@@ -10,8 +10,8 @@
 #include <grpcpp/grpcpp.h>
 #include "absl/status/statusor.h"
 #include "clients/cli/remote_call.h"
-#include "clients/rig/scene.h"
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/surface_score.h"
 
 namespace surfmap::rig {
 

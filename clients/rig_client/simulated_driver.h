@@ -10,7 +10,7 @@
 #include <iosfwd>
 #include <string_view>
 
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 
 namespace surfmap::rig {
 

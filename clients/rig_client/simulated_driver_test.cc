@@ -3,8 +3,8 @@
 #include <sstream>
 
 #include <gtest/gtest.h>
-#include "clients/rig/scene.h"
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/simulated_rig.h"
 #include "clients/rig_client/driver_protocol.h"
 
 namespace surfmap::rig {

@@ -9,7 +9,7 @@
 // trace and returns it (RigLoop). `--sim SCENE` drives the simulated rig on a
 // scene; `--driver` runs a lab's own driver program and talks to it in JSON
 // lines (driver_protocol.h); a robot driver in C++ plugs in as another
-// RigDriver (clients/rig/rig_driver.h) where MakeDriver builds these, and the
+// RigDriver (clients/sim/rig/rig_driver.h) where MakeDriver builds these, and the
 // loop, spool, retries and signal handling below work unchanged.
 #include <signal.h>
 #include <unistd.h>
@@ -31,8 +31,8 @@
 #include "clients/cli/map_json.h"
 #include "clients/cli/progress_line.h"
 #include "clients/cli/remote_call.h"
-#include "clients/rig/scene.h"
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/simulated_rig.h"
 #include "clients/rig_client/duration_text.h"
 #include "clients/rig_client/external_driver.h"
 #include "clients/rig_client/map_score.h"

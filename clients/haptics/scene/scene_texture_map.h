@@ -6,7 +6,7 @@
 #pragma once
 
 #include "clients/haptics/texture_map.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "server/mesh/loop_surface.h"
 
 namespace surfmap::haptics {

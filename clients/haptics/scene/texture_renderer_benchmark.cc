@@ -14,7 +14,7 @@
 #include "clients/haptics/model_drag.h"
 #include "clients/haptics/scene/scene_texture_map.h"
 #include "clients/haptics/texture_renderer.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 namespace surfmap::haptics {
 namespace {

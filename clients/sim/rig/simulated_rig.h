@@ -14,9 +14,9 @@
 #include <string>
 
 #include "absl/status/statusor.h"
-#include "clients/rig/rig_driver.h"
-#include "clients/rig/scene.h"
-#include "clients/rig/scene_truth.h"
+#include "clients/sim/rig/rig_driver.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/scene_truth.h"
 #include "clients/sim/dragsim/drag_simulator.h"
 #include "server/mesh/loop_surface.h"
 

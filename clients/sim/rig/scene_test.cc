@@ -1,4 +1,4 @@
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 #include <cstdlib>
 #include <filesystem>
@@ -6,7 +6,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/surface_score.h"
 #include "server/mesh/loop_surface.h"
 #include "server/mesh/primitive_meshes.h"
 

@@ -1,4 +1,4 @@
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/surface_score.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 #include <algorithm>
 #include <cmath>

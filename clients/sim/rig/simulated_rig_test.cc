@@ -1,4 +1,4 @@
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/simulated_rig.h"
 
 #include <cmath>
 #include <numbers>

@@ -1,4 +1,4 @@
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 
 #include <cmath>
 

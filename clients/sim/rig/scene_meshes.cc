@@ -1,4 +1,4 @@
-#include "clients/rig/scene_meshes.h"
+#include "clients/sim/rig/scene_meshes.h"
 
 #include <cmath>
 #include <numbers>

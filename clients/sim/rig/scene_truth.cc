@@ -1,4 +1,4 @@
-#include "clients/rig/scene_truth.h"
+#include "clients/sim/rig/scene_truth.h"
 
 namespace surfmap {
 

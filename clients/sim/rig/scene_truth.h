@@ -4,7 +4,7 @@
 #include <vector>
 
 #include <Eigen/Core>
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "server/mesh/loop_surface.h"
 
 namespace surfmap {

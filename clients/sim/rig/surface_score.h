@@ -32,7 +32,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 
 namespace surfmap {
 

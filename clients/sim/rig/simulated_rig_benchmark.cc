@@ -1,7 +1,7 @@
 // Speed of the simulated rig: building the bottle rig (Loop level 3) and
 // executing one 20 mm probe (surface walk + drag simulation).
 #include <benchmark/benchmark.h>
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/simulated_rig.h"
 
 namespace surfmap {
 namespace {

@@ -1,9 +1,9 @@
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/surface_score.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
-#include "clients/rig/scene_meshes.h"
+#include "clients/sim/rig/scene_meshes.h"
 
 namespace surfmap {
 namespace {
