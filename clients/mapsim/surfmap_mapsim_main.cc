@@ -64,7 +64,7 @@ int Main(int argc, char** argv) {
   std::string png, ply, json_path;
   int rig_level = 3;
   bool details = false;
-  app.add_option("--scene", scenes, "scene names (clients/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
+  app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
       ->capture_default_str();

@@ -1,5 +1,5 @@
 // A scene: an object the simulated rig can probe. A control mesh (OBJ or PLY)
-// plus a small JSON file of materials and regions (clients/scenes/README.md):
+// plus a small JSON file of materials and regions (clients/sim/scenes/README.md):
 //
 //   {"name": "bottle", "mesh": "bottle.obj", "units": "mm", "seed": 1,
 //    "default_material": "glass",
@@ -113,7 +113,7 @@ absl::StatusOr<Scene> LoadScene(const std::filesystem::path& dir, std::string_vi
 
 // The directories searched for scenes by name, in order: each entry of
 // $SURFMAP_SCENES (colon-separated), <exe dir>/../share/surfmap/scenes, then
-// the source tree's clients/scenes.
+// the source tree's clients/sim/scenes.
 std::vector<std::filesystem::path> SceneSearchPath();
 
 // Loads scene `name` from the first directory of SceneSearchPath() holding

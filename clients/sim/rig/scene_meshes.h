@@ -1,4 +1,4 @@
-// The generators of the built-in scenes' control meshes (clients/scenes/*.obj
+// The generators of the built-in scenes' control meshes (clients/sim/scenes/*.obj
 // are their output, written by surfmap-write-scene-meshes; a test checks the
 // committed files still match).
 #pragma once

@@ -12,7 +12,7 @@ namespace surfmap {
 namespace {
 
 // The committed OBJ files are the generator's output (a stale file fails here:
-// rerun `surfmap-write-scene-meshes clients/scenes`).
+// rerun `surfmap-write-scene-meshes clients/sim/scenes`).
 TEST(SceneMeshesTest, CommittedObjFilesMatchTheGenerator) {
   for (std::string_view name : BuiltInSceneMeshNames()) {
     const std::filesystem::path path =

@@ -1,5 +1,5 @@
 // surfmap-write-scene-meshes DIR: writes the built-in scenes' control meshes
-// (bottle.obj, plate.obj) into DIR, normally clients/scenes.
+// (bottle.obj, plate.obj) into DIR, normally clients/sim/scenes.
 #include <cstdio>
 #include <fstream>
 #include <string>
