@@ -55,7 +55,7 @@ BUILD_DIR=${SURFMAP_BUILD_DIR:-build}
 OUT=out/demo
 SURFMAPD=$BUILD_DIR/server/service/surfmapd
 SURFMAP=$BUILD_DIR/clients/cli/surfmap
-RIG=$BUILD_DIR/clients/rig_client/surfmap-rig
+RIG=$BUILD_DIR/clients/rig/surfmap-rig
 MESH=clients/sim/scenes/bottle.obj
 
 SERVER_PID=""

@@ -32,7 +32,7 @@ done
 [ ${#SCENES[@]} -gt 0 ] || SCENES=(bottle plate banded_vase strip_block dotted_egg torus_handle)
 SURFMAPD=$BUILD/server/service/surfmapd
 SURFMAP=$BUILD/clients/cli/surfmap
-RIG=$BUILD/clients/rig_client/surfmap-rig
+RIG=$BUILD/clients/rig/surfmap-rig
 for b in "$SURFMAPD" "$SURFMAP" "$RIG"; do
   [ -x "$b" ] || { echo "map_scenes: $b is not built (scripts/build.sh)" >&2; exit 1; }
 done

@@ -196,7 +196,7 @@ function canvasSummaryInPage(background) {
 async function main() {
   const surfmapd = requiredFile('SURFMAPD', path.join(repoRoot, 'build/server/service/surfmapd'), 'surfmapd');
   const surfmap = requiredFile('SURFMAP_CLI', path.join(repoRoot, 'build/clients/cli/surfmap'), 'the surfmap CLI');
-  const rig = requiredFile('SURFMAP_RIG', path.join(repoRoot, 'build/clients/rig_client/surfmap-rig'), 'surfmap-rig');
+  const rig = requiredFile('SURFMAP_RIG', path.join(repoRoot, 'build/clients/rig/surfmap-rig'), 'surfmap-rig');
   const chromiumPath = requiredFile('CHROMIUM', '/usr/bin/chromium', 'Chromium (Debian package chromium)');
   const scenes = process.env.SURFMAP_SCENES_DIR || path.join(repoRoot, 'clients/sim/scenes');
   const bottle = path.join(scenes, 'bottle.obj');
