@@ -10,7 +10,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_split.h"
-#include "clients/cli/map_json.h"
+#include "clients/remote/map_json.h"
 #include "clients/cli/map_overlay.h"
 #include "clients/haptics/export/simulate_drag_proto.h"
 #include "clients/haptics/export/texture_map_proto.h"

@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
-#include "clients/cli/map_json.h"
+#include "clients/remote/map_json.h"
 #include "clients/sim/rig/scene.h"
 
 namespace surfmap::rig {

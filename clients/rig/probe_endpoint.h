@@ -7,7 +7,7 @@
 
 #include <memory>
 
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
 namespace surfmap::rig {

@@ -9,7 +9,7 @@
 
 #include <grpcpp/grpcpp.h>
 #include "absl/status/statusor.h"
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 #include "clients/sim/rig/scene.h"
 #include "clients/sim/rig/surface_score.h"
 

@@ -28,9 +28,9 @@
 #include <CLI/CLI.hpp>
 #include "absl/strings/str_cat.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
-#include "clients/cli/map_json.h"
-#include "clients/cli/progress_line.h"
-#include "clients/cli/remote_call.h"
+#include "clients/remote/map_json.h"
+#include "clients/remote/progress_line.h"
+#include "clients/remote/remote_call.h"
 #include "clients/sim/rig/scene.h"
 #include "clients/sim/rig/simulated_rig.h"
 #include "clients/rig/duration_text.h"

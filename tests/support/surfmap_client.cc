@@ -6,7 +6,7 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 #include "clients/rig/probe_conversion.h"
 
 #ifndef SURFMAP_SOURCE_DIR

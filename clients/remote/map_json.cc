@@ -1,11 +1,11 @@
-#include "clients/cli/map_json.h"
+#include "clients/remote/map_json.h"
 
 #include <cmath>
 #include <limits>
 #include <map>
 #include <string>
 
-#include "clients/cli/proto_json.h"
+#include "clients/remote/proto_json.h"
 #include "absl/strings/str_cat.h"
 
 namespace surfmap::cli {

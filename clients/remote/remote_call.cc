@@ -1,4 +1,4 @@
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 
 #include <algorithm>
 #include <chrono>

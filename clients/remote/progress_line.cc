@@ -1,4 +1,4 @@
-#include "clients/cli/progress_line.h"
+#include "clients/remote/progress_line.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,4 +1,4 @@
-#include "clients/cli/proto_json.h"
+#include "clients/remote/proto_json.h"
 
 #include <gtest/gtest.h>
 #include "proto/surfmap/v1/surfmap.pb.h"

@@ -1,4 +1,4 @@
-#include "clients/cli/proto_json.h"
+#include "clients/remote/proto_json.h"
 
 #include <cstdint>
 #include <string_view>

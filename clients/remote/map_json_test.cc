@@ -1,4 +1,4 @@
-#include "clients/cli/map_json.h"
+#include "clients/remote/map_json.h"
 
 #include <cmath>
 #include <limits>
