@@ -38,10 +38,7 @@ set(SURFMAP_ROOM_MAY_LINK_tests "*")
 
 # Edges that break the rule today and are on their way out, "from-room|to-room",
 # each with the reason in a comment. Empty is the goal.
-set(SURFMAP_LAYERING_EXCEPTIONS
-  # The service's SimulateDrag renders through surfmap_map_export
-  # (clients/haptics/export) until the haptic renderer moves to server/haptics.
-  "server/service|clients")
+set(SURFMAP_LAYERING_EXCEPTIONS "")
 
 # surfmap_room_of(<relative dir> <out var>): the room of a directory relative
 # to the source root ("" when it is in none: the top level, cmake/, ...).

@@ -9,9 +9,9 @@
 
 #include <CLI/CLI.hpp>
 #include "clients/haptics/scene/scene_texture_map.h"
-#include "clients/haptics/texture_map_gltf.h"
-#include "clients/haptics/texture_map_ply.h"
-#include "clients/haptics/texture_model_json.h"
+#include "server/haptics/texture_map_gltf.h"
+#include "server/haptics/texture_map_ply.h"
+#include "server/haptics/texture_model_json.h"
 
 namespace {
 

@@ -5,7 +5,7 @@
 // reference the realism bench compares against.
 #pragma once
 
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 #include "clients/sim/rig/scene.h"
 #include "server/mesh/loop_surface.h"
 

@@ -1,7 +1,7 @@
-#include "clients/haptics/export/simulate_drag_proto.h"
+#include "server/haptics/export/simulate_drag_proto.h"
 
 #include <gtest/gtest.h>
-#include "clients/haptics/export/texture_map_proto.h"
+#include "server/haptics/export/texture_map_proto.h"
 #include "server/codec/trace_samples_proto.h"
 #include "server/estimate/fit_trace.h"
 

@@ -1,4 +1,4 @@
-#include "clients/haptics/texture_renderer.h"
+#include "server/haptics/texture_renderer.h"
 
 #include <cmath>
 #include <limits>

@@ -25,9 +25,9 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/haptics/spatial_texture.h"
-#include "clients/haptics/surface_locator.h"
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/spatial_texture.h"
+#include "server/haptics/surface_locator.h"
+#include "server/haptics/texture_map.h"
 
 namespace surfmap::haptics {
 

@@ -1,11 +1,11 @@
-#include "clients/haptics/texture_renderer.h"
+#include "server/haptics/texture_renderer.h"
 
 #include <atomic>
 #include <cstdlib>
 #include <new>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
+#include "server/haptics/test_meshes.h"
 
 // Counting global allocation functions for this test binary: the renderer's
 // per-sample call must not allocate (a haptic loop cannot wait on malloc).

@@ -1,10 +1,10 @@
-#include "clients/haptics/surface_locator.h"
+#include "server/haptics/surface_locator.h"
 
 #include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
+#include "server/haptics/test_meshes.h"
 
 namespace surfmap::haptics {
 namespace {

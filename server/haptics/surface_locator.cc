@@ -1,4 +1,4 @@
-#include "clients/haptics/surface_locator.h"
+#include "server/haptics/surface_locator.h"
 
 #include <algorithm>
 #include <cmath>

@@ -2,10 +2,10 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
-#include "clients/haptics/texture_map_gltf.h"
-#include "clients/haptics/texture_map_ply.h"
-#include "clients/haptics/texture_model_json.h"
+#include "server/haptics/test_meshes.h"
+#include "server/haptics/texture_map_gltf.h"
+#include "server/haptics/texture_map_ply.h"
+#include "server/haptics/texture_model_json.h"
 
 namespace surfmap::haptics {
 namespace {

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 
 namespace surfmap::haptics {
 

@@ -4,7 +4,7 @@
 #pragma once
 
 #include "absl/status/statusor.h"
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 #include "proto/surfmap/v1/surfmap.pb.h"
 
 namespace surfmap::haptics {

@@ -1,10 +1,10 @@
-#include "clients/haptics/export/simulate_drag_proto.h"
+#include "server/haptics/export/simulate_drag_proto.h"
 
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
-#include "clients/haptics/export/texture_map_proto.h"
-#include "clients/haptics/model_drag.h"
+#include "server/haptics/export/texture_map_proto.h"
+#include "server/haptics/model_drag.h"
 #include "server/codec/trace_samples_proto.h"
 
 namespace surfmap::haptics {

@@ -1,4 +1,4 @@
-#include "clients/haptics/model_drag.h"
+#include "server/haptics/model_drag.h"
 
 #include <algorithm>
 #include <cmath>

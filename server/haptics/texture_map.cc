@@ -1,4 +1,4 @@
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 
 #include <cmath>
 

@@ -1,7 +1,7 @@
-#include "clients/haptics/model_drag.h"
+#include "server/haptics/model_drag.h"
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
+#include "server/haptics/test_meshes.h"
 #include "server/estimate/fit_trace.h"
 
 namespace surfmap::haptics {

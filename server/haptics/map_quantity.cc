@@ -1,4 +1,4 @@
-#include "clients/haptics/map_quantity.h"
+#include "server/haptics/map_quantity.h"
 
 #include <array>
 #include <cmath>

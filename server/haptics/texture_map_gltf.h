@@ -20,7 +20,7 @@
 #include <string_view>
 
 #include "absl/status/statusor.h"
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 
 namespace surfmap::haptics {
 

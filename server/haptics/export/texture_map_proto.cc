@@ -1,4 +1,4 @@
-#include "clients/haptics/export/texture_map_proto.h"
+#include "server/haptics/export/texture_map_proto.h"
 
 #include <cmath>
 

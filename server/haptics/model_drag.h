@@ -17,7 +17,7 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/haptics/texture_renderer.h"
+#include "server/haptics/texture_renderer.h"
 #include "server/estimate/drag_trace.h"
 
 namespace surfmap::haptics {

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <numbers>
 
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap::haptics::testing {

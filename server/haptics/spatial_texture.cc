@@ -1,4 +1,4 @@
-#include "clients/haptics/spatial_texture.h"
+#include "server/haptics/spatial_texture.h"
 
 #include <cmath>
 #include <random>

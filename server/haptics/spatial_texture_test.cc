@@ -1,9 +1,9 @@
-#include "clients/haptics/spatial_texture.h"
+#include "server/haptics/spatial_texture.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
+#include "server/haptics/test_meshes.h"
 #include "clients/sim/dragsim/material.h"
 #include "server/estimate/roughness.h"
 

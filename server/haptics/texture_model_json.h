@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 #include "absl/status/statusor.h"
-#include "clients/haptics/texture_map.h"
+#include "server/haptics/texture_map.h"
 
 namespace surfmap::haptics {
 

@@ -1,9 +1,9 @@
-#include "clients/haptics/map_quantity.h"
+#include "server/haptics/map_quantity.h"
 
 #include <cmath>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/test_meshes.h"
+#include "server/haptics/test_meshes.h"
 
 namespace surfmap::haptics {
 namespace {

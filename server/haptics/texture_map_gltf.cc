@@ -1,4 +1,4 @@
-#include "clients/haptics/texture_map_gltf.h"
+#include "server/haptics/texture_map_gltf.h"
 
 #include <cmath>
 #include <cstring>
@@ -8,7 +8,7 @@
 #include <tiny_gltf.h>
 
 #include "absl/strings/str_cat.h"
-#include "clients/haptics/texture_model_json.h"
+#include "server/haptics/texture_model_json.h"
 
 namespace surfmap::haptics {
 namespace {

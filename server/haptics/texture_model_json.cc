@@ -1,9 +1,9 @@
-#include "clients/haptics/texture_model_json.h"
+#include "server/haptics/texture_model_json.h"
 
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
-#include "clients/haptics/spatial_texture.h"
+#include "server/haptics/spatial_texture.h"
 #include "server/estimate/ar_roots.h"
 
 namespace surfmap::haptics {

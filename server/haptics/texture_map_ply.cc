@@ -1,4 +1,4 @@
-#include "clients/haptics/texture_map_ply.h"
+#include "server/haptics/texture_map_ply.h"
 
 #include <algorithm>
 #include <cmath>
