@@ -23,7 +23,7 @@ set(SURFMAP_ROOMS
 set(SURFMAP_ROOM_MAY_LINK_server/base "")
 set(SURFMAP_ROOM_MAY_LINK_server/estimate server/base)
 set(SURFMAP_ROOM_MAY_LINK_proto "")
-set(SURFMAP_ROOM_MAY_LINK_server/mesh server/base)
+set(SURFMAP_ROOM_MAY_LINK_server/mesh server/base server/estimate)
 set(SURFMAP_ROOM_MAY_LINK_server/map server/base server/estimate server/mesh)
 set(SURFMAP_ROOM_MAY_LINK_server/plan server/base server/estimate server/mesh server/map)
 set(SURFMAP_ROOM_MAY_LINK_server/codec server/base server/estimate proto)
