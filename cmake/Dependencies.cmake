@@ -11,7 +11,7 @@ find_package(tinyobjloader CONFIG REQUIRED)
 find_package(meshoptimizer CONFIG REQUIRED)
 find_package(Protobuf REQUIRED)
 find_package(gRPC CONFIG REQUIRED)
-# glTF export of maps (clients/haptics): Debian's libtinygltf-dev ships it as a shared library.
+# glTF export of maps (server/haptics): Debian's libtinygltf-dev ships it as a shared library.
 find_package(TinyGLTF CONFIG REQUIRED)
 
 # Debian's OpenSubdiv CMake config references libosdCPU.a, which the package does

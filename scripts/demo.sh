@@ -55,8 +55,8 @@ BUILD_DIR=${SURFMAP_BUILD_DIR:-build}
 OUT=out/demo
 SURFMAPD=$BUILD_DIR/server/service/surfmapd
 SURFMAP=$BUILD_DIR/clients/cli/surfmap
-RIG=$BUILD_DIR/clients/rig_client/surfmap-rig
-MESH=clients/scenes/bottle.obj
+RIG=$BUILD_DIR/clients/rig/surfmap-rig
+MESH=clients/sim/scenes/bottle.obj
 
 SERVER_PID=""
 DASHBOARD_PID=""
@@ -94,7 +94,7 @@ START=$(date +%s%N)
 mkdir -p "$OUT"
 rm -f "$OUT"/surfmap.db "$OUT"/surfmap.db-wal "$OUT"/surfmap.db-shm "$OUT"/port \
       "$OUT"/bottle_map.* "$OUT"/bottle_score.json "$OUT"/*.log
-[ -f "$MESH" ] || { echo "demo: $MESH is missing (surfmap-write-scene-meshes clients/scenes writes it)" >&2; exit 1; }
+[ -f "$MESH" ] || { echo "demo: $MESH is missing (surfmap-write-scene-meshes clients/sim/scenes writes it)" >&2; exit 1; }
 
 "$SURFMAPD" --listen 127.0.0.1:0 --db "$OUT/surfmap.db" --port-file "$OUT/port" --log-format text \
   >"$OUT/surfmapd.log" 2>&1 &

@@ -8,7 +8,7 @@ PACKAGES=(
   libgrpc++-dev protobuf-compiler-grpc libprotobuf-dev protobuf-compiler
   libeigen3-dev libosd-dev libsqlite3-dev sqlite3
   libcli11-dev nlohmann-json3-dev libspdlog-dev libfmt-dev libtinyobjloader-dev libstb-dev libmeshoptimizer-dev
-  # glTF export of maps (clients/haptics)
+  # glTF export of maps (server/haptics)
   libtinygltf-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   # TLS: libssl-dev for the server's constant-time token check (CRYPTO_memcmp,

@@ -8,8 +8,8 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "clients/cli/import_command.h"
-#include "clients/cli/progress_line.h"
 #include "clients/cli/provenance_options.h"
+#include "clients/remote/progress_line.h"
 #include "clients/cli/number_text.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 

@@ -2,7 +2,7 @@
 
 #include <cstdlib>
 
-#include "clients/cli/proto_json.h"
+#include "clients/remote/proto_json.h"
 
 namespace surfmap::cli {
 

@@ -12,7 +12,7 @@
 #include <CLI/CLI.hpp>
 #include <google/protobuf/message.h>
 #include <grpcpp/grpcpp.h>
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 
 namespace surfmap::cli {
 

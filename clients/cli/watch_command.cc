@@ -3,7 +3,7 @@
 #include <cstdio>
 
 #include "absl/strings/str_format.h"
-#include "clients/cli/progress_line.h"
+#include "clients/remote/progress_line.h"
 #include "clients/cli/number_text.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 

@@ -24,23 +24,20 @@ std::string RunLabel(const MappingRunResult& run) {
   const MappingRunOptions& o = run.options;
   std::string levels;
   switch (o.mode) {
-    case SamplingMode::kBoundary:
+    case PlanMode::kBoundary:
       levels = o.sample_budget > 0 ? absl::StrFormat(" n<=%d", o.sample_budget) : "";
       break;
-    case SamplingMode::kAdaptive:
+    case PlanMode::kAdaptive:
       levels = absl::StrFormat(" L%d-%d t=%g", o.coarsest_level, o.finest_level, o.threshold);
       break;
-    case SamplingMode::kUncertainty:
+    case PlanMode::kUncertainty:
       levels = absl::StrFormat(" n<=%d", o.sample_budget);
       break;
-    case SamplingMode::kUniformLevel:
-      levels = absl::StrFormat(" L%d", o.coarsest_level);
-      break;
-    case SamplingMode::kUniformSpread:
-      levels = absl::StrFormat(" n=%d", o.sample_budget);
+    case PlanMode::kUniform:
+      levels = o.uniform_spread ? absl::StrFormat(" n=%d", o.sample_budget) : absl::StrFormat(" L%d", o.coarsest_level);
       break;
   }
-  return absl::StrCat(std::string(SamplingModeName(o.mode)), levels, "/", std::string(MapKindName(o.map)));
+  return absl::StrCat(std::string(RunModeName(o)), levels, "/", std::string(MapKindName(o.map)));
 }
 
 std::string FormatRunTable(const std::string& scene, int control_vertices, const std::vector<MappingRunResult>& runs) {
@@ -84,7 +81,7 @@ nlohmann::json RunToJson(const MappingRunResult& run) {
     probes.push_back(std::move(j));
   }
   return {{"run", RunLabel(run)},
-          {"mode", SamplingModeName(o.mode)},
+          {"mode", RunModeName(o)},
           {"map", MapKindName(o.map)},
           {"coarsest_level", o.coarsest_level},
           {"finest_level", o.finest_level},

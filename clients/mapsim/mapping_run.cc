@@ -14,6 +14,7 @@
 #include "server/map/region_map.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
+#include "server/plan/plan_request.h"
 #include "server/plan/sampling_plan.h"
 #include "server/plan/site_order.h"
 
@@ -63,33 +64,21 @@ ProbeRecord MeasureSite(const SimulatedRig& rig, const MappingRunOptions& option
   return record;
 }
 
-PlanMode PlanModeOf(SamplingMode mode) {
-  switch (mode) {
-    case SamplingMode::kBoundary:
-      return PlanMode::kBoundary;
-    case SamplingMode::kAdaptive:
-      return PlanMode::kAdaptive;
-    case SamplingMode::kUncertainty:
-      return PlanMode::kUncertainty;
-    case SamplingMode::kUniformLevel:
-    case SamplingMode::kUniformSpread:
-      return PlanMode::kUniform;
-  }
-  return PlanMode::kBoundary;
-}
-
 // Drives the sampling plan to completion with one rig.
 absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options, int finest,
                      MappingRunResult& result, std::vector<MapSample>& samples) {
-  SamplingPlanOptions plan_options;
-  plan_options.mode = PlanModeOf(options.mode);
-  plan_options.coarsest_level = options.coarsest_level;
-  plan_options.max_level = finest;
-  plan_options.threshold = options.threshold;
-  plan_options.distance.property = options.property;
-  plan_options.sample_budget = options.sample_budget;
-  plan_options.seed = options.seed;
-  plan_options.reach = options.reach;
+  // Built as a job's are (server/plan/plan_request.h); retries and the
+  // probe at their defaults, as in the service's default job.
+  PlanRequest request;
+  request.mode = options.mode;
+  request.coarsest_level = options.coarsest_level;
+  request.finest_level = finest;
+  request.threshold = options.threshold;
+  request.property = options.property;
+  request.budget = options.sample_budget;
+  request.seed = options.seed;
+  request.reach = options.reach;
+  const SamplingPlanOptions plan_options = PlanOptionsFor(request);
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
@@ -109,7 +98,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
     if (!record.measured) {
       status = plan->RecordFailure(command->sequence, record.error,
                                    record.unreachable ? FailureKind::kUnreachable : FailureKind::kTransient);
-    } else if (options.mode == SamplingMode::kBoundary) {
+    } else if (options.mode == PlanMode::kBoundary) {
       status = plan->RecordLineSample(command->sequence, record.line);
     } else {
       status = plan->RecordFit(command->sequence, record.fit);  // one value per site, as before line samples
@@ -146,7 +135,7 @@ std::vector<int> SpreadVertices(const SurfaceLevel& level, int count, std::uint6
   return chosen;
 }
 
-// kUniformSpread: no plan; each chosen vertex is probed up to three times.
+// uniform_spread: no plan; each chosen vertex is probed up to three times.
 void RunSpread(const MappingBench& bench, const MappingRunOptions& options, int finest, MappingRunResult& result,
                std::vector<MapSample>& samples) {
   const SurfaceLevel& level = bench.level(finest);
@@ -183,20 +172,8 @@ MapReading ReadingOf(const MapValue& value) {
 
 }  // namespace
 
-std::string_view SamplingModeName(SamplingMode mode) {
-  switch (mode) {
-    case SamplingMode::kBoundary:
-      return "boundary";
-    case SamplingMode::kAdaptive:
-      return "adaptive";
-    case SamplingMode::kUncertainty:
-      return "uncertainty";
-    case SamplingMode::kUniformLevel:
-      return "uniform";
-    case SamplingMode::kUniformSpread:
-      return "uniform-spread";
-  }
-  return "boundary";
+std::string_view RunModeName(const MappingRunOptions& options) {
+  return options.uniform_spread ? "uniform-spread" : PlanModeName(options.mode);
 }
 
 std::string_view MapKindName(MapKind kind) { return kind == MapKind::kRegions ? "regions" : "harmonic"; }
@@ -215,8 +192,11 @@ bool MappingRunOptions::IsValid(std::string* why) const {
     return fail(absl::StrCat("coarsest_level must be in 0..finest_level (", finest_level, "), got ", coarsest_level));
   }
   if (sample_budget < 0) return fail(absl::StrCat("sample_budget must be >= 0, got ", sample_budget));
-  if ((mode == SamplingMode::kUncertainty || mode == SamplingMode::kUniformSpread) && sample_budget == 0) {
-    return fail(absl::StrCat(std::string(SamplingModeName(mode)), " mode needs a sample_budget > 0"));
+  if (uniform_spread && mode != PlanMode::kUniform) {
+    return fail(absl::StrCat("uniform_spread is a uniform design; mode is ", std::string(PlanModeName(mode))));
+  }
+  if ((mode == PlanMode::kUncertainty || uniform_spread) && sample_budget == 0) {
+    return fail(absl::StrCat(std::string(RunModeName(*this)), " mode needs a sample_budget > 0"));
   }
   if (std::string inner; !reach.IsValid(&inner)) return fail(absl::StrCat("reach: ", inner));
   if (std::string fit_why; !fit.IsValid(&fit_why)) return fail(absl::StrCat("fit: ", fit_why));
@@ -258,7 +238,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
   MappingRunResult result;
   result.options = options;
   std::vector<MapSample> samples;
-  if (options.mode == SamplingMode::kUniformSpread) {
+  if (options.uniform_spread) {
     RunSpread(bench, options, finest, result, samples);
   } else if (absl::Status status = RunPlan(bench, options, finest, result, samples); !status.ok()) {
     return status;

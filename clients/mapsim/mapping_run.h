@@ -2,7 +2,7 @@
 // probe commands, the simulated rig executes them on the scene, FitTrace fits
 // each trace, the fit goes back to the plan, until the plan is complete; then
 // the map is built from the measured drags and scored on the scene's true
-// surface (clients/rig/surface_score.h).
+// surface (clients/sim/rig/surface_score.h).
 //
 // The rig is seeded per site and drag direction (command id = f(vertex,
 // attempt)), not per command sequence, so the same drag gives the same trace
@@ -18,29 +18,17 @@
 
 #include <Eigen/Core>
 #include "absl/status/statusor.h"
-#include "clients/rig/scene.h"
-#include "clients/rig/simulated_rig.h"
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/scene.h"
+#include "clients/sim/rig/simulated_rig.h"
+#include "clients/sim/rig/surface_score.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"
 #include "server/plan/reachability.h"
+#include "server/plan/sampling_plan_options.h"
 
 namespace surfmap::mapsim {
 
-enum class SamplingMode {
-  kBoundary,       // PlanMode::kBoundary: goes looking for boundaries (the default job)
-  kAdaptive,       // the paper's threshold rule (PlanMode::kAdaptive)
-  kUncertainty,    // PlanMode::kUncertainty with a sample budget
-  kUniformLevel,   // PlanMode::kUniform: every vertex of coarsest_level
-  // `sample_budget` vertices of the map's level spread by farthest-point
-  // sampling (Euclidean, from a seeded random first vertex), dragged in
-  // orientations varied as the boundary plan's first drags are: a uniform
-  // design at any sample count, for comparisons at equal counts.
-  kUniformSpread,
-};
-// "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"
-std::string_view SamplingModeName(SamplingMode mode);
 
 enum class MapKind {
   kRegions,   // RegionMap from every drag's pieces on the bench's map level
@@ -49,7 +37,15 @@ enum class MapKind {
 std::string_view MapKindName(MapKind kind);  // "regions", "harmonic"
 
 struct MappingRunOptions {
-  SamplingMode mode = SamplingMode::kBoundary;
+  // The sampling mode is the plan's own (server/plan PlanMode; the service
+  // maps the API's SamplingMode to it), so a run plans as a job would.
+  PlanMode mode = PlanMode::kBoundary;
+  // With kUniform: no plan; `sample_budget` vertices of the map's level
+  // spread by farthest-point sampling (Euclidean, from a seeded random first
+  // vertex), dragged in orientations varied as the boundary plan's first
+  // drags are: a uniform design at any sample count, for comparisons at
+  // equal counts.
+  bool uniform_spread = false;
   MapKind map = MapKind::kRegions;
   int coarsest_level = 0;
   // The plan's max level (and the harmonic map's level; the boundary plan's
@@ -66,6 +62,8 @@ struct MappingRunOptions {
 
   bool IsValid(std::string* why) const;
 };
+// PlanModeName(mode), or "uniform-spread".
+std::string_view RunModeName(const MappingRunOptions& options);
 
 // One probe as executed: where, and the path the rig dragged.
 struct ProbeRecord {

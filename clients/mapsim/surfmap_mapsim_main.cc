@@ -23,7 +23,7 @@
 #include "absl/strings/str_format.h"
 #include "clients/mapsim/mapping_report.h"
 #include "clients/mapsim/mapping_run.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "surfmap_version.h"
 
 namespace surfmap::mapsim {
@@ -64,7 +64,7 @@ int Main(int argc, char** argv) {
   std::string png, ply, json_path;
   int rig_level = 3;
   bool details = false;
-  app.add_option("--scene", scenes, "scene names (clients/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
+  app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
       ->capture_default_str();
@@ -96,9 +96,7 @@ int Main(int argc, char** argv) {
   base.sample_budget = budget;
   base.seed = seed;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
-  base.property = property == "roughness" ? TextureProperty::kRoughness
-                  : property == "both"    ? TextureProperty::kBoth
-                                          : TextureProperty::kFriction;
+  base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;
   score_options.points = points;
 
@@ -122,7 +120,7 @@ int Main(int argc, char** argv) {
       absl::StatusOr<MappingRunResult> result = RunMapping(**bench, options);
       if (!result.ok()) {
         std::fprintf(stderr, "error: %s: %s run: %s\n", scene_name.c_str(),
-                     std::string(SamplingModeName(options.mode)).c_str(), std::string(result.status().message()).c_str());
+                     std::string(RunModeName(options)).c_str(), std::string(result.status().message()).c_str());
         return false;
       }
       runs.push_back(*std::move(result));
@@ -130,14 +128,14 @@ int Main(int argc, char** argv) {
     };
     if (mode == "evidence") {
       MappingRunOptions job = base;  // the default job: only the mode is given
-      job.mode = SamplingMode::kBoundary;
+      job.mode = PlanMode::kBoundary;
       job.map = MapKind::kRegions;
       job.coarsest_level = 0;
       job.finest_level = -1;
       job.sample_budget = 0;
       if (!run(job)) return 1;
       MappingRunOptions before = base;  // the demo's job on the build before line samples
-      before.mode = SamplingMode::kAdaptive;
+      before.mode = PlanMode::kAdaptive;
       before.map = MapKind::kHarmonic;
       before.coarsest_level = 0;
       before.finest_level = 1;
@@ -145,7 +143,8 @@ int Main(int argc, char** argv) {
       before.sample_budget = 0;
       if (!run(before)) return 1;
       MappingRunOptions uniform = base;
-      uniform.mode = SamplingMode::kUniformSpread;
+      uniform.mode = PlanMode::kUniform;
+      uniform.uniform_spread = true;
       uniform.finest_level = -1;
       uniform.sample_budget = runs.front().measured();
       uniform.map = MapKind::kRegions;
@@ -154,11 +153,9 @@ int Main(int argc, char** argv) {
       if (!run(uniform)) return 1;
     } else {
       MappingRunOptions options = base;
-      options.mode = mode == "boundary"      ? SamplingMode::kBoundary
-                     : mode == "adaptive"    ? SamplingMode::kAdaptive
-                     : mode == "uncertainty" ? SamplingMode::kUncertainty
-                     : mode == "uniform"     ? SamplingMode::kUniformLevel
-                                             : SamplingMode::kUniformSpread;
+      // CLI11 checked the name: a plan mode's, or "uniform-spread".
+      options.uniform_spread = mode == "uniform-spread";
+      options.mode = options.uniform_spread ? PlanMode::kUniform : ParsePlanMode(mode).value_or(PlanMode::kBoundary);
       if (!run(options)) return 1;
     }
     const std::string rows = FormatRunTable(scene_name, (*bench)->control_vertices(), runs);

@@ -1,8 +1,8 @@
 #include "server/codec/fit_json.h"
 
 #include <gtest/gtest.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 
 namespace surfmap {
 namespace {

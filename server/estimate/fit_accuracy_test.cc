@@ -20,8 +20,8 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include "server/base/testing/status_matchers.h"
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/estimate/fit_trace.h"
 
 namespace surfmap {

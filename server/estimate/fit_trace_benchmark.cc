@@ -3,8 +3,8 @@
 #include <string>
 
 #include <benchmark/benchmark.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/trace_csv.h"
 

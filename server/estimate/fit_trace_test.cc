@@ -6,8 +6,8 @@
 #include <string>
 
 #include <gtest/gtest.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/base/testing/status_matchers.h"
 #include "server/estimate/trace_csv.h"
 

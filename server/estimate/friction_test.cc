@@ -6,8 +6,8 @@
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/estimate/fit_trace.h"
 
 namespace surfmap {

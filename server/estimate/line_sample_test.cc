@@ -3,8 +3,8 @@
 #include <cmath>
 
 #include <gtest/gtest.h>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 
 namespace surfmap {
 namespace {

@@ -7,6 +7,25 @@
 #include "absl/strings/str_cat.h"
 
 namespace surfmap {
+
+std::string_view TexturePropertyName(TextureProperty property) {
+  switch (property) {
+    case TextureProperty::kFriction:
+      return "friction";
+    case TextureProperty::kRoughness:
+      return "roughness";
+    case TextureProperty::kBoth:
+      return "both";
+  }
+  return "both";  // unreachable: every enumerator is named above
+}
+
+std::optional<TextureProperty> ParseTextureProperty(std::string_view name) {
+  for (TextureProperty p : {TextureProperty::kFriction, TextureProperty::kRoughness, TextureProperty::kBoth}) {
+    if (TexturePropertyName(p) == name) return p;
+  }
+  return std::nullopt;
+}
 namespace {
 
 bool IsPositiveScale(double scale) { return std::isfinite(scale) && scale > 0.0; }

@@ -2,7 +2,9 @@
 // the sampling planner to decide where to refine.
 #pragma once
 
+#include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace surfmap {
@@ -16,6 +18,11 @@ struct TextureParams {
 };
 
 enum class TextureProperty { kFriction, kRoughness, kBoth };
+// "friction", "roughness", "both": the one spelling of a property in stored
+// JSON (job parameters, plan state) and on command lines.
+std::string_view TexturePropertyName(TextureProperty property);
+// The inverse; nullopt for any other text (the caller names the field).
+std::optional<TextureProperty> ParseTextureProperty(std::string_view name);
 
 struct TextureDistanceOptions {
   TextureProperty property = TextureProperty::kBoth;

@@ -144,5 +144,18 @@ TEST(TextureDistanceTest, SeparatesPaperMaterialsButNotRefitsOfOne) {
   EXPECT_GT(different, 3.0);  // k2: -0.73 vs 0.25 alone gives 3.3
 }
 
+// One spelling for stored JSON and command lines: every property round-trips,
+// anything else is refused (no silent fallback to a default property).
+TEST(TexturePropertyNameTest, RoundTripsAndRefusesUnknownNames) {
+  for (TextureProperty p : {TextureProperty::kFriction, TextureProperty::kRoughness, TextureProperty::kBoth}) {
+    ASSERT_TRUE(ParseTextureProperty(TexturePropertyName(p)).has_value());
+    EXPECT_EQ(*ParseTextureProperty(TexturePropertyName(p)), p);
+  }
+  EXPECT_EQ(TexturePropertyName(TextureProperty::kFriction), "friction");
+  EXPECT_FALSE(ParseTextureProperty("?").has_value());
+  EXPECT_FALSE(ParseTextureProperty("Friction").has_value());
+  EXPECT_FALSE(ParseTextureProperty("").has_value());
+}
+
 }  // namespace
 }  // namespace surfmap

@@ -13,7 +13,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "gtest/gtest.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/jobs/job_coordinator.h"
 #include "server/mesh/primitive_meshes.h"
 #include "storage/sqlite_store.h"

@@ -8,7 +8,7 @@
 
 #include "gtest/gtest.h"
 #include "server/base/testing/status_matchers.h"
-#include "server/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/drag_simulator.h"
 #include "server/estimate/fit_trace.h"
 #include "server/jobs/trace_plausibility.h"
 #include "server/mesh/primitive_meshes.h"

@@ -11,16 +11,6 @@
 namespace surfmap {
 namespace {
 
-const char* PropertyName(TextureProperty p) {
-  switch (p) {
-    case TextureProperty::kFriction: return "friction";
-    case TextureProperty::kRoughness: return "roughness";
-    case TextureProperty::kBoth: return "both";
-  }
-  return "?";
-}
-
-
 // Field name, accessor: one list for both directions of the JSON form.
 template <typename Limits, typename Visit>
 void ForEachLimit(Limits& l, Visit visit) {
@@ -86,20 +76,20 @@ bool JobParams::IsValid(std::string* why) const {
   return true;
 }
 
-SamplingPlanOptions PlanOptionsFor(const JobParams& p) {
-  SamplingPlanOptions o;
-  o.mode = p.mode;
-  o.coarsest_level = p.coarsest_level;
-  o.max_level = p.finest_level;
-  o.threshold = p.threshold;
-  o.distance.property = p.property;
-  o.sample_budget = p.budget;
-  o.max_retries = p.max_retries;
-  o.probe = p.probe;
-  o.seed = p.seed;
-  o.reach = p.reach;
-  return o;
+PlanRequest PlanRequestOf(const JobParams& p) {
+  return {.mode = p.mode,
+          .coarsest_level = p.coarsest_level,
+          .finest_level = p.finest_level,
+          .threshold = p.threshold,
+          .property = p.property,
+          .budget = p.budget,
+          .max_retries = p.max_retries,
+          .probe = p.probe,
+          .seed = p.seed,
+          .reach = p.reach};
 }
+
+SamplingPlanOptions PlanOptionsFor(const JobParams& p) { return PlanOptionsFor(PlanRequestOf(p)); }
 
 void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
   // The median edge of level 0 (limit positions: within a fraction of an
@@ -123,7 +113,7 @@ std::vector<const SurfaceLevel*> JobPlanLevels(const LoopSurface& surface, const
 
 nlohmann::json JobParamsToJson(const JobParams& p) {
   return {{"object_id", p.object_id},
-          {"property", PropertyName(p.property)},
+          {"property", TexturePropertyName(p.property)},
           {"mode", std::string(PlanModeName(p.mode))},
           {"coarsest_level", p.coarsest_level},
           {"finest_level", p.finest_level},
@@ -148,9 +138,8 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
   try {
     p.object_id = j.at("object_id").get<int64_t>();
     const std::string property = j.at("property").get<std::string>();
-    if (property == "friction") p.property = TextureProperty::kFriction;
-    else if (property == "roughness") p.property = TextureProperty::kRoughness;
-    else if (property == "both") p.property = TextureProperty::kBoth;
+    std::optional<TextureProperty> parsed_property = ParseTextureProperty(property);
+    if (parsed_property) p.property = *parsed_property;
     else return absl::InvalidArgumentError(absl::StrCat("job params: unknown property '", property, "'"));
     const std::string mode = j.at("mode").get<std::string>();
     std::optional<PlanMode> parsed_mode = ParsePlanMode(mode);

@@ -10,6 +10,7 @@
 #include "absl/status/statusor.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/texture.h"
+#include "server/plan/plan_request.h"
 #include "server/plan/probe_command.h"
 #include "server/jobs/trace_plausibility.h"
 #include "server/plan/reachability.h"
@@ -66,7 +67,9 @@ std::vector<const SurfaceLevel*> JobPlanLevels(const LoopSurface& surface, const
 nlohmann::json JobParamsToJson(const JobParams& params);
 nlohmann::json TraceLimitsToJson(const TraceLimits& limits);
 absl::StatusOr<TraceLimits> TraceLimitsFromJson(const nlohmann::json& json);
-// The sampling plan's options for these job parameters.
+// What the job asks of its plan, and the plan's options for it (through
+// server/plan's PlanOptionsFor(PlanRequest), as surfmap-mapsim's runs).
+PlanRequest PlanRequestOf(const JobParams& params);
 SamplingPlanOptions PlanOptionsFor(const JobParams& params);
 absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& json);
 

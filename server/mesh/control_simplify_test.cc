@@ -61,7 +61,7 @@ TEST(ControlSimplify, CoarseMeshIsUsedAsIs) {
 TEST(ControlSimplify, BundledSceneMeshesAreKeptAtTheDefaultSpacing) {
   for (const char* name : {"banded_vase", "bottle", "dotted_egg", "plate", "strip_block", "torus_handle"}) {
     SCOPED_TRACE(name);
-    std::ifstream in(std::string(SURFMAP_SOURCE_DIR) + "/clients/scenes/" + name + ".obj");
+    std::ifstream in(std::string(SURFMAP_SOURCE_DIR) + "/clients/sim/scenes/" + name + ".obj");
     ASSERT_TRUE(in);
     std::ostringstream bytes;
     bytes << in.rdbuf();

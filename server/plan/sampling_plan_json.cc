@@ -31,18 +31,6 @@ using nlohmann::json;
 constexpr char kFormat[] = "surfmap.sampling_plan";
 constexpr int kVersion = 2;
 
-std::string_view PropertyName(TextureProperty p) {
-  switch (p) {
-    case TextureProperty::kFriction:
-      return "friction";
-    case TextureProperty::kRoughness:
-      return "roughness";
-    case TextureProperty::kBoth:
-      return "both";
-  }
-  return "both";
-}
-
 std::string_view WeightsName(LaplacianWeights w) {
   switch (w) {
     case LaplacianWeights::kCotangent:
@@ -141,7 +129,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"max_level", o.max_level},
       {"threshold", o.threshold},
       {"distance",
-       {{"property", PropertyName(o.distance.property)},
+       {{"property", TexturePropertyName(o.distance.property)},
         {"mu_scale", o.distance.mu_scale},
         {"reflection_scale", o.distance.reflection_scale},
         {"log_sigma_scale", o.distance.log_sigma_scale}}},
@@ -149,7 +137,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"max_retries", o.max_retries},
       {"probe",
        {{"segment_length_mm", o.probe.segment_length_mm},
-        {"speed_mm_per_s", o.probe.speed_mm_per_s},
+        {"speed_mm_s", o.probe.speed_mm_per_s},
         {"normal_force_n", o.probe.normal_force_n}}},
       {"seed", o.seed},
       {"gradient_weight", o.gradient_weight},
@@ -186,11 +174,11 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.threshold = in.Double(j, "options", "threshold");
   if (const json* d = in.Field(j, "options", "distance")) {
     const std::string property = in.String(*d, "options.distance", "property");
-    bool known = false;
-    for (auto p : {TextureProperty::kFriction, TextureProperty::kRoughness, TextureProperty::kBoth}) {
-      if (PropertyName(p) == property) o.distance.property = p, known = true;
+    if (std::optional<TextureProperty> p = ParseTextureProperty(property)) {
+      o.distance.property = *p;
+    } else {
+      in.Fail(absl::StrCat("options.distance.property \"", property, "\" is not friction, roughness or both"));
     }
-    if (!known) in.Fail(absl::StrCat("options.distance.property \"", property, "\" is not friction, roughness or both"));
     o.distance.mu_scale = in.Double(*d, "options.distance", "mu_scale");
     o.distance.reflection_scale = in.Double(*d, "options.distance", "reflection_scale");
     o.distance.log_sigma_scale = in.Double(*d, "options.distance", "log_sigma_scale");
@@ -199,7 +187,11 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.max_retries = static_cast<int>(in.Int(j, "options", "max_retries"));
   if (const json* p = in.Field(j, "options", "probe")) {
     o.probe.segment_length_mm = in.Double(*p, "options.probe", "segment_length_mm");
-    o.probe.speed_mm_per_s = in.Double(*p, "options.probe", "speed_mm_per_s");
+    // "speed_mm_s" as in the job parameters and probe commands; plans saved
+    // before the names were one (databases written until 2026-11) say
+    // "speed_mm_per_s", and still load.
+    const bool old_key = !p->contains("speed_mm_s") && p->contains("speed_mm_per_s");
+    o.probe.speed_mm_per_s = in.Double(*p, "options.probe", old_key ? "speed_mm_per_s" : "speed_mm_s");
     o.probe.normal_force_n = in.Double(*p, "options.probe", "normal_force_n");
   }
   o.seed = in.Unsigned(j, "options", "seed");

@@ -89,6 +89,33 @@ TEST(SaveRestoreTest, KeepsFailuresRetriesAndCancellation) {
   EXPECT_TRUE(restored->IsComplete());
 }
 
+// The stored speed key is "speed_mm_s" (as in job parameters and probe
+// commands); plans saved under the old "speed_mm_per_s" still restore.
+TEST(SaveRestoreTest, ReadsTheProbeSpeedUnderTheCurrentAndTheOldKey) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);
+  o.max_level = 1;
+  o.probe.speed_mm_per_s = 7.5;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
+  ASSERT_TRUE(saved["options"]["probe"].contains("speed_mm_s"));
+  EXPECT_FALSE(saved["options"]["probe"].contains("speed_mm_per_s"));
+
+  nlohmann::json old = saved;
+  old["options"]["probe"].erase("speed_mm_s");
+  old["options"]["probe"]["speed_mm_per_s"] = 7.5;
+  auto restored = SamplingPlan::Restore(old.dump(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(restored->SaveJson(), saved.dump());  // written back under the current key
+
+  old["options"]["probe"].erase("speed_mm_per_s");
+  auto missing = SamplingPlan::Restore(old.dump(), Pointers(levels));
+  ASSERT_FALSE(missing.ok());
+  EXPECT_NE(missing.status().message().find("options.probe.speed_mm_s is missing"), std::string::npos)
+      << missing.status();
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

@@ -3,7 +3,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
-#include "clients/haptics/export/simulate_drag_proto.h"
+#include "server/haptics/export/simulate_drag_proto.h"
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"

@@ -28,7 +28,7 @@
 #include "absl/strings/str_format.h"
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_split.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "server/mesh/control_mesh.h"
 #include "tests/bench/bench_stats.h"
 #include "tests/bench/steering_load.h"

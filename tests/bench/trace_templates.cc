@@ -1,9 +1,9 @@
 #include "tests/bench/trace_templates.h"
 
 #include <Eigen/Geometry>
-#include "server/dragsim/drag_geometry.h"
-#include "server/dragsim/drag_simulator.h"
-#include "server/dragsim/material.h"
+#include "clients/sim/dragsim/drag_geometry.h"
+#include "clients/sim/dragsim/drag_simulator.h"
+#include "clients/sim/dragsim/material.h"
 
 namespace surfmap::bench {
 

@@ -14,7 +14,7 @@
 #include <string>
 
 #include <mutex>
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/simulated_rig.h"
 #include "tests/chaos/chaos_ledger.h"
 #include "tests/support/surfmap_client.h"
 

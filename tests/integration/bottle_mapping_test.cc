@@ -11,7 +11,7 @@
 #include <thread>
 
 #include "absl/strings/str_format.h"
-#include "clients/rig/scene_truth.h"
+#include "clients/sim/rig/scene_truth.h"
 #include "gtest/gtest.h"
 #include "tests/support/job_helpers.h"
 #include "tests/support/rig_fleet.h"

@@ -24,7 +24,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_join.h"
 #include "absl/strings/str_split.h"
-#include "clients/cli/remote_call.h"
+#include "clients/remote/remote_call.h"
 #include "gtest/gtest.h"
 #include "tests/support/db_snapshot.h"
 #include "tests/support/job_helpers.h"

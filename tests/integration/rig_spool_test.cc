@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
-#include "clients/rig_client/trace_spool.h"
+#include "clients/rig/trace_spool.h"
 #include "gtest/gtest.h"
 #include "server/codec/trace_samples_proto.h"
 #include "tests/support/child_process.h"

@@ -13,7 +13,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_replace.h"
-#include "clients/rig/surface_score.h"
+#include "clients/sim/rig/surface_score.h"
 #include "gtest/gtest.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/mesh/primitive_meshes.h"

@@ -35,7 +35,7 @@ constexpr double kModelFrictionTolerance = 0.02;
 // The map against the plate's true masonite (mu 0.25): the acceptance band of
 // the map-quality scores (docs/method.md), a measured estimate.
 constexpr double kTruthFrictionTolerance = 0.03;
-constexpr double kMasoniteMu = 0.25;  // clients/scenes/plate.json
+constexpr double kMasoniteMu = 0.25;  // clients/sim/scenes/plate.json
 
 absl::StatusOr<pb::SimulateDragResponse> SimulateDrag(Stubs& stubs, const pb::SimulateDragRequest& request) {
   pb::SimulateDragResponse response;

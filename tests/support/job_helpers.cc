@@ -4,7 +4,7 @@
 
 #include "server/codec/trace_samples_proto.h"
 #include "absl/strings/str_cat.h"
-#include "clients/rig/scene.h"
+#include "clients/sim/rig/scene.h"
 #include "server/mesh/control_mesh.h"
 
 namespace surfmap::itest {

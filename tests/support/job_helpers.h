@@ -10,7 +10,7 @@
 #include <string>
 
 #include "absl/status/statusor.h"
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/simulated_rig.h"
 #include "tests/support/server_process.h"
 #include "tests/support/surfmap_client.h"
 

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include <grpcpp/channel.h>
-#include "clients/rig/simulated_rig.h"
+#include "clients/sim/rig/simulated_rig.h"
 #include "tests/support/surfmap_client.h"
 
 namespace surfmap::itest {

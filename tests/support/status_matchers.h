@@ -1,25 +1,23 @@
-// gtest helpers for absl and gRPC statuses: failures print the status text.
+// gtest helpers for absl and gRPC statuses in the integration tests:
+// failures print the status text. The absl forms are shorthands for the one
+// set of status matchers (server/base/testing/status_matchers.h: IsOk,
+// StatusIs), not a second implementation; the gRPC forms print
+// grpc::Status the way the harness describes it.
 #pragma once
 
+#include <utility>
+
 #include "gtest/gtest.h"
+#include "server/base/testing/status_matchers.h"
 #include "tests/support/surfmap_client.h"
 
-#define ITEST_ASSERT_OK(expr)                                        \
-  do {                                                               \
-    const auto& _itest_status = (expr);                              \
-    ASSERT_TRUE(_itest_status.ok()) << #expr << ": " << _itest_status; \
-  } while (0)
-
-#define ITEST_EXPECT_OK(expr)                                        \
-  do {                                                               \
-    const auto& _itest_status = (expr);                              \
-    EXPECT_TRUE(_itest_status.ok()) << #expr << ": " << _itest_status; \
-  } while (0)
+#define ITEST_ASSERT_OK(expr) ASSERT_THAT((expr), ::surfmap::status_matchers::IsOk()) << #expr
+#define ITEST_EXPECT_OK(expr) EXPECT_THAT((expr), ::surfmap::status_matchers::IsOk()) << #expr
 
 // For absl::StatusOr<T>: assigns the value or fails the test.
-#define ITEST_ASSERT_OK_AND_ASSIGN(lhs, expr)                                   \
-  auto lhs##_or = (expr);                                                       \
-  ASSERT_TRUE(lhs##_or.ok()) << #expr << ": " << lhs##_or.status();             \
+#define ITEST_ASSERT_OK_AND_ASSIGN(lhs, expr)                                \
+  auto lhs##_or = (expr);                                                    \
+  ASSERT_THAT(lhs##_or, ::surfmap::status_matchers::IsOk()) << #expr;        \
   auto lhs = std::move(*lhs##_or)
 
 #define GRPC_ASSERT_OK(expr)                                                     \

@@ -6,8 +6,8 @@
 #include <sstream>
 
 #include "absl/strings/str_cat.h"
-#include "clients/cli/remote_call.h"
-#include "clients/rig_client/probe_conversion.h"
+#include "clients/remote/remote_call.h"
+#include "clients/rig/probe_conversion.h"
 
 #ifndef SURFMAP_SOURCE_DIR
 #define SURFMAP_SOURCE_DIR "."

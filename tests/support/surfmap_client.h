@@ -10,7 +10,7 @@
 #include <grpcpp/channel.h>
 #include <grpcpp/client_context.h>
 #include "absl/status/statusor.h"
-#include "clients/rig/rig_driver.h"
+#include "clients/sim/rig/rig_driver.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 #include "server/estimate/drag_trace.h"
 

@@ -26,7 +26,7 @@
 //
 // Environment (CTest sets them; a missing binary or browser FAILS the test):
 //   SURFMAPD, SURFMAP_CLI, SURFMAP_RIG   paths of the binaries
-//   SURFMAP_SCENES_DIR                   folder with bottle.obj (default clients/scenes)
+//   SURFMAP_SCENES_DIR                   folder with bottle.obj (default clients/sim/scenes)
 //   SURFMAP_TEST_OUTPUT                  where dashboard.png goes (default: the temp dir, printed)
 //   CHROMIUM                             browser executable (default /usr/bin/chromium)
 // Prints one "ok"/"not ok" line per check and closes with "N passed, M failed".
@@ -196,9 +196,9 @@ function canvasSummaryInPage(background) {
 async function main() {
   const surfmapd = requiredFile('SURFMAPD', path.join(repoRoot, 'build/server/service/surfmapd'), 'surfmapd');
   const surfmap = requiredFile('SURFMAP_CLI', path.join(repoRoot, 'build/clients/cli/surfmap'), 'the surfmap CLI');
-  const rig = requiredFile('SURFMAP_RIG', path.join(repoRoot, 'build/clients/rig_client/surfmap-rig'), 'surfmap-rig');
+  const rig = requiredFile('SURFMAP_RIG', path.join(repoRoot, 'build/clients/rig/surfmap-rig'), 'surfmap-rig');
   const chromiumPath = requiredFile('CHROMIUM', '/usr/bin/chromium', 'Chromium (Debian package chromium)');
-  const scenes = process.env.SURFMAP_SCENES_DIR || path.join(repoRoot, 'clients/scenes');
+  const scenes = process.env.SURFMAP_SCENES_DIR || path.join(repoRoot, 'clients/sim/scenes');
   const bottle = path.join(scenes, 'bottle.obj');
   if (!fs.existsSync(bottle)) throw new Error(`scene mesh ${bottle} is missing (set SURFMAP_SCENES_DIR)`);
   let chromium;

@@ -10,10 +10,10 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "absl/strings/str_join.h"
-#include "clients/haptics/model_drag.h"
-#include "clients/haptics/texture_renderer.h"
+#include "server/haptics/model_drag.h"
+#include "server/haptics/texture_renderer.h"
 #include "clients/mapsim/mapping_run.h"
-#include "clients/rig/scene_truth.h"
+#include "clients/sim/rig/scene_truth.h"
 #include "server/estimate/ar_autocorrelation.h"
 #include "server/map/region_map.h"
 

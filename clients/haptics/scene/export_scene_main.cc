@@ -9,9 +9,9 @@
 
 #include <CLI/CLI.hpp>
 #include "clients/haptics/scene/scene_texture_map.h"
-#include "clients/haptics/texture_map_gltf.h"
-#include "clients/haptics/texture_map_ply.h"
-#include "clients/haptics/texture_model_json.h"
+#include "server/haptics/texture_map_gltf.h"
+#include "server/haptics/texture_map_ply.h"
+#include "server/haptics/texture_model_json.h"
 
 namespace {
 
@@ -29,7 +29,7 @@ int main(int argc, char** argv) {
   CLI::App app{"Write a scene's true texture map as PLY, glTF, GLB and texture JSON"};
   std::string scene_name, prefix;
   int level = 2;
-  app.add_option("scene", scene_name, "Scene name (clients/scenes)")->required();
+  app.add_option("scene", scene_name, "Scene name (clients/sim/scenes)")->required();
   app.add_option("out_prefix", prefix, "Output path prefix")->required();
   app.add_option("--level", level, "Loop subdivision level of the mesh")->check(CLI::Range(0, 5))->capture_default_str();
   CLI11_PARSE(app, argc, argv);

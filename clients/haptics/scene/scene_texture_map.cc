@@ -1,6 +1,6 @@
 #include "clients/haptics/scene/scene_texture_map.h"
 
-#include "clients/rig/scene_truth.h"
+#include "clients/sim/rig/scene_truth.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap::haptics {

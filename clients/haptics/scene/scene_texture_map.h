@@ -5,8 +5,8 @@
 // reference the realism bench compares against.
 #pragma once
 
-#include "clients/haptics/texture_map.h"
-#include "clients/rig/scene.h"
+#include "server/haptics/texture_map.h"
+#include "clients/sim/rig/scene.h"
 #include "server/mesh/loop_surface.h"
 
 namespace surfmap::haptics {

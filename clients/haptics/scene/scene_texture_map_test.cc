@@ -3,7 +3,7 @@
 #include <random>
 
 #include <gtest/gtest.h>
-#include "clients/haptics/texture_renderer.h"
+#include "server/haptics/texture_renderer.h"
 
 namespace surfmap::haptics {
 namespace {

@@ -2,7 +2,7 @@
 local one on loopback), and measure a scene with simulated rigs.
 
 Binaries: --surfmapd / --rig, else $SURFMAPD / $SURFMAP_RIG, else PATH.
-Scenes: --scenes, else $SURFMAP_SCENES (first entry), else clients/scenes of
+Scenes: --scenes, else $SURFMAP_SCENES (first entry), else clients/sim/scenes of
 this source tree.
 """
 

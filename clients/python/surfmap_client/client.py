@@ -1,7 +1,7 @@
 """SurfmapClient: every call of the surfmap.v1 API, typed, with a deadline.
 
     client = connect("127.0.0.1:50051", timeout=10.0, token=None)
-    obj = client.upload_object("clients/scenes/bottle.obj")
+    obj = client.upload_object("clients/sim/scenes/bottle.obj")
     job = client.create_job(obj.object_id, finest_level=1, threshold=2.0)
     for update in client.watch_job(job.job_id):   # ends when the job ends
         print(update.job.progress.measured)

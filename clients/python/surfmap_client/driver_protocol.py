@@ -1,5 +1,5 @@
 """The external driver protocol of ``surfmap-rig --driver "CMD ARGS"`` in
-Python, both ways (protocol 1; clients/rig_client/driver_protocol.h and the
+Python, both ways (protocol 1; clients/rig/driver_protocol.h and the
 README's "Connect your robot" are the reference).
 
 - ``serve(measure)``: be a driver program. ``surfmap-rig --driver "python3

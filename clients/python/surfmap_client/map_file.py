@@ -1,6 +1,6 @@
 """A SurfaceMap as the project's map file (``surfmap map get --format json``).
 
-The format ``surfmap.map.v1`` is defined in clients/cli/map_json.h; this writes
+The format ``surfmap.map.v1`` is defined in clients/remote/map_json.h; this writes
 the members its readers use (``surfmap-rig score`` among them): job_id, level,
 vertex_count, per-vertex position/normal/mu/mu_uncertainty/sigma/a1/a2,
 triangles, the samples (site, position, drag direction, segment length, mu,

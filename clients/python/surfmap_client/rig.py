@@ -11,7 +11,7 @@ submit the traces, report what could not be measured.
         summary = sc.run_rig(client, measure, rig_id="arm-1", job_id=3)
         print(summary.format("arm-1"))
 
-The same rules as ``surfmap-rig`` (clients/rig_client/README.md):
+The same rules as ``surfmap-rig`` (clients/rig/README.md):
 
 - Every measured trace is written to the rig's spool (``spool.py``) BEFORE it
   is submitted and deleted only after an OK answer (fresh or

@@ -1,6 +1,6 @@
 """TraceSpool: where a rig keeps every measured trace until the server has
 acknowledged it. The same directory layout, file format and lock as
-``surfmap-rig`` (clients/rig_client/trace_spool.h, spool_file.h), so a C++ and
+``surfmap-rig`` (clients/rig/trace_spool.h, spool_file.h), so a C++ and
 a Python rig with the same rig id find each other's traces::
 
     DIR/<measured_unix_ms>-command-<id>.trace.csv     waiting for an OK answer

@@ -30,7 +30,7 @@ def test_map_arrays_have_the_right_shapes_and_finite_values(client, completed_jo
     np.testing.assert_allclose(surface.positions, mesh.positions, atol=1e-9)
     assert surface.triangles.shape == mesh.triangles.shape
     assert np.all(surface.mu_uncertainty >= 0)
-    # The plate's materials have mu 0.25 .. 0.42 (clients/scenes/plate.json).
+    # The plate's materials have mu 0.25 .. 0.42 (clients/sim/scenes/plate.json).
     assert 0.2 < surface.mu.min() <= surface.mu.max() < 0.5
 
     s = len(surface.samples)

@@ -34,7 +34,7 @@ def test_upload_path_and_ply_bytes_give_the_same_mesh(client, lab):
     assert from_obj.name == "plate-obj"
     assert from_obj.format == "obj"
     assert from_obj.created is not None
-    # plate.obj: 160 triangles (clients/scenes/README.md)
+    # plate.obj: 160 triangles (clients/sim/scenes/README.md)
     assert from_obj.control_face_count == 160
 
     ply = obj_to_ascii_ply(lab.mesh().read_text())
