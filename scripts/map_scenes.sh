@@ -52,7 +52,9 @@ for scene in "${SCENES[@]}"; do
   [ -s "$OUT/$scene.port" ] || { echo "map_scenes: surfmapd did not start (log $OUT/$scene.surfmapd.log)" >&2; exit 1; }
   export SURFMAP_SERVER=127.0.0.1:$(cat "$OUT/$scene.port")
   start=$(date +%s%N)
-  object=$("$SURFMAP" object upload "clients/sim/scenes/$scene.obj" --name "$scene" 2>"$OUT/$scene.upload.txt")
+  # The scene's mesh as its JSON names it (several scenes may share one mesh).
+  mesh=clients/sim/scenes/$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["mesh"])' "clients/sim/scenes/$scene.json")
+  object=$("$SURFMAP" object upload "$mesh" --name "$scene" 2>"$OUT/$scene.upload.txt")
   job=$("$SURFMAP" job create --object "$object" --property friction --seed "$SEED" 2>"$OUT/$scene.job.txt")
   pids=()
   for i in $(seq 1 "$RIGS"); do
@@ -64,7 +66,7 @@ for scene in "${SCENES[@]}"; do
   end=$(date +%s%N)
   "$RIG" score --sim "$scene" --job "$job" --json "$OUT/$scene.score.json" >"$OUT/$scene.score.txt"
   samples=$("$SURFMAP" job show "$job" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["progress"]["measured"])')
-  cvs=$(grep -c '^v ' "clients/sim/scenes/$scene.obj")
+  cvs=$(grep -c '^v ' "$mesh")
   python3 - "$OUT/$scene.score.json" "$scene" "$samples" "$cvs" "$start" "$end" "$CHECK" <<'PY' || FAILED=1
 import json, sys
 s = json.load(open(sys.argv[1]))

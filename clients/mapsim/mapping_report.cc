@@ -74,6 +74,11 @@ nlohmann::json RunToJson(const MappingRunResult& run) {
                           {"roughness", piece.has_roughness()}});
       }
       j["pieces"] = std::move(pieces);
+      // The executed path, so a reader can tell which drags crossed which
+      // feature (pieces' from/to are arc lengths along the window of it).
+      nlohmann::json path = nlohmann::json::array();
+      for (const Eigen::Vector3d& q : p.path) path.push_back({q.x(), q.y(), q.z()});
+      j["path"] = std::move(path);
     } else {
       j["error"] = p.error;
       j["unreachable"] = p.unreachable;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
@@ -57,7 +58,12 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
     }
     absl::StatusOr<std::vector<Eigen::VectorXd>> series =
         ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm);
-    absl::StatusOr<ArFit> roughness = series.ok() ? FitAutoregressive(*series, RoughnessOptions(options, fit.noise_std, piece.mu))
+    ArFitOptions ar = RoughnessOptions(options, fit.noise_std, piece.mu);
+    ar.bias_replicates = options.piece_bias_replicates;
+    // A seed from the piece's own data (deterministic for a trace), so the
+    // pieces pooled into a map do not share one Monte-Carlo error.
+    ar.bias_seed = std::hash<double>{}(piece.mu) ^ (std::hash<double>{}(start) << 1);
+    absl::StatusOr<ArFit> roughness = series.ok() ? FitAutoregressive(*series, ar)
                                                   : absl::StatusOr<ArFit>(series.status());
     if (!roughness.ok()) {
       piece.roughness_state = PieceRoughness::kFitFailed;
@@ -99,6 +105,9 @@ bool FitOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(change_guard_mm) && change_guard_mm >= 0.0)) return fail("change_guard_mm must be >= 0");
   if (!(std::isfinite(path_step_mm) && path_step_mm > 0.0)) return fail("path_step_mm must be > 0");
+  if (piece_bias_replicates < 0 || piece_bias_replicates > 10000) {
+    return fail("piece_bias_replicates must be in 0..10000");
+  }
   return true;
 }
 

@@ -6,28 +6,10 @@
 
 #include "absl/status/status.h"
 #include "absl/strings/str_format.h"
+#include "server/estimate/linear_detrend.h"
 
 namespace surfmap {
 namespace {
-
-// Removes the least-squares line over the index from `v`.
-void Detrend(double* v, int n) {
-  if (n < 2) {
-    if (n == 1) v[0] = 0.0;
-    return;
-  }
-  const double mean_k = 0.5 * (n - 1);
-  double mean_v = 0.0;
-  for (int k = 0; k < n; ++k) mean_v += v[k];
-  mean_v /= n;
-  double skv = 0.0, skk = 0.0;
-  for (int k = 0; k < n; ++k) {
-    skv += (k - mean_k) * (v[k] - mean_v);
-    skk += (k - mean_k) * (k - mean_k);
-  }
-  const double slope = skv / skk;
-  for (int k = 0; k < n; ++k) v[k] -= mean_v + slope * (k - mean_k);
-}
 
 // Variation of one pass resampled on the grid into out[0..grid).
 // `order` lists the pass's sample indices in increasing arc length.
@@ -75,7 +57,7 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     // offset would low-pass the texture (a1 of rubber 0.6 read as ~1.2).
     out[g] = val[w < 0.5 ? k : std::min(k + 1, nv - 1)];
   }
-  Detrend(out, grid);
+  RemoveLinearTrend(out, grid);
 }
 
 }  // namespace

@@ -8,6 +8,7 @@
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "server/estimate/ar_autocorrelation.h"
+#include "server/estimate/ar_bias_correction.h"
 #include "server/estimate/ar_burg.h"
 #include "server/estimate/ar_least_squares.h"
 #include "server/estimate/ar_roots.h"
@@ -16,6 +17,7 @@ namespace surfmap {
 namespace {
 
 constexpr int kMaxOrder = 20;
+constexpr int kMaxBiasReplicates = 10000;
 // Below this the texture is not resolvable against the given noise: the
 // de-noised variance would be at most half the noise variance.
 constexpr double kNoiseFloorRatio = 1.5;
@@ -68,6 +70,8 @@ bool ArFitOptions::IsValid(std::string* why) const {
     reason = absl::StrCat("noise_variance ", noise_variance, " must be finite and >= 0");
   } else if (acf_max_lag < 0) {
     reason = absl::StrCat("acf_max_lag ", acf_max_lag, " must be >= 0 (0 = automatic)");
+  } else if (bias_replicates < 0 || bias_replicates > kMaxBiasReplicates) {
+    reason = absl::StrCat("bias_replicates ", bias_replicates, " is outside 0..", kMaxBiasReplicates);
   }
   if (reason.empty()) return true;
   if (why != nullptr) *why = std::move(reason);
@@ -162,7 +166,17 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
   fit.sigma = std::sqrt(std::max(0.0, solution.innovation_variance));
   fit.variance = std::max(0.0, raw_variance - options.noise_variance);
 
-  const double largest_root = ArLargestRootModulus(fit.a);
+  double largest_root = ArLargestRootModulus(fit.a);
+  if (options.bias_replicates > 0 && largest_root < 1.0 && !fit.below_noise_floor) {
+    std::vector<int> lengths;
+    lengths.reserve(segments.size());
+    for (const auto& x : segments) lengths.push_back(static_cast<int>(x.size()));
+    const ArBiasEstimate bias = EstimateArBias(fit.a, fit.sigma, lengths, options);
+    if (bias.replicates_used > 0) {
+      fit.a = ApplyArBiasCorrection(fit.a, bias.bias);
+      largest_root = ArLargestRootModulus(fit.a);
+    }
+  }
   fit.stationary = largest_root < 1.0;
   fit.reflection = ArToReflection(fit.a);
 

@@ -54,8 +54,20 @@ struct ArFitOptions {
   double noise_variance = 0.0;
   // >= 0; 0 = min(n/4, 200). Clamped to the shortest segment's length - 1.
   int acf_max_lag = 0;
+  // Small-sample bias correction by parametric bootstrap (ar_bias_correction.h):
+  // 0 = off (the default: a whole drag's bias is a third of its standard
+  // error); > 0 = that many replicates (FitOptions turns it on for the pieces
+  // of a drag that crossed a change, whose short segments lose ~0.1 of a2).
+  // Applied when the uncorrected fit is stationary and above the noise floor;
+  // a_stderr stays the uncorrected fit's.
+  int bias_replicates = 0;
+  // The caller removed a least-squares line from every segment
+  // (ForceVariationSeries does); the replicates are treated the same way.
+  bool segments_detrended = true;
+  std::uint64_t bias_seed = 1;
   // False (with a reason in *why, if given) for order outside 1..20, step_mm
-  // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0.
+  // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0,
+  // bias_replicates outside 0..10000.
   bool IsValid(std::string* why) const;
 };
 
