@@ -21,6 +21,14 @@ class ObjectServiceImpl final : public pb::ObjectService::CallbackService {
                                         pb::ListObjectsResponse*) override;
   grpc::ServerUnaryReactor* GetMesh(grpc::CallbackServerContext*, const pb::GetMeshRequest*,
                                     pb::GetMeshResponse*) override;
+  // Frames and calibration (rig_registration_service.cc).
+  grpc::ServerUnaryReactor* SetRigRegistration(grpc::CallbackServerContext*, const pb::SetRigRegistrationRequest*,
+                                               pb::SetRigRegistrationResponse*) override;
+  grpc::ServerUnaryReactor* GetRigRegistration(grpc::CallbackServerContext*, const pb::GetRigRegistrationRequest*,
+                                               pb::GetRigRegistrationResponse*) override;
+  grpc::ServerUnaryReactor* ListRigRegistrations(grpc::CallbackServerContext*,
+                                                 const pb::ListRigRegistrationsRequest*,
+                                                 pb::ListRigRegistrationsResponse*) override;
 
  private:
   ServiceContext s_;
@@ -70,7 +78,7 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
   // then calls `finish` once the trace is durable (or was refused).
   // `samples` must live until `finish` was called.
   void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples, bool lease_next,
-              pb::SubmitTraceResponse* response, FinishFn finish);
+              pb::TraceFrame frame, int64_t registration_id, pb::SubmitTraceResponse* response, FinishFn finish);
 
  private:
   ServiceContext s_;

@@ -16,6 +16,12 @@ grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext
     response->set_command_id(trace->command_id);
     response->set_job_id(trace->job_id);
     *response->mutable_samples() = DragTraceToProto(FromStoredSamples(trace->samples));
+    absl::StatusOr<TraceFrameRecord> frame = s_.coordinator->reads().GetTraceFrame(trace->id);
+    if (!frame.ok()) return frame.status();
+    response->set_frame(frame->frame == "rig_base"                 ? pb::TRACE_FRAME_RIG_BASE
+                        : frame->frame == "rig_base_sensor_forces" ? pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES
+                                                                   : pb::TRACE_FRAME_OBJECT);
+    response->set_registration_id(frame->registration_id);
     return absl::OkStatus();
   });
 }
