@@ -1,5 +1,7 @@
 #include "server/jobs/rig_registrations.h"
 
+#include <algorithm>
+
 #include "absl/strings/str_cat.h"
 #include "server/base/status_macros.h"
 #include "server/base/utf8_text.h"

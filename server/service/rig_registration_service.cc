@@ -1,4 +1,5 @@
 // ObjectService: the rigs' registrations to objects (frames and calibration).
+#include <spdlog/spdlog.h>
 #include "absl/strings/str_cat.h"
 #include "server/service/grpc_services.h"
 #include "server/service/rig_registration_proto.h"

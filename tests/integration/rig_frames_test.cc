@@ -4,6 +4,8 @@
 // frame (accepted, fitted like the same drag in the object's frame, stored as
 // sent) and in the wrong frame (refused, saying which frame it looks like,
 // and kept as a rejected trace).
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <string>
 
@@ -102,31 +104,13 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
     EXPECT_THAT(Register(stubs, ToRequest(999, registration), &set),
                 StatusIs(absl::StatusCode::kNotFound, HasSubstr("object 999 does not exist")));
   }
+  // Version 1: a 1 mm tip, the sensor aligned with the base.
   RigRegistration first = registration;
   first.tip_radius_mm = 1.0;
+  first.sensor_rotation = Eigen::Quaterniond::Identity();
   ASSERT_THAT(Register(stubs, ToRequest(setup->object_id, first), &set), IsOk());
   const int64_t first_id = set.registration().registration_id();
   EXPECT_EQ(set.registration().version(), 1);
-  ASSERT_THAT(Register(stubs, ToRequest(setup->object_id, registration), &set), IsOk());
-  const int64_t registration_id = set.registration().registration_id();
-  EXPECT_EQ(set.registration().version(), 2);
-  {
-    pb::GetRigRegistrationRequest get;
-    get.set_registration_id(first_id);
-    pb::GetRigRegistrationResponse got;
-    ASSERT_THAT(FromGrpc(stubs.objects->GetRigRegistration(Context().get(), get, &got), "GetRigRegistration"), IsOk());
-    EXPECT_EQ(got.registration().tip_radius_mm(), 1.0);  // an older version stays readable
-    pb::ListRigRegistrationsRequest list;
-    list.set_object_id(setup->object_id);
-    list.set_include_history(true);
-    pb::ListRigRegistrationsResponse listed;
-    ASSERT_THAT(FromGrpc(stubs.objects->ListRigRegistrations(Context().get(), list, &listed), "ListRigRegistrations"), IsOk());
-    EXPECT_EQ(listed.registrations_size(), 2);
-    list.set_include_history(false);
-    ASSERT_THAT(FromGrpc(stubs.objects->ListRigRegistrations(Context().get(), list, &listed), "ListRigRegistrations"), IsOk());
-    ASSERT_EQ(listed.registrations_size(), 1);
-    EXPECT_EQ(listed.registrations(0).registration_id(), registration_id);
-  }
 
   // ---- Two identical jobs: the same drag goes to one in the object's frame
   // and to the other in the rig's.
@@ -140,24 +124,65 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   ASSERT_THAT(twin, IsOk());
   ASSERT_EQ(V(command->position()), V(twin->position()));
 
-  // The command in both frames.
+  // The command in both frames, with version 1.
   ASSERT_TRUE(command->has_rig_frame());
-  const pb::RigFrameCommand& rf = command->rig_frame();
-  EXPECT_EQ(rf.registration_id(), registration_id);
-  EXPECT_EQ(rf.registration_version(), 2);
-  EXPECT_LT((V(rf.position()) - ObjectPointToBase(registration, V(command->position()))).norm(), 1e-9);
-  EXPECT_LT((V(rf.normal()) - ObjectVectorToBase(registration, V(command->normal()))).norm(), 1e-9);
-  EXPECT_LT((V(rf.drag_direction()) - ObjectVectorToBase(registration, V(command->drag_direction()))).norm(), 1e-9);
-  ASSERT_GE(rf.tool_centre_path_size(), 15);  // ~1 mm apart over 20 mm
-  // The tool centre is tip_radius_mm from the contact path, start to end.
-  EXPECT_NEAR((V(rf.tool_centre_path(0)) - V(rf.start())).norm(), 3.0, 1e-6);
-  EXPECT_NEAR((V(rf.tool_centre_path(rf.tool_centre_path_size() - 1)) - V(rf.end())).norm(), 3.0, 1e-6);
-  EXPECT_NEAR((V(rf.end()) - V(rf.start())).norm(), 20.0, 1.0);  // a 20 mm drag on a gently curved bottle
-  // ... and the mid-path tool centre sits over the site along its normal.
-  const Eigen::Vector3d over_site = V(rf.position()) + 3.0 * V(rf.normal());
-  double nearest = 1e9;
-  for (const pb::Vec3& p : rf.tool_centre_path()) nearest = std::min(nearest, (V(p) - over_site).norm());
-  EXPECT_LT(nearest, 0.6);
+  {
+    const pb::RigFrameCommand& rf = command->rig_frame();
+    EXPECT_EQ(rf.registration_id(), first_id);
+    EXPECT_EQ(rf.registration_version(), 1);
+    EXPECT_LT((V(rf.position()) - ObjectPointToBase(first, V(command->position()))).norm(), 1e-9);
+    EXPECT_LT((V(rf.normal()) - ObjectVectorToBase(first, V(command->normal()))).norm(), 1e-9);
+    EXPECT_LT((V(rf.drag_direction()) - ObjectVectorToBase(first, V(command->drag_direction()))).norm(), 1e-9);
+    ASSERT_GE(rf.tool_centre_path_size(), 15);  // ~1 mm apart over 20 mm
+    EXPECT_NEAR((V(rf.tool_centre_path(0)) - V(rf.start())).norm(), 1.0, 1e-6);
+    EXPECT_NEAR((V(rf.tool_centre_path(rf.tool_centre_path_size() - 1)) - V(rf.end())).norm(), 1.0, 1e-6);
+    EXPECT_NEAR((V(rf.end()) - V(rf.start())).norm(), 20.0, 1.0);  // a 20 mm drag on a gently curved bottle
+    // The tool centre passes over the site, along its normal.
+    const Eigen::Vector3d over_site = V(rf.position()) + 1.0 * V(rf.normal());
+    double nearest = 1e9;
+    for (const pb::Vec3& p : rf.tool_centre_path()) nearest = std::min(nearest, (V(p) - over_site).norm());
+    EXPECT_LT(nearest, 0.6);
+  }
+
+  // Version 2: a 3 mm tip and the sensor turned 90 deg about an axis across
+  // this site's normal (a turn about the normal itself would not show in a
+  // drag's forces, so nothing could tell the frames apart).
+  RigRegistration registration_v2 = registration;
+  {
+    const Eigen::Vector3d n = ObjectVectorToBase(registration, V(command->normal()));
+    const Eigen::Vector3d across = n.unitOrthogonal();
+    registration_v2.sensor_rotation = Eigen::Quaterniond(Eigen::AngleAxisd(kPi / 2, across));
+  }
+  ASSERT_THAT(Register(stubs, ToRequest(setup->object_id, registration_v2), &set), IsOk());
+  const int64_t registration_id = set.registration().registration_id();
+  EXPECT_EQ(set.registration().version(), 2);
+  {
+    pb::GetRigRegistrationRequest get;
+    get.set_registration_id(first_id);
+    pb::GetRigRegistrationResponse got;
+    ASSERT_THAT(FromGrpc(stubs.objects->GetRigRegistration(Context().get(), get, &got), "GetRigRegistration"), IsOk());
+    EXPECT_EQ(got.registration().tip_radius_mm(), 1.0);  // an older version stays readable
+    pb::ListRigRegistrationsRequest list;
+    list.set_object_id(setup->object_id);
+    list.set_include_history(true);
+    pb::ListRigRegistrationsResponse listed;
+    ASSERT_THAT(FromGrpc(stubs.objects->ListRigRegistrations(Context().get(), list, &listed), "ListRigRegistrations"),
+                IsOk());
+    EXPECT_EQ(listed.registrations_size(), 2);
+    list.set_include_history(false);
+    ASSERT_THAT(FromGrpc(stubs.objects->ListRigRegistrations(Context().get(), list, &listed), "ListRigRegistrations"),
+                IsOk());
+    ASSERT_EQ(listed.registrations_size(), 1);
+    EXPECT_EQ(listed.registrations(0).registration_id(), registration_id);
+  }
+  // The next command is computed with version 2.
+  absl::StatusOr<pb::ProbeCommand> next = LeaseOne(stubs, rig_job->job_id(), kRig);
+  ASSERT_THAT(next, IsOk());
+  ASSERT_TRUE(next->has_rig_frame());
+  EXPECT_EQ(next->rig_frame().registration_id(), registration_id);
+  EXPECT_EQ(next->rig_frame().tip_radius_mm(), 3.0);
+  ASSERT_GE(next->rig_frame().tool_centre_path_size(), 2);
+  EXPECT_NEAR((V(next->rig_frame().tool_centre_path(0)) - V(next->rig_frame().start())).norm(), 3.0, 1e-6);
   // A rig without a registration gets the object frame only.
   absl::StatusOr<pb::ProbeCommand> unregistered = LeaseOne(stubs, rig_job->job_id(), "arm-2");
   ASSERT_THAT(unregistered, IsOk());
@@ -174,12 +199,12 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
 
   // Wrong frames first (the command stays leased after a refusal).
   const pb::SubmitTraceRequest rig_as_object =
-      InFrame(*drag, TraceFrame::kRigBase, registration, pb::TRACE_FRAME_OBJECT);
+      InFrame(*drag, TraceFrame::kRigBase, registration_v2, pb::TRACE_FRAME_OBJECT);
   EXPECT_THAT(Submit(stubs, rig_as_object, &refused),
               StatusIs(absl::StatusCode::kInvalidArgument,
                        HasSubstr("implausible trace: frame: the trace looks like it is in the rig's base frame")));
   const pb::SubmitTraceRequest sensor_as_base =
-      InFrame(*drag, TraceFrame::kRigBaseSensorForces, registration, pb::TRACE_FRAME_RIG_BASE);
+      InFrame(*drag, TraceFrame::kRigBaseSensorForces, registration_v2, pb::TRACE_FRAME_RIG_BASE);
   EXPECT_THAT(Submit(stubs, sensor_as_base, &refused),
               StatusIs(absl::StatusCode::kInvalidArgument,
                        HasSubstr("looks like it is in the rig's base frame with forces in the F/T sensor's frame")));
@@ -190,7 +215,7 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   EXPECT_THAT(Submit(stubs, far, &refused), StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("implausible trace: offset")));
 
   const pb::SubmitTraceRequest rig_request =
-      InFrame(*drag, TraceFrame::kRigBaseSensorForces, registration, pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES);
+      InFrame(*drag, TraceFrame::kRigBaseSensorForces, registration_v2, pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES);
   ASSERT_THAT(Submit(stubs, rig_request, &rig_answer), IsOk());
   // The same fit as the object-frame submission (the transforms round to 1e-13).
   const pb::FrictionEstimate& a = object_answer.sample().fit().friction();
@@ -242,12 +267,15 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   pb::RefitJobRequest refit;
   refit.set_job_id(rig_job->job_id());
   refit.mutable_settings()->set_step_mm(0.2);
+  refit.mutable_settings()->set_ar_method(pb::AR_METHOD_BURG);
+  refit.mutable_settings()->set_ar_order(2);
   pb::RefitJobResponse refit_answer;
   ASSERT_THAT(FromGrpc(stubs.traces->RefitJob(Context().get(), refit, &refit_answer), "RefitJob"), IsOk());
   EXPECT_EQ(refit_answer.refitted(), 1);
   EXPECT_EQ(refit_answer.failed(), 0);
 
   // Registrations survive a restart (leases use them at once).
+  ASSERT_THAT(setup->server->Stop(std::chrono::seconds(30)), IsOk());
   ASSERT_THAT(setup->server->Restart(), IsOk());
   absl::StatusOr<pb::ProbeCommand> after = LeaseOne(stubs, rig_job->job_id(), kRig);
   ASSERT_THAT(after, IsOk());

@@ -33,5 +33,6 @@ __all__ = [
     "Property", "RefitResult", "RoughnessEstimate", "Sample", "SamplingMode", "SiteState", "SurfaceMap", "Trace",
     # rigs: lease, measure, submit (rig.py, probe.py, spool.py; driver_protocol.py for surfmap-rig --driver)
     "Rig", "run_rig", "RigFailure", "RigSummary", "TraceRejected", "TracePending", "FailureKind", "Lease",
-    "ProbeCommand", "RigFrameCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool", "default_spool_dir",
+    "ProbeCommand", "RigFrameCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool",
+    "default_spool_dir",
 ]
