@@ -277,7 +277,8 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   // Registrations survive a restart (leases use them at once).
   ASSERT_THAT(setup->server->Stop(std::chrono::seconds(30)), IsOk());
   ASSERT_THAT(setup->server->Restart(), IsOk());
-  absl::StatusOr<pb::ProbeCommand> after = LeaseOne(stubs, rig_job->job_id(), kRig);
+  Stubs restarted(setup->server->channel());
+  absl::StatusOr<pb::ProbeCommand> after = LeaseOne(restarted, rig_job->job_id(), kRig);
   ASSERT_THAT(after, IsOk());
   ASSERT_TRUE(after->has_rig_frame());
   EXPECT_EQ(after->rig_frame().registration_id(), registration_id);
