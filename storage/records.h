@@ -232,6 +232,38 @@ struct AcceptTraceRequest {
   // An imported trace (see TraceImport); command_id and lease_owner are then
   // unused (0 and empty).
   std::optional<TraceImport> import;
+  // The frame the samples were sent in; "" or "object": the object's frame
+  // (nothing more is stored). Otherwise registration_id names the
+  // registration the service converted them with.
+  std::string frame;
+  int64_t registration_id = 0;
+};
+
+// ---- Rig registrations (frames and calibration; docs/trace-format.md) ----
+// What a rig registered for an object: the object's pose in the rig's base
+// frame, the tool-tip radius, the F/T sensor's orientation, as JSON the
+// service writes (server/frames/rig_registration.h). Never changed once
+// stored: registering again for the same (object, rig) adds the next version,
+// so every stored trace's registration stays readable.
+struct NewRigRegistration {
+  int64_t object_id = 0;
+  std::string rig_name;           // the rig_id the rig leases with
+  std::string registration_json;
+};
+struct RigRegistrationRecord {
+  int64_t id = 0;
+  int64_t object_id = 0;
+  std::string rig_name;
+  int32_t version = 0;            // 1, 2, ... per (object, rig)
+  int64_t created_unix_ms = 0;
+  std::string registration_json;
+};
+// The frame a stored trace was sent in ("object", "rig_base",
+// "rig_base_sensor_forces") and the registration it was converted with (0 for
+// "object"). The samples are stored as sent.
+struct TraceFrameRecord {
+  std::string frame = "object";
+  int64_t registration_id = 0;
 };
 
 struct AcceptTraceResult {

@@ -139,11 +139,35 @@ ALTER TABLE traces ADD COLUMN import_sha256 TEXT;
 CREATE UNIQUE INDEX traces_imported_by_job ON traces (job_id, import_sha256) WHERE import_sha256 IS NOT NULL;
 )sql";
 
+// Version 5: frames and calibration. A rig's registration to an object (the
+// object's pose in the rig's base frame, tip radius, sensor orientation, as
+// JSON), append-only per (object, rig); and, for traces sent in a rig's
+// frame, that frame and the registration they were converted with (traces
+// in the object's frame, all of them before version 5, have no row).
+constexpr char kRigRegistrations[] = R"sql(
+CREATE TABLE rig_registrations (
+  id                INTEGER PRIMARY KEY,
+  object_id         INTEGER NOT NULL REFERENCES objects (id),
+  rig_name          TEXT    NOT NULL CHECK (rig_name <> ''),
+  version           INTEGER NOT NULL CHECK (version >= 1),
+  created_unix_ms   INTEGER NOT NULL,
+  registration_json TEXT    NOT NULL CHECK (json_valid(registration_json)),
+  UNIQUE (object_id, rig_name, version)
+);
+
+CREATE TABLE trace_frames (
+  trace_id          INTEGER PRIMARY KEY REFERENCES traces (id),
+  frame             TEXT    NOT NULL CHECK (frame IN ('rig_base', 'rig_base_sensor_forces')),
+  registration_id   INTEGER NOT NULL REFERENCES rig_registrations (id)
+);
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
     {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
     {3, "traces refused as implausible, kept out of the map", kRejectedTraces},
     {4, "provenance metadata on objects, jobs and traces; imported traces by file hash", kImportAndProvenance},
+    {5, "rig registrations (frames and calibration); the frame of traces sent in a rig's frame", kRigRegistrations},
 };
 
 }  // namespace

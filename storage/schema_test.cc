@@ -29,7 +29,8 @@ TEST(SchemaTest, MigratesEmptyFileToLatestVersion) {
   EXPECT_EQ(QueryInt(*db, "PRAGMA user_version"),
             static_cast<int64_t>(SchemaMigrations().size()));
   EXPECT_EQ(QueryInt(*db, "PRAGMA application_id"), kSurfmapApplicationId);
-  for (const char* table : {"objects", "jobs", "plans", "commands", "traces", "fits", "events"}) {
+  for (const char* table : {"objects", "jobs", "plans", "commands", "traces", "fits", "events", "rig_registrations",
+                            "trace_frames"}) {
     EXPECT_EQ(QueryInt(*db, std::string("SELECT COUNT(*) FROM sqlite_master WHERE type='table' "
                                         "AND name='") + table + "'"),
               1)

@@ -83,6 +83,11 @@ class SqliteStore : public Store {
   absl::StatusOr<std::vector<RejectedTraceRecord>> ListRejectedTraces(int64_t job_id) override;
   absl::StatusOr<RejectedTraceRecord> GetRejectedTrace(int64_t id) override;
 
+  absl::StatusOr<RigRegistrationRecord> AddRigRegistration(const NewRigRegistration& registration) override;
+  absl::StatusOr<RigRegistrationRecord> GetRigRegistration(int64_t registration_id) override;
+  absl::StatusOr<std::vector<RigRegistrationRecord>> ListRigRegistrations(int64_t object_id) override;
+  absl::StatusOr<TraceFrameRecord> GetTraceFrame(int64_t trace_id) override;
+
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;

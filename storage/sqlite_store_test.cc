@@ -995,3 +995,56 @@ TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
 
 }  // namespace
 }  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+// Frames and calibration (schema version 4).
+TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChanged) {
+  CreatedJob job = Job(2);
+  const int64_t object = job.job.object_id;
+  const std::string json_a = R"({"tip_radius_mm": 1})", json_b = R"({"tip_radius_mm": 2})";
+  absl::StatusOr<RigRegistrationRecord> a1 = store_->AddRigRegistration({object, "arm", json_a});
+  absl::StatusOr<RigRegistrationRecord> b1 = store_->AddRigRegistration({object, "other", json_a});
+  absl::StatusOr<RigRegistrationRecord> a2 = store_->AddRigRegistration({object, "arm", json_b});
+  ASSERT_TRUE(a1.ok() && b1.ok() && a2.ok()) << a1.status() << b1.status() << a2.status();
+  EXPECT_EQ(a1->version, 1);
+  EXPECT_EQ(b1->version, 1);
+  EXPECT_EQ(a2->version, 2);
+  EXPECT_EQ(a2->registration_json, json_b);
+  absl::StatusOr<RigRegistrationRecord> old = store_->GetRigRegistration(a1->id);
+  ASSERT_TRUE(old.ok());
+  EXPECT_EQ(old->registration_json, json_a);  // the older version stays as it was
+  absl::StatusOr<std::vector<RigRegistrationRecord>> all = store_->ListRigRegistrations(object);
+  ASSERT_TRUE(all.ok());
+  ASSERT_EQ(all->size(), 3u);
+  EXPECT_EQ((*all)[2].id, a2->id);
+
+  EXPECT_EQ(store_->AddRigRegistration({999, "arm", json_a}).status().code(), absl::StatusCode::kNotFound);
+  EXPECT_EQ(store_->AddRigRegistration({object, "", json_a}).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_FALSE(store_->AddRigRegistration({object, "arm", "{not json"}).ok());
+  EXPECT_EQ(store_->GetRigRegistration(12345).status().code(), absl::StatusCode::kNotFound);
+
+  // A trace records the frame it was sent in; object-frame traces have none.
+  CommandRecord command = Lease(job.job.id, "arm");
+  AcceptTraceRequest request = MakeTestAccept(command, 100);
+  request.frame = "rig_base_sensor_forces";
+  request.registration_id = a2->id;
+  absl::StatusOr<AcceptTraceResult> accepted = store_->AcceptTrace(request);
+  ASSERT_TRUE(accepted.ok()) << accepted.status();
+  absl::StatusOr<TraceFrameRecord> frame = store_->GetTraceFrame(accepted->trace_id);
+  ASSERT_TRUE(frame.ok());
+  EXPECT_EQ(frame->frame, "rig_base_sensor_forces");
+  EXPECT_EQ(frame->registration_id, a2->id);
+  CommandRecord second = Lease(job.job.id, "arm");
+  absl::StatusOr<AcceptTraceResult> plain = store_->AcceptTrace(MakeTestAccept(second, 100));
+  ASSERT_TRUE(plain.ok()) << plain.status();
+  frame = store_->GetTraceFrame(plain->trace_id);
+  ASSERT_TRUE(frame.ok());
+  EXPECT_EQ(frame->frame, "object");
+  EXPECT_EQ(frame->registration_id, 0);
+  EXPECT_EQ(store_->GetTraceFrame(999).status().code(), absl::StatusCode::kNotFound);
+}
+
+}  // namespace
+}  // namespace surfmap

@@ -400,6 +400,15 @@ absl::Status InsertAcceptedTrace(SqliteConnection& db, const EncodedTrace& in, c
     result->accepted_unix_ms = now;
     result->command_id = command_id;
   }
+  if (!req.frame.empty() && req.frame != "object") {
+    // A trace sent in a rig's frame: which frame, and the registration it was
+    // converted with (the samples above are as sent).
+    SURFMAP_ASSIGN_OR_RETURN(
+        SqliteStatement stmt,
+        db.Prepare("INSERT INTO trace_frames (trace_id, frame, registration_id) VALUES (?1, ?2, ?3)"));
+    stmt.BindInt(1, result->trace_id).BindText(2, req.frame).BindInt(3, req.registration_id);
+    SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing the trace's frame"));
+  }
   SURFMAP_RETURN_IF_ERROR(SetCommandState(db, command_id, "done"));
   if (req.fit.has_value()) {
     SURFMAP_ASSIGN_OR_RETURN(FitRecord fit, InsertFit(db, result->trace_id, 1, *req.fit, now));

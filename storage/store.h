@@ -145,6 +145,17 @@ class Store {
   // order, without samples, all from one snapshot. NotFound for an unknown job.
   virtual absl::StatusOr<std::vector<SampleRecord>> ReadJobSamples(int64_t job_id, int32_t fit_version) = 0;
 
+  // ---- Rig registrations (append-only versions per object and rig) ----
+  // Stores the next version for (object_id, rig_name). NotFound for an
+  // unknown object; InvalidArgument for an empty rig name or invalid JSON.
+  virtual absl::StatusOr<RigRegistrationRecord> AddRigRegistration(const NewRigRegistration& registration) = 0;
+  virtual absl::StatusOr<RigRegistrationRecord> GetRigRegistration(int64_t registration_id) = 0;
+  // Every version, oldest first; object_id 0: every object's.
+  virtual absl::StatusOr<std::vector<RigRegistrationRecord>> ListRigRegistrations(int64_t object_id) = 0;
+  // The frame the trace was sent in ("object" when it was sent in the
+  // object's frame). NotFound for an unknown trace.
+  virtual absl::StatusOr<TraceFrameRecord> GetTraceFrame(int64_t trace_id) = 0;
+
   // ---- Ordering ----
   // `done` runs once every write submitted before this call has completed
   // (a barrier through the write queue; writes nothing).

@@ -8,6 +8,7 @@
 #include <google/protobuf/util/time_util.h>
 #include "absl/strings/ascii.h"
 #include "clients/cli/provenance_options.h"
+#include "clients/cli/registration_commands.h"
 #include "proto/surfmap/v1/surfmap.grpc.pb.h"
 
 namespace surfmap::cli {
@@ -101,7 +102,7 @@ void RunUpload(RemoteCli& cli, const UploadArgs& args) {
 }  // namespace
 
 void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
-  CLI::App* object = app.add_subcommand("object", "Meshes to map: upload, list, show");
+  CLI::App* object = app.add_subcommand("object", "Meshes to map: upload, list, show; rig registrations");
   object->require_subcommand(1);
 
   auto upload_args = std::make_shared<UploadArgs>();
@@ -144,6 +145,8 @@ void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
     if (!CallRpc(*cli, "GetObject", *stub, &pb::ObjectService::Stub::GetObject, request, &response)) return;
     std::printf("%s\n", MessageToJson(response.object()).c_str());
   });
+
+  AddRegistrationCommands(*object, cli);
 }
 
 }  // namespace surfmap::cli

@@ -46,6 +46,27 @@ TEST(DriverProtocolTest, TheCommandLineIsDocumentedAndReadsBack) {
   EXPECT_EQ(back->lease_deadline_unix_ms, 1795000060000);
 }
 
+TEST(DriverProtocolTest, TheRigFrameCommandIsPassedWhenRegistered) {
+  EXPECT_FALSE(nlohmann::json::parse(FormatCommandMessage(Request())).contains("rig_frame"));
+  ProbeRequest r = Request();
+  RigFrameRequest frame;
+  frame.registration_id = 4;
+  frame.position = {400.5, 20, 1.0 / 7.0};
+  frame.normal = {0, 1, 0};
+  frame.start = {390.5, 20, 0};
+  frame.end = {410.5, 20, 0};
+  frame.tool_centre_path = {{390.5, 23, 0}, {410.5, 23, 0}};
+  frame.tip_radius_mm = 3;
+  r.rig_frame = frame;
+  auto json = nlohmann::json::parse(FormatCommandMessage(r));
+  ASSERT_TRUE(json.contains("rig_frame"));
+  EXPECT_EQ(json["rig_frame"]["registration_id"], 4);
+  EXPECT_EQ(json["rig_frame"]["position_mm"][2].get<double>(), 1.0 / 7.0);
+  EXPECT_EQ(json["rig_frame"]["tool_centre_path_mm"].size(), 2u);
+  EXPECT_EQ(json["rig_frame"]["tip_radius_mm"].get<double>(), 3.0);
+  EXPECT_EQ(json["rig_frame"]["end_mm"][0].get<double>(), 410.5);
+}
+
 TEST(DriverProtocolTest, BadCommandsAreNamed) {
   auto with = [](const std::string& field, const nlohmann::json& value) {
     auto json = nlohmann::json::parse(FormatCommandMessage(Request()));

@@ -28,6 +28,19 @@ absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const pb::ProbeCommand& com
     request.lease_deadline_unix_ms =
         command.lease_deadline().seconds() * 1000 + command.lease_deadline().nanos() / 1'000'000;
   }
+  if (command.has_rig_frame()) {
+    const pb::RigFrameCommand& f = command.rig_frame();
+    RigFrameRequest frame;
+    frame.registration_id = f.registration_id();
+    frame.position = FromProto(f.position());
+    frame.normal = FromProto(f.normal());
+    frame.drag_direction = FromProto(f.drag_direction());
+    frame.start = FromProto(f.start());
+    frame.end = FromProto(f.end());
+    for (const pb::Vec3& p : f.tool_centre_path()) frame.tool_centre_path.push_back(FromProto(p));
+    frame.tip_radius_mm = f.tip_radius_mm();
+    request.rig_frame = std::move(frame);
+  }
   absl::Status valid = ValidateProbeRequest(request);
   if (!valid.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("command ", command.command_id(), ": ", valid.message()));

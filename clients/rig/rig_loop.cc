@@ -219,6 +219,7 @@ RigLoop::Delivery RigLoop::Deliver(const fs::path& file, const SpooledTrace& spo
   submit.set_command_id(spooled.header.command_id);
   submit.set_rig_id(spooled.header.rig_id);  // the rig that held the lease (this one, unless --spool was shared)
   submit.set_lease_next(lease_next);
+  submit.set_frame(options_.frame);
   *submit.mutable_samples() = DragTraceToProto(spooled.trace);
   pb::SubmitTraceResponse response;
   grpc::Status status = WithRetries("SubmitTrace", [&] {

@@ -46,6 +46,9 @@ struct RigLoopOptions {
   double max_backoff_s = 5.0;       // ... up to this
   double default_retry_after_s = 1.0;  // when the server sends no retry_after
   double max_retry_after_s = 10.0;     // cap on the server's retry_after
+  // The frame of the driver's traces (SubmitTraceRequest.frame): unset = the
+  // object's. Spooled traces are resubmitted in the frame of the run.
+  surfmap::v1::TraceFrame frame = surfmap::v1::TRACE_FRAME_UNSPECIFIED;
 
   // False (and *why) for an empty, over-long or multi-line rig id, negative
   // counts, or non-positive / non-finite times.

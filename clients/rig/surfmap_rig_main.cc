@@ -38,6 +38,7 @@
 #include "clients/rig/map_score.h"
 #include "clients/rig/served_map_score.h"
 #include "clients/rig/probe_endpoint.h"
+#include "clients/rig/rig_frame_driver.h"
 #include "clients/rig/rig_loop.h"
 #include "clients/rig/realtime_driver.h"
 #include "clients/rig/scene_guard.h"
@@ -85,6 +86,7 @@ struct RunArgs {
   int max_commands = 0;
   bool quiet = false;
   bool realtime = false;        // --sim: each drag takes its real duration
+  std::string frame = "object";  // the frame traces are sent in (--sim converts its own)
 };
 
 absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const std::string& scene_name,
@@ -94,6 +96,25 @@ absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const st
   surfmap::SimulatedRigOptions options;
   options.seed = seed;
   return surfmap::SimulatedRig::Create(*std::move(scene), options);
+}
+
+// A registration by id, for the simulated rig sending traces in a rig frame.
+absl::StatusOr<surfmap::RigRegistration> FetchRegistration(const surfmap::cli::RemoteOptions& remote,
+                                                           int64_t registration_id) {
+  auto objects = pb::ObjectService::NewStub(surfmap::cli::ConnectChannel(remote));
+  pb::GetRigRegistrationRequest request;
+  request.set_registration_id(registration_id);
+  pb::GetRigRegistrationResponse response;
+  grpc::ClientContext context;
+  surfmap::cli::PrepareContext(remote, &context);
+  grpc::Status status = objects->GetRigRegistration(&context, request, &response);
+  if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetRigRegistration: ", status.error_message()));
+  const pb::RigRegistration& r = response.registration();
+  const pb::Quaternion& q = r.object_pose().rotation();
+  const pb::Vec3& t = r.object_pose().translation_mm();
+  const pb::Quaternion& s = r.sensor_rotation();
+  return surfmap::MakeRigRegistration({q.w(), q.x(), q.y(), q.z()}, Eigen::Vector3d(t.x(), t.y(), t.z()),
+                                      r.tip_radius_mm(), {s.w(), s.x(), s.y(), s.z()});
 }
 
 // The job's object as the server has it, for the simulated rig's scene check.
@@ -170,6 +191,12 @@ absl::StatusOr<DriverStack> MakeDriver(const RunArgs& args, std::function<void(c
       stack.top(), std::move(scene),
       [remote = args.remote](int64_t job_id) { return FetchJobObject(remote, job_id); }));
   if (args.realtime) stack.layers.push_back(std::make_unique<surfmap::rig::RealtimeDriver>(stack.top(), &g_stop));
+  if (args.frame != "object") {
+    absl::StatusOr<surfmap::TraceFrame> frame = surfmap::ParseTraceFrame(args.frame);
+    if (!frame.ok()) return frame.status();
+    stack.layers.push_back(std::make_unique<surfmap::rig::RigFrameDriver>(
+        stack.top(), *frame, [remote = args.remote](int64_t id) { return FetchRegistration(remote, id); }));
+  }
   return stack;
 }
 
@@ -193,6 +220,15 @@ int RunRig(const RunArgs& args) {
                                         : absl::StrCat("sim-", args.sim, "-", ::getpid());
   options.job_id = args.job_id;
   options.max_commands = args.max_commands;
+  if (args.frame == "rig_base") {
+    options.frame = pb::TRACE_FRAME_RIG_BASE;
+  } else if (args.frame == "rig_base_sensor_forces") {
+    options.frame = pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES;
+  } else if (args.frame != "object") {
+    std::cerr << "surfmap-rig: --frame must be object, rig_base or rig_base_sensor_forces, got '" << args.frame
+              << "'\n";
+    return 2;
+  }
   absl::StatusOr<double> retry_for = surfmap::rig::ParseDurationSeconds(args.retry_for);
   if (!retry_for.ok()) {
     std::cerr << "surfmap-rig: --retry-for: " << retry_for.status().message() << "\n";
@@ -397,6 +433,9 @@ int main(int argc, char** argv) {
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
   app.add_option("--sim-seed", run.sim_seed, "Seed mixed into the simulated rig's noise");
+  app.add_option("--frame", run.frame,
+                 "Frame of the traces sent: object (default), rig_base or rig_base_sensor_forces (the rig must be "
+                 "registered to the object; --sim converts its traces with the registration)");
   app.add_option("--job", run.job_id, "Only this job's commands (default: any running job)");
   app.add_option("--rig-id", run.rig_id,
                  "Rig name in the server's leases and logs (default sim-SCENE-PID with --sim, the host name with "

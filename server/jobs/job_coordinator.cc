@@ -17,8 +17,9 @@ constexpr int kUploadCheckLevel = 1;
 JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, CoordinatorOptions options)
     : store_(store),
       registry_(store, executors, options.retained_finished_jobs),
+      rigs_(store),
       steering_(store, &registry_, executors),
-      probes_(store, &registry_, executors, options.default_lease_ms),
+      probes_(store, &registry_, &rigs_, executors, options.default_lease_ms),
       imports_(store, &registry_, executors),
       reads_(store) {}
 

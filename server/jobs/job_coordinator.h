@@ -59,6 +59,7 @@
 #include "server/jobs/probe_protocol.h"
 #include "server/jobs/provenance.h"
 #include "server/jobs/trace_import.h"
+#include "server/jobs/rig_registrations.h"
 #include "server/mesh/control_mesh.h"
 #include "server/mesh/mesh_repair.h"
 #include "storage/store.h"
@@ -84,8 +85,12 @@ class JobCoordinator {
  public:
   JobCoordinator(Store* store, JobExecutors executors, CoordinatorOptions options = {});
 
-  // Loads every running or paused job (finished ones load on first use).
-  absl::Status LoadJobs() { return registry_.LoadActiveJobs(); }
+  // Loads every running or paused job (finished ones load on first use), and
+  // the rigs' registrations.
+  absl::Status LoadJobs() {
+    if (absl::Status s = rigs_.Load(); !s.ok()) return s;
+    return registry_.LoadActiveJobs();
+  }
 
   // ---- Objects (pool threads: parsing and refining take long) ----
   // The mesh is parsed, validated and refined to level 1 before it is stored,
@@ -154,11 +159,14 @@ class JobCoordinator {
 
   // ---- Reads ----
   JobReads& reads() { return reads_; }
+  // ---- Rig registrations (frames and calibration) ----
+  RigRegistrations& rigs() { return rigs_; }
   JobRegistry& registry() { return registry_; }
 
  private:
   Store* const store_;
   JobRegistry registry_;
+  RigRegistrations rigs_;
   JobSteering steering_;
   ProbeProtocol probes_;
   TraceImporter imports_;

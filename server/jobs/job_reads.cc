@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
+#include "server/jobs/rig_registrations.h"
 #include "server/jobs/stored_trace.h"
 
 namespace surfmap {
@@ -18,7 +19,12 @@ absl::StatusOr<TraceFit> JobReads::RecomputeFit(const SampleRecord& sample, FitO
   if (!parsed.ok()) {
     return absl::DataLossError(absl::StrCat("fit ", record.id, ": stored options: ", parsed.status().message()));
   }
-  absl::StatusOr<TraceFit> fit = FitTrace(FromStoredSamples(sample.trace.samples), *parsed);
+  // The fit was made in the object's frame: a trace sent in a rig's frame is
+  // converted with the registration it was stored with.
+  absl::StatusOr<DragTrace> trace = StoredTraceInObjectFrame(*store_, sample.trace.id,
+                                                             FromStoredSamples(sample.trace.samples));
+  if (!trace.ok()) return trace.status();
+  absl::StatusOr<TraceFit> fit = FitTrace(*trace, *parsed);
   if (!fit.ok()) {
     return absl::DataLossError(absl::StrCat("trace ", sample.trace.id, " no longer fits: ", fit.status().message()));
   }

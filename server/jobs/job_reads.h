@@ -19,6 +19,8 @@ class JobReads {
 
   absl::StatusOr<ObjectRecord> GetObject(int64_t object_id) { return store_->GetObject(object_id, false); }
   absl::StatusOr<std::vector<ObjectRecord>> ListObjects() { return store_->ListObjects(); }
+  // The frame a trace was sent in (frames and calibration).
+  absl::StatusOr<TraceFrameRecord> GetTraceFrame(int64_t trace_id) { return store_->GetTraceFrame(trace_id); }
 
   // fit_version 0 = latest.
   absl::StatusOr<SampleRecord> GetSample(int64_t trace_id, int32_t fit_version, bool include_samples) {
@@ -44,7 +46,8 @@ class JobReads {
   // the per-pair series and the ACF. DATA_LOSS if the stored options cannot
   // be read or the refit does not reproduce the stored mu (the estimator is
   // deterministic). Long work for a large trace: a pool thread.
-  static absl::StatusOr<TraceFit> RecomputeFit(const SampleRecord& sample, FitOptions* options);
+  // A trace sent in a rig's frame is converted first, with its registration.
+  absl::StatusOr<TraceFit> RecomputeFit(const SampleRecord& sample, FitOptions* options);
 
  private:
   Store* const store_;

@@ -5,6 +5,7 @@
 #include "absl/strings/str_cat.h"
 #include "server/base/status_macros.h"
 #include "server/jobs/record_conversion.h"
+#include "server/jobs/rig_registrations.h"
 #include "server/jobs/stored_trace.h"
 
 namespace surfmap {
@@ -24,7 +25,11 @@ absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, int64_t job_id, const 
     for (const TraceRecord& trace : page) {
       ++traces;
       after = trace.id;
-      absl::StatusOr<TraceFit> fit = FitTrace(FromStoredSamples(trace.samples), options);
+      // Fits are made in the object's frame (a trace sent in a rig's frame
+      // is converted with the registration it was stored with).
+      SURFMAP_ASSIGN_OR_RETURN(DragTrace samples,
+                               StoredTraceInObjectFrame(store, trace.id, FromStoredSamples(trace.samples)));
+      absl::StatusOr<TraceFit> fit = FitTrace(samples, options);
       if (!fit.ok()) {
         ++outcome.failed;
         continue;

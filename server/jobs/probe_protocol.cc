@@ -15,6 +15,7 @@
 #include "server/estimate/line_sample.h"
 #include "server/jobs/stored_plan.h"
 #include "server/jobs/stored_trace.h"
+#include "server/jobs/trace_frame_check.h"
 #include "server/jobs/trace_plausibility.h"
 #include "server/plan/plan_journal.h"
 
@@ -51,8 +52,76 @@ absl::Status CheckLeasedTo(const CommandRecord& command, const std::string& rig_
 
 }  // namespace
 
-ProbeProtocol::ProbeProtocol(Store* store, JobRegistry* registry, JobExecutors executors, int64_t default_lease_ms)
-    : store_(store), registry_(registry), executors_(executors), default_lease_ms_(default_lease_ms) {}
+ProbeProtocol::ProbeProtocol(Store* store, JobRegistry* registry, RigRegistrations* rigs, JobExecutors executors,
+                             int64_t default_lease_ms)
+    : store_(store), registry_(registry), rigs_(rigs), executors_(executors), default_lease_ms_(default_lease_ms) {}
+
+// ---------------------------------------------------------------- frames
+
+namespace {
+
+// The commanded drag's contact path on the surface: centred on the site when
+// the surface allows (as the simulated rig drags), else from the site on.
+void CommandContactPath(const LoopSurface& surface, const ProbeCommand& command, std::vector<Eigen::Vector3d>* points,
+                        std::vector<Eigen::Vector3d>* normals) {
+  constexpr double kStepMm = 1.0;
+  const double length = command.probe.segment_length_mm;
+  Eigen::Vector3d start = command.position, direction = command.drag_direction;
+  absl::StatusOr<SurfacePath> back = surface.TraceDragPath(command.position, -command.drag_direction, 0.5 * length,
+                                                           kStepMm);
+  if (back.ok() && back->points.size() >= 2) {
+    start = back->points.back();
+    direction = back->points[back->points.size() - 2] - back->points.back();
+  }
+  absl::StatusOr<SurfacePath> path = surface.TraceDragPath(start, direction, length, kStepMm);
+  if (!path.ok()) path = surface.TraceDragPath(command.position, command.drag_direction, length, kStepMm);
+  if (!path.ok()) return;  // no room on the surface: the site alone
+  *points = std::move(path->points);
+  *normals = std::move(path->normals);
+}
+
+}  // namespace
+
+void ProbeProtocol::AttachRigFrame(LeaseOutcome& outcome, const std::string& rig_id) const {
+  if (!outcome.command || !outcome.record || rigs_ == nullptr) return;
+  std::shared_ptr<JobRuntime> runtime = registry_->Find(outcome.record->job_id);
+  if (!runtime) return;
+  std::shared_ptr<const RegisteredRig> rig = rigs_->Latest(runtime->object_id, rig_id);
+  if (!rig) return;
+  const ProbeCommand& c = *outcome.command;
+  std::vector<Eigen::Vector3d> points, normals;
+  if (runtime->surface) CommandContactPath(*runtime->surface, c, &points, &normals);
+  outcome.rig_frame = CommandInRigFrame(rig->registration, c.position, c.normal, c.drag_direction, points, normals);
+  outcome.rig_registration = std::move(rig);
+}
+
+absl::StatusOr<std::shared_ptr<const RegisteredRig>> ProbeProtocol::TraceRegistration(
+    const CommandContext& context, const std::string& rig_id, TraceFrameChoice frame) const {
+  const int64_t object_id = context.runtime->object_id;
+  if (frame.registration_id != 0) {
+    if (frame.frame == TraceFrame::kObject) {
+      return absl::InvalidArgumentError("registration_id is set but the trace is stated in the object's frame "
+                                        "(TRACE_FRAME_OBJECT): a registration is only read for a rig frame");
+    }
+    if (rigs_ == nullptr) return absl::FailedPreconditionError("this server keeps no rig registrations");
+    absl::StatusOr<RegisteredRig> rig = rigs_->Get(frame.registration_id);
+    if (!rig.ok()) return rig.status();
+    if (rig->record.object_id != object_id || rig->record.rig_name != rig_id) {
+      return absl::InvalidArgumentError(absl::StrCat(
+          "registration ", frame.registration_id, " is rig '", rig->record.rig_name, "' on object ",
+          rig->record.object_id, ", not rig '", rig_id, "' on object ", object_id, " (the command's job's object)"));
+    }
+    return std::make_shared<const RegisteredRig>(std::move(*rig));
+  }
+  std::shared_ptr<const RegisteredRig> latest = rigs_ ? rigs_->Latest(object_id, rig_id) : nullptr;
+  if (!latest && frame.frame != TraceFrame::kObject) {
+    return absl::FailedPreconditionError(absl::StrCat(
+        "trace for command ", context.record.id, " is stated in ", std::string(TraceFrameName(frame.frame)),
+        " frame, but rig '", rig_id, "' has no registration for object ", object_id,
+        ": register the rig (SetRigRegistration) or send the trace in the object's frame"));
+  }
+  return latest;
+}
 
 // ---------------------------------------------------------------- leasing
 
@@ -79,11 +148,13 @@ void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, Leas
     }
   }
   LeaseRequest request{job_id, rig_id, UnixMillisNow(), lease_ms};
-  store_->LeaseNextCommandAsync(request, [this, done = std::move(done)](
+  store_->LeaseNextCommandAsync(request, [this, rig_id, done = std::move(done)](
                                              absl::StatusOr<std::optional<CommandRecord>> leased) mutable {
-    executors_.completions->Post([leased = std::move(leased), done = std::move(done)]() mutable {
+    executors_.completions->Post([this, rig_id, leased = std::move(leased), done = std::move(done)]() mutable {
       if (!leased.ok()) return done(leased.status());
-      done(LeaseOutcomeOf(std::move(*leased)));
+      absl::StatusOr<LeaseOutcome> outcome = LeaseOutcomeOf(std::move(*leased));
+      if (outcome.ok()) AttachRigFrame(*outcome, rig_id);
+      done(std::move(outcome));
     });
   });
 }
@@ -102,31 +173,43 @@ absl::StatusOr<ProbeProtocol::CommandContext> ProbeProtocol::LoadCommandContext(
 }
 
 void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource source, bool lease_next,
-                                SubmitCallback done, std::string metadata_json) {
+                                TraceFrameChoice frame, SubmitCallback done, std::string metadata_json) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
   auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
   const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
-                                               metadata_json = std::move(metadata_json), shared_done] {
-    FitAndSubmit(command_id, rig_id, source, lease_next, metadata_json, std::move(*shared_done));
+                                               frame, metadata_json = std::move(metadata_json), shared_done] {
+    FitAndSubmit(command_id, rig_id, source, lease_next, frame, metadata_json, std::move(*shared_done));
   });
   if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the trace later"));
 }
 
 void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source,
-                                 bool lease_next, const std::string& metadata_json, SubmitCallback done) {
+                                 bool lease_next, TraceFrameChoice frame, const std::string& metadata_json,
+                                 SubmitCallback done) {
   absl::StatusOr<DragTrace> made = source();
   if (!made.ok()) return done(made.status());
-  DragTrace trace = std::move(*made);
+  const DragTrace as_sent = std::move(*made);  // stored exactly like this
   absl::StatusOr<CommandContext> context = LoadCommandContext(command_id);
   if (!context.ok()) return done(context.status());
   // A done command: this is a repeated submission; the store tells a retry
   // (same rig, same samples) from a conflict. No fit, no plan change.
   const bool repeated = context->record.state == CommandState::kDone;
   TraceFit fit;
+  TraceFrameRecord stored_frame;
   if (!repeated) {
     if (absl::Status held = CheckLeasedTo(context->record, rig_id, "lease it before submitting a trace"); !held.ok()) {
       return done(held);
+    }
+    absl::StatusOr<std::shared_ptr<const RegisteredRig>> rig = TraceRegistration(*context, rig_id, frame);
+    if (!rig.ok()) return done(rig.status());
+    // The checks and the fit read the object's frame (a copy only when converted).
+    std::optional<DragTrace> converted;
+    if (frame.frame != TraceFrame::kObject) converted = TraceToObjectFrame(as_sent, frame.frame, (*rig)->registration);
+    const DragTrace& trace = converted ? *converted : as_sent;
+    if (frame.frame != TraceFrame::kObject) {
+      stored_frame.frame = std::string(TraceFrameName(frame.frame));
+      stored_frame.registration_id = (*rig)->record.id;
     }
     // Plausibility first: one cheap pass, before any work that grows with
     // what the trace claims (a fit's grids follow its path length).
@@ -136,7 +219,9 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
         return done(absl::Status(plausible.code(), absl::StrCat("trace for command ", command_id, ": ",
                                                                 plausible.message())));
       }
-      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+      return KeepRejected(*context, rig_id, as_sent,
+                          ExplainWrongFrame(plausible, as_sent, frame.frame, rig->get(), context->probe, limits),
+                          std::move(done));
     }
     // The fit is pure computation: on this pool thread, outside any lock.
     absl::StatusOr<TraceFit> fitted = FitTrace(trace, context->runtime->params.fit);
@@ -145,12 +230,14 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
                                absl::StrCat("trace for command ", command_id, ": ", fitted.status().message())));
     }
     if (absl::Status plausible = CheckFitAgainstCommand(trace, *fitted, context->probe, limits); !plausible.ok()) {
-      return KeepRejected(*context, rig_id, trace, plausible, std::move(done));
+      return KeepRejected(*context, rig_id, as_sent,
+                          ExplainWrongFrame(plausible, as_sent, frame.frame, rig->get(), context->probe, limits),
+                          std::move(done));
     }
     fit = std::move(*fitted);
   }
-  absl::Status refused = QueueTrace(*context, rig_id, repeated ? TraceFit{} : fit, ToStoredSamples(trace), lease_next,
-                                    metadata_json, done);
+  absl::Status refused = QueueTrace(*context, rig_id, repeated ? TraceFit{} : fit, ToStoredSamples(as_sent),
+                                    lease_next, stored_frame, metadata_json, done);
   if (!refused.ok()) done(refused);  // after the job's lock is released
 }
 
@@ -184,7 +271,8 @@ void ProbeProtocol::KeepRejected(const CommandContext& context, const std::strin
 
 absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
                                        std::vector<StoredSample> samples, bool lease_next,
-                                       const std::string& metadata_json, SubmitCallback& done) {
+                                       const TraceFrameRecord& frame, const std::string& metadata_json,
+                                       SubmitCallback& done) {
   JobRuntime& runtime = *context.runtime;
   const bool repeated = context.record.state == CommandState::kDone;
   AcceptTraceRequest request;
@@ -193,10 +281,12 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
   request.lease_owner = rig_id;
   request.encoded_samples = EncodeSamples(samples);  // O(samples): before the lock
   request.metadata_json = metadata_json;
+  request.frame = frame.frame;
+  request.registration_id = frame.registration_id;
   if (lease_next) {
     request.lease_next = LeaseRequest{context.record.job_id, rig_id, UnixMillisNow(), runtime.params.lease_ms};
   }
-  TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr};
+  TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr, rig_id};
   MutexLock lock(&runtime.mu);
   if (!repeated) {
     SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
@@ -286,6 +376,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
     absl::StatusOr<LeaseOutcome> next = LeaseOutcomeOf(std::move(result->next_command));
     if (!next.ok()) return done(next.status());
     if (!next->record) next->job_finished = finished;
+    AttachRigFrame(*next, pending.rig_id);
     outcome.next = std::move(*next);
   }
   if (finished) registry_->NoteFinished(runtime.job_id);

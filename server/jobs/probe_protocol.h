@@ -24,6 +24,7 @@
 #include "server/jobs/job_executors.h"
 #include "server/jobs/job_registry.h"
 #include "server/jobs/record_conversion.h"
+#include "server/jobs/rig_registrations.h"
 #include "storage/store.h"
 
 namespace surfmap {
@@ -45,7 +46,8 @@ struct SubmitOutcome {
 
 class ProbeProtocol {
  public:
-  ProbeProtocol(Store* store, JobRegistry* registry, JobExecutors executors, int64_t default_lease_ms);
+  ProbeProtocol(Store* store, JobRegistry* registry, RigRegistrations* rigs, JobExecutors executors,
+                int64_t default_lease_ms);
 
   using LeaseCallback = std::function<void(absl::StatusOr<LeaseOutcome>)>;
   // job_id 0: any running job. Cheap on the caller's thread (one small read
@@ -53,6 +55,11 @@ class ProbeProtocol {
   void LeaseCommand(const std::string& rig_id, int64_t job_id, LeaseCallback done);
 
   using SubmitCallback = std::function<void(absl::StatusOr<SubmitOutcome>)>;
+  // The frame a submitted trace states (see the second SubmitTrace).
+  struct TraceFrameChoice {
+    TraceFrame frame = TraceFrame::kObject;
+    int64_t registration_id = 0;
+  };
   // Makes the trace (e.g. converts it from the request): runs on the pool,
   // since a large trace takes a while. Its errors are the submission's.
   using TraceSource = std::function<absl::StatusOr<DragTrace>()>;
@@ -62,7 +69,19 @@ class ProbeProtocol {
   // UNAVAILABLE when the pool is full.
   // metadata_json: the trace's provenance (provenance.h), stored with it.
   void SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource trace, bool lease_next,
-                   SubmitCallback done, std::string metadata_json = "{}");
+                   SubmitCallback done, std::string metadata_json = "{}") {
+    SubmitTrace(command_id, rig_id, std::move(trace), lease_next, TraceFrameChoice{}, std::move(done),
+                std::move(metadata_json));
+  }
+  // The frame the trace was sent in (docs/trace-format.md, "Frames"). A trace
+  // in a rig's frame is converted to the object's with the rig's registration
+  // (registration_id, or 0: the rig's latest for the job's object) before the
+  // checks and the fit, and stored as sent with the frame and the
+  // registration's id. FAILED_PRECONDITION when the rig has no registration;
+  // a registration of another object or rig is INVALID_ARGUMENT. A trace
+  // refused because it is in another frame than stated says so ("frame").
+  void SubmitTrace(int64_t command_id, const std::string& rig_id, TraceSource trace, bool lease_next,
+                   TraceFrameChoice frame, SubmitCallback done, std::string metadata_json = "{}");
 
   using FailureCallback = std::function<void(absl::StatusOr<bool>)>;  // will the site be retried?
   // Runs on the pool (reads the command, may load the job).
@@ -77,14 +96,25 @@ class ProbeProtocol {
   };
   absl::StatusOr<CommandContext> LoadCommandContext(int64_t command_id);
   void FitAndSubmit(int64_t command_id, const std::string& rig_id, const TraceSource& source, bool lease_next,
-                    const std::string& metadata_json, SubmitCallback done);
+                    TraceFrameChoice frame, const std::string& metadata_json, SubmitCallback done);
+  // The registration a trace in `frame` is read with (null for the object's
+  // frame when the rig has none: then nothing can be said about frames).
+  absl::StatusOr<std::shared_ptr<const RegisteredRig>> TraceRegistration(const CommandContext& context,
+                                                                         const std::string& rig_id,
+                                                                         TraceFrameChoice frame) const;
+  // Adds the command in the rig's frame to a lease, when the rig is registered
+  // to the job's object: traces the commanded drag on the job's surface
+  // (centred on the site where the surface allows, 1 mm steps) for the
+  // tool-centre path. In memory only (no store read); ~0.1 ms.
+  void AttachRigFrame(LeaseOutcome& outcome, const std::string& rig_id) const;
   // Keeps a trace refused as implausible (out of the map, with an event) and
   // answers the refusal.
   void KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
                     const absl::Status& refusal, SubmitCallback done);
   // Under the job's lock: the checks, the plan change and the queued write.
   absl::Status QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
-                          std::vector<StoredSample> samples, bool lease_next, const std::string& metadata_json,
+                          std::vector<StoredSample> samples, bool lease_next, const TraceFrameRecord& frame,
+                          const std::string& metadata_json,
                           SubmitCallback& done);
   // A queued trace write, as its completion needs it.
   struct TraceWrite {
@@ -93,6 +123,7 @@ class ProbeProtocol {
     bool completes_job = false;  // the write also stores the job as completed
     bool lease_next = false;
     std::shared_ptr<const TraceFit> decoded_fit;
+    std::string rig_id;
   };
   // On the completion queue, once the write finished.
   void ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr<AcceptTraceResult> result, SubmitCallback done);
@@ -101,6 +132,7 @@ class ProbeProtocol {
 
   Store* const store_;
   JobRegistry* const registry_;
+  RigRegistrations* const rigs_;
   const JobExecutors executors_;
   const int64_t default_lease_ms_;
 };

@@ -12,6 +12,7 @@
 #include "server/estimate/fit_trace.h"
 #include "server/plan/probe_command.h"
 #include "server/plan/sampling_plan.h"
+#include "server/jobs/rig_registrations.h"
 #include "storage/records.h"
 
 namespace surfmap {
@@ -34,6 +35,10 @@ struct LeaseOutcome {
   std::optional<ProbeCommand> command;  // decoded record->command_json
   bool job_finished = false;            // the requested job is completed or cancelled
   int64_t retry_after_ms = 0;           // when nothing is ready
+  // The command in the leasing rig's base frame, when the rig has a
+  // registration for the job's object (ProbeProtocol fills it in).
+  std::optional<RigFrameCommand> rig_frame;
+  std::shared_ptr<const RegisteredRig> rig_registration;  // the one rig_frame was computed with
 };
 // No command: ask again after a short while. DATA_LOSS if the stored command
 // cannot be decoded.

@@ -21,6 +21,14 @@ class ObjectServiceImpl final : public pb::ObjectService::CallbackService {
                                         pb::ListObjectsResponse*) override;
   grpc::ServerUnaryReactor* GetMesh(grpc::CallbackServerContext*, const pb::GetMeshRequest*,
                                     pb::GetMeshResponse*) override;
+  // Frames and calibration (rig_registration_service.cc).
+  grpc::ServerUnaryReactor* SetRigRegistration(grpc::CallbackServerContext*, const pb::SetRigRegistrationRequest*,
+                                               pb::SetRigRegistrationResponse*) override;
+  grpc::ServerUnaryReactor* GetRigRegistration(grpc::CallbackServerContext*, const pb::GetRigRegistrationRequest*,
+                                               pb::GetRigRegistrationResponse*) override;
+  grpc::ServerUnaryReactor* ListRigRegistrations(grpc::CallbackServerContext*,
+                                                 const pb::ListRigRegistrationsRequest*,
+                                                 pb::ListRigRegistrationsResponse*) override;
 
  private:
   ServiceContext s_;
@@ -71,7 +79,8 @@ class ProbeServiceImpl final : public pb::ProbeService::CallbackService {
   // `samples` must live until `finish` was called.
   // `provenance` lives until the call finishes, like `samples`.
   void Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples, bool lease_next,
-              const pb::Provenance& provenance, pb::SubmitTraceResponse* response, FinishFn finish);
+              pb::TraceFrame frame, int64_t registration_id, const pb::Provenance& provenance,
+              pb::SubmitTraceResponse* response, FinishFn finish);
 
  private:
   ServiceContext s_;

@@ -31,7 +31,7 @@ grpc::ServerUnaryReactor* MapServiceImpl::GetSample(grpc::CallbackServerContext*
     absl::StatusOr<pb::Sample> sample = BuildSample(*record);
     if (!sample.ok()) return sample.status();
     *response->mutable_sample() = std::move(*sample);
-    if (series) return AddRecomputedSeries(*record, response->mutable_sample());
+    if (series) return AddRecomputedSeries(s_.coordinator->reads(), *record, response->mutable_sample());
     return absl::OkStatus();
   });
 }

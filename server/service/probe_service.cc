@@ -5,6 +5,7 @@
 #include "server/service/proto_builders.h"
 #include "server/service/proto_conversion.h"
 #include "server/service/provenance_proto.h"
+#include "server/service/rig_registration_proto.h"
 
 namespace surfmap {
 namespace {
@@ -37,6 +38,21 @@ void FillLeaseResponse(const LeaseOutcome& outcome, pb::LeaseCommandResponse* re
     out->mutable_probe()->set_normal_force_n(c.probe.normal_force_n);
     out->set_attempt(record.attempt);
     *out->mutable_lease_deadline() = TimestampFromUnixMs(record.lease_deadline_unix_ms);
+    if (outcome.rig_frame && outcome.rig_registration) {
+      const RigFrameCommand& rf = *outcome.rig_frame;
+      const RegisteredRig& rig = *outcome.rig_registration;
+      pb::RigFrameCommand* frame = out->mutable_rig_frame();
+      frame->set_registration_id(rig.record.id);
+      frame->set_registration_version(rig.record.version);
+      *frame->mutable_position() = ToProto(rf.position);
+      *frame->mutable_normal() = ToProto(rf.normal);
+      *frame->mutable_drag_direction() = ToProto(rf.drag_direction);
+      *frame->mutable_start() = ToProto(rf.start);
+      *frame->mutable_end() = ToProto(rf.end);
+      for (const Eigen::Vector3d& p : rf.tool_centre_path) *frame->add_tool_centre_path() = ToProto(p);
+      frame->set_tip_radius_mm(rig.registration.tip_radius_mm);
+      *frame->mutable_sensor_rotation() = QuaternionToProto(rig.registration.sensor_rotation);
+    }
   } else if (!outcome.job_finished) {
     *response->mutable_retry_after() = DurationFromMs(outcome.retry_after_ms);
   }
@@ -77,7 +93,7 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
         Finish(ToGrpcStatus(absl::InvalidArgumentError("stream carried no chunk with a command_id")));
         return;
       }
-      service_->Submit(command_id_, rig_id_, &samples_, lease_next_, provenance_, response_,
+      service_->Submit(command_id_, rig_id_, &samples_, lease_next_, frame_, registration_id_, provenance_, response_,
                        [this](absl::Status status) { Finish(ToGrpcStatus(status)); });
       return;
     }
@@ -86,6 +102,8 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
       rig_id_ = chunk_.rig_id();
       lease_next_ = chunk_.lease_next();
       provenance_ = chunk_.provenance();
+      frame_ = chunk_.frame();
+      registration_id_ = chunk_.registration_id();
     } else if (chunk_.command_id() != 0 && chunk_.command_id() != command_id_) {
       Finish(ToGrpcStatus(absl::InvalidArgumentError(
           absl::StrCat("chunk for command ", chunk_.command_id(), " in a stream for command ", command_id_))));
@@ -116,6 +134,8 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   std::string rig_id_;
   bool lease_next_ = false;
   pb::Provenance provenance_;
+  pb::TraceFrame frame_ = pb::TRACE_FRAME_UNSPECIFIED;
+  int64_t registration_id_ = 0;
   pb::TraceSamples samples_;  // lives until OnDone, after the submission finished
 };
 
@@ -141,13 +161,24 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::LeaseCommand(grpc::CallbackServerCon
 }
 
 void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, const pb::TraceSamples* samples,
-                              bool lease_next, const pb::Provenance& provenance_proto, pb::SubmitTraceResponse* response,
+                              bool lease_next, pb::TraceFrame frame, int64_t registration_id,
+                              const pb::Provenance& provenance_proto, pb::SubmitTraceResponse* response,
                               FinishFn finish) {
   if (command_id <= 0) return finish(absl::InvalidArgumentError("command_id must be a positive command id"));
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return finish(s);
   absl::StatusOr<Provenance> provenance = ProvenanceFromProto(provenance_proto);
   if (!provenance.ok()) return finish(provenance.status());
   std::string metadata_json = MetadataJsonOf(*provenance);
+  ProbeProtocol::TraceFrameChoice choice;
+  switch (frame) {
+    case pb::TRACE_FRAME_UNSPECIFIED:  // rigs from before frames existed
+    case pb::TRACE_FRAME_OBJECT: choice.frame = TraceFrame::kObject; break;
+    case pb::TRACE_FRAME_RIG_BASE: choice.frame = TraceFrame::kRigBase; break;
+    case pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES: choice.frame = TraceFrame::kRigBaseSensorForces; break;
+    default: return finish(absl::InvalidArgumentError(absl::StrCat("frame: unknown value ", frame)));
+  }
+  if (registration_id < 0) return finish(absl::InvalidArgumentError("registration_id must be >= 0 (0 = the latest)"));
+  choice.registration_id = registration_id;
   const int max_samples = s_.config->max_trace_samples;
   // The conversion is O(samples): it runs on the pool with the fit. `samples`
   // lives until the call finishes.
@@ -159,7 +190,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
     return trace;
   };
   s_.coordinator->probes().SubmitTrace(
-      command_id, rig_id, source, lease_next,
+      command_id, rig_id, source, lease_next, choice,
       [response, rig_id, command_id, metadata_json, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
         if (!outcome.ok()) {
           // Every refusal, whatever its cause (an implausible trace, an expired
@@ -196,8 +227,8 @@ grpc::ServerUnaryReactor* ProbeServiceImpl::SubmitTrace(grpc::CallbackServerCont
                                                         const pb::SubmitTraceRequest* request,
                                                         pb::SubmitTraceResponse* response) {
   return HandleUnaryAsync(context, s_, Role::kProbe, "SubmitTrace", [this, request, response](FinishFn finish) {
-    Submit(request->command_id(), request->rig_id(), &request->samples(), request->lease_next(),
-           request->provenance(), response, std::move(finish));
+    Submit(request->command_id(), request->rig_id(), &request->samples(), request->lease_next(), request->frame(),
+           request->registration_id(), request->provenance(), response, std::move(finish));
   });
 }
 

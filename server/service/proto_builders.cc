@@ -143,9 +143,9 @@ absl::Status AppendSamples(const std::vector<SampleRecord>& samples,
   return absl::OkStatus();
 }
 
-absl::Status AddRecomputedSeries(const SampleRecord& record, pb::Sample* sample) {
+absl::Status AddRecomputedSeries(JobReads& reads, const SampleRecord& record, pb::Sample* sample) {
   FitOptions options;
-  absl::StatusOr<TraceFit> fit = JobReads::RecomputeFit(record, &options);
+  absl::StatusOr<TraceFit> fit = reads.RecomputeFit(record, &options);
   if (!fit.ok()) return fit.status();
   AddFitSeries(*fit, options.step_mm, sample->mutable_fit());
   return absl::OkStatus();

@@ -37,7 +37,7 @@ absl::Status AppendSamples(const std::vector<SampleRecord>& samples,
                            google::protobuf::RepeatedPtrField<pb::Sample>* out);
 // Adds the per-pair mu and the ACF, recomputed from the sample's trace (read
 // with its samples) with its fit's options; see JobReads::RecomputeFit.
-absl::Status AddRecomputedSeries(const SampleRecord& record, pb::Sample* sample);
+absl::Status AddRecomputedSeries(JobReads& reads, const SampleRecord& record, pb::Sample* sample);
 
 // Per-vertex values of vertices 0..vertex_count-1 of the finest level (the
 // vertices of `level`, by the numbering contract), and the measured samples.

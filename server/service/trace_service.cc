@@ -20,6 +20,12 @@ grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext
     FillMetadata(trace->metadata_json, trace->received_unix_ms, response->mutable_provenance(),
                  response->mutable_import());
     if (response->import().source().empty()) response->clear_import();  // a leased trace
+    absl::StatusOr<TraceFrameRecord> frame = s_.coordinator->reads().GetTraceFrame(trace->id);
+    if (!frame.ok()) return frame.status();
+    response->set_frame(frame->frame == "rig_base"                 ? pb::TRACE_FRAME_RIG_BASE
+                        : frame->frame == "rig_base_sensor_forces" ? pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES
+                                                                   : pb::TRACE_FRAME_OBJECT);
+    response->set_registration_id(frame->registration_id);
     return absl::OkStatus();
   });
 }

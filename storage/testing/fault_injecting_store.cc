@@ -297,6 +297,22 @@ absl::StatusOr<int64_t> FaultInjectingStore::FindImportedTrace(int64_t job_id, c
 absl::StatusOr<JobActivity> FaultInjectingStore::GetJobActivity(int64_t job_id) {
   return wrapped_->GetJobActivity(job_id);
 }
+absl::StatusOr<RigRegistrationRecord> FaultInjectingStore::AddRigRegistration(
+    const NewRigRegistration& registration) {
+  return RunWrite<RigRegistrationRecord>(
+      [this, &registration](std::function<void(absl::StatusOr<RigRegistrationRecord>)> done) {
+        done(wrapped_->AddRigRegistration(registration));
+      });
+}
+absl::StatusOr<RigRegistrationRecord> FaultInjectingStore::GetRigRegistration(int64_t registration_id) {
+  return wrapped_->GetRigRegistration(registration_id);
+}
+absl::StatusOr<std::vector<RigRegistrationRecord>> FaultInjectingStore::ListRigRegistrations(int64_t object_id) {
+  return wrapped_->ListRigRegistrations(object_id);
+}
+absl::StatusOr<TraceFrameRecord> FaultInjectingStore::GetTraceFrame(int64_t trace_id) {
+  return wrapped_->GetTraceFrame(trace_id);
+}
 absl::StatusOr<FitRecord> FaultInjectingStore::GetFit(int64_t trace_id, int32_t version) {
   return wrapped_->GetFit(trace_id, version);
 }

@@ -81,6 +81,10 @@ class FaultInjectingStore : public Store {
                                                           bool include_samples) override;
   absl::StatusOr<JobActivity> GetJobActivity(int64_t job_id) override;
   absl::StatusOr<int64_t> FindImportedTrace(int64_t job_id, const std::string& sha256) override;
+  absl::StatusOr<RigRegistrationRecord> AddRigRegistration(const NewRigRegistration& registration) override;
+  absl::StatusOr<RigRegistrationRecord> GetRigRegistration(int64_t registration_id) override;
+  absl::StatusOr<std::vector<RigRegistrationRecord>> ListRigRegistrations(int64_t object_id) override;
+  absl::StatusOr<TraceFrameRecord> GetTraceFrame(int64_t trace_id) override;
   absl::StatusOr<FitRecord> GetFit(int64_t trace_id, int32_t version) override;
   absl::StatusOr<std::vector<FitRecord>> AddFits(const std::vector<TraceRefit>& fits) override;
   absl::StatusOr<std::vector<FitRecord>> ListFits(int64_t job_id, int32_t version) override;

@@ -17,7 +17,7 @@ raises SurfmapError.
 from .client import DEFAULT_TIMEOUT_S, DEFAULT_WATCH_TIMEOUT_S, SurfmapClient, connect
 from .errors import SurfmapError
 from .map_file import map_to_document, write_map_file
-from .probe import FailureKind, Lease, ProbeCommand, SubmitResult, check_trace, measured_trace
+from .probe import FailureKind, Lease, ProbeCommand, RigFrameCommand, SubmitResult, check_trace, measured_trace
 from .records import (ArMethod, Fit, FrictionEstimate, ImportInfo, JobEvent, JobInfo, JobProgress, JobSpec, JobState,
                       JobUpdate, LevelProgress, MapQuery, Mesh, ObjectInfo, Phase, Plan, PlanSite, ProbeParameters,
                       Property, Provenance, RefitResult, RejectedTrace, RoughnessEstimate, Sample, SamplingMode,
@@ -35,5 +35,6 @@ __all__ = [
     "ImportInfo", "Provenance", "RejectedTrace",
     # rigs: lease, measure, submit (rig.py, probe.py, spool.py; driver_protocol.py for surfmap-rig --driver)
     "Rig", "run_rig", "RigFailure", "RigSummary", "TraceRejected", "TracePending", "FailureKind", "Lease",
-    "ProbeCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool", "default_spool_dir",
+    "ProbeCommand", "RigFrameCommand", "SubmitResult", "check_trace", "measured_trace", "TraceSpool",
+    "default_spool_dir",
 ]

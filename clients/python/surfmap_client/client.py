@@ -191,6 +191,44 @@ class SurfmapClient:
             request.units = _UNITS[units]
         return conv.object_info(self._call("UploadObject", self._objects.UploadObject, request, timeout).object)
 
+    # ------------------------------------------------------------ frames and calibration
+
+    def set_rig_registration(self, object_id: int, rig_name: str, rotation_wxyz, translation_mm,
+                             tip_radius_mm: float = 0.0, sensor_rotation_wxyz=None,
+                             timeout: Optional[float] = None) -> dict:
+        """Registers rig ``rig_name`` (the rig_id it leases with) to an object:
+        the object's pose in the rig's base frame, p_base = R p_object + t
+        (``rotation_wxyz`` a unit quaternion, ``translation_mm``), the
+        tool-tip radius in mm and the F/T sensor's orientation in the base
+        frame (f_base = S f_sensor; None: aligned). Stores the next version
+        and returns it as a dict (``registration_id``, ``version``, ...)."""
+        w, x, y, z = (float(v) for v in rotation_wxyz)
+        tx, ty, tz = (float(v) for v in translation_mm)
+        reg = pb.RigRegistration(object_id=object_id, rig_name=rig_name, tip_radius_mm=float(tip_radius_mm))
+        reg.object_pose.rotation.CopyFrom(pb.Quaternion(w=w, x=x, y=y, z=z))
+        reg.object_pose.translation_mm.CopyFrom(pb.Vec3(x=tx, y=ty, z=tz))
+        if sensor_rotation_wxyz is not None:
+            sw, sx, sy, sz = (float(v) for v in sensor_rotation_wxyz)
+            reg.sensor_rotation.CopyFrom(pb.Quaternion(w=sw, x=sx, y=sy, z=sz))
+        response = self._call("SetRigRegistration", self._objects.SetRigRegistration,
+                              pb.SetRigRegistrationRequest(registration=reg), timeout)
+        return _registration_dict(response.registration)
+
+    def get_rig_registration(self, registration_id: int = 0, object_id: int = 0, rig_name: str = "",
+                             timeout: Optional[float] = None) -> dict:
+        """A registration by id (any version), or the latest of (object_id, rig_name)."""
+        request = pb.GetRigRegistrationRequest(registration_id=registration_id, object_id=object_id,
+                                               rig_name=rig_name)
+        response = self._call("GetRigRegistration", self._objects.GetRigRegistration, request, timeout)
+        return _registration_dict(response.registration)
+
+    def list_rig_registrations(self, object_id: int = 0, include_history: bool = False,
+                               timeout: Optional[float] = None) -> List[dict]:
+        """The latest registration per (object, rig), or every version; object_id 0: all objects."""
+        request = pb.ListRigRegistrationsRequest(object_id=object_id, include_history=include_history)
+        response = self._call("ListRigRegistrations", self._objects.ListRigRegistrations, request, timeout)
+        return [_registration_dict(r) for r in response.registrations]
+
     def get_object(self, object_id: int, timeout: Optional[float] = None) -> r.ObjectInfo:
         request = pb.GetObjectRequest(object_id=object_id)
         return conv.object_info(self._call("GetObject", self._objects.GetObject, request, timeout).object)
@@ -455,3 +493,13 @@ class SurfmapClient:
         response = self._call("RefitJob", self._traces.RefitJob, pb.RefitJobRequest(job_id=job_id, settings=settings),
                               timeout)
         return r.RefitResult(response.fit_version, response.refitted, response.failed)
+
+
+def _registration_dict(m) -> dict:
+    """pb.RigRegistration -> a plain dict (numbers as floats, quaternions as [w, x, y, z])."""
+    q = m.object_pose.rotation
+    t = m.object_pose.translation_mm
+    s = m.sensor_rotation
+    return {"registration_id": m.registration_id, "object_id": m.object_id, "rig_name": m.rig_name,
+            "version": m.version, "rotation_wxyz": [q.w, q.x, q.y, q.z], "translation_mm": [t.x, t.y, t.z],
+            "tip_radius_mm": m.tip_radius_mm, "sensor_rotation_wxyz": [s.w, s.x, s.y, s.z]}

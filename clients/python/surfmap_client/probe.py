@@ -66,6 +66,9 @@ class ProbeCommand:
     probe: r.ProbeParameters      # zero parameters replaced by the paper's 20 mm, 10 mm/s, 5 N
     attempt: int                  # 1 = the site's first command
     lease_deadline: Optional[datetime]
+    # The same command in this rig's base frame, when the rig is registered to
+    # the object (``SurfmapClient.set_rig_registration``); else None.
+    rig_frame: Optional["RigFrameCommand"] = None
 
     @property
     def lease_deadline_unix_ms(self) -> int:
@@ -73,6 +76,25 @@ class ProbeCommand:
         if self.lease_deadline is None:
             return 0
         return int(round(self.lease_deadline.timestamp() * 1000))
+
+
+@dataclass(frozen=True)
+class RigFrameCommand:
+    """A command in a rig's base frame (docs/trace-format.md, "Frames"):
+    contact points in mm, unit vectors; ``tool_centre_path`` (K, 3) is the
+    tool centre (contact + ``tip_radius_mm`` x outward normal) along the
+    forward pass, ~1 mm apart, start to end."""
+
+    registration_id: int
+    registration_version: int
+    position: np.ndarray
+    normal: np.ndarray
+    drag_direction: np.ndarray
+    start: np.ndarray
+    end: np.ndarray
+    tool_centre_path: np.ndarray
+    tip_radius_mm: float
+    sensor_rotation_wxyz: np.ndarray
 
 
 @dataclass(frozen=True)
@@ -102,8 +124,16 @@ def probe_command(m) -> ProbeCommand:
                               p.normal_force_n or DEFAULT_NORMAL_FORCE_N)
     deadline = m.lease_deadline.ToDatetime(tzinfo=timezone.utc) if m.HasField("lease_deadline") else None
     vec = lambda v: np.array([v.x, v.y, v.z], dtype=float)  # noqa: E731
+    rig_frame = None
+    if m.HasField("rig_frame"):
+        f = m.rig_frame
+        path = np.array([[p.x, p.y, p.z] for p in f.tool_centre_path], dtype=float).reshape(-1, 3)
+        q = f.sensor_rotation
+        rig_frame = RigFrameCommand(f.registration_id, f.registration_version, vec(f.position), vec(f.normal),
+                                    vec(f.drag_direction), vec(f.start), vec(f.end), path, f.tip_radius_mm,
+                                    np.array([q.w, q.x, q.y, q.z], dtype=float))
     return ProbeCommand(m.command_id, m.job_id, m.site.level, m.site.vertex, vec(m.position), vec(m.normal),
-                        vec(m.drag_direction), probe, m.attempt, deadline)
+                        vec(m.drag_direction), probe, m.attempt, deadline, rig_frame)
 
 
 def lease(m) -> Lease:

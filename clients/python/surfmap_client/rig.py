@@ -60,6 +60,11 @@ _log = logging.getLogger("surfmap_client.rig")
 Measure = Callable[[ProbeCommand], r.Trace]
 
 
+# The frames a trace may be sent in (SubmitTraceRequest.frame).
+TRACE_FRAMES = {"object": pb.TRACE_FRAME_OBJECT, "rig_base": pb.TRACE_FRAME_RIG_BASE,
+                "rig_base_sensor_forces": pb.TRACE_FRAME_RIG_BASE_SENSOR_FORCES}
+
+
 class RigFailure(Exception):
     """Raised by a ``measure`` function when it could not measure the command.
 
@@ -188,7 +193,8 @@ class Rig:
                  retry_for_s: float = DEFAULT_RETRY_FOR_S, *, initial_backoff_s: float = 0.2,
                  max_backoff_s: float = 5.0, max_retry_after_s: float = 10.0,
                  on_event: Optional[Callable[[str], None]] = None,
-                 sleep: Callable[[float], None] = time.sleep, clock: Callable[[], float] = time.monotonic) -> None:
+                 sleep: Callable[[float], None] = time.sleep, clock: Callable[[], float] = time.monotonic,
+                 frame: str = "object") -> None:
         if not isinstance(rig_id, str) or not 1 <= len(rig_id) <= 100:
             raise invalid_argument("Rig", f"rig_id must have 1..100 characters, got {rig_id!r}")
         if any(ord(c) < 0x20 or ord(c) == 0x7F for c in rig_id):
@@ -199,6 +205,9 @@ class Rig:
         if probe.finite_positive(max_backoff_s, "max_backoff_s", "Rig") < initial_backoff_s:
             raise invalid_argument("Rig", "max_backoff_s must be >= initial_backoff_s")
         probe.finite_positive(max_retry_after_s, "max_retry_after_s", "Rig")
+        if frame not in TRACE_FRAMES:
+            raise invalid_argument("Rig", f"frame must be one of {', '.join(TRACE_FRAMES)}, got {frame!r}")
+        self.frame = frame
         self.client = client
         self.rig_id = rig_id
         self.retry_for_s = float(retry_for_s)
@@ -418,7 +427,8 @@ class Rig:
 
     def _deliver(self, path: Path, header: SpoolHeader, trace: r.Trace, lease_next: bool) -> SubmitResult:
         request = pb.SubmitTraceRequest(command_id=header.command_id, rig_id=header.rig_id,
-                                        samples=probe.trace_samples(trace), lease_next=lease_next)
+                                        samples=probe.trace_samples(trace), lease_next=lease_next,
+                                        frame=TRACE_FRAMES[self.frame])
         try:
             result = probe.submit_result(self._call("SubmitTrace", request))
         except SurfmapError as error:
@@ -516,11 +526,18 @@ def run_rig(client: SurfmapClient, measure: Measure, rig_id: str, job_id: int = 
             spool_dir: Optional[Union[str, Path]] = None, retry_for_s: float = DEFAULT_RETRY_FOR_S,
             max_commands: int = 0, stop: Optional[threading.Event] = None,
             on_progress: Optional[Callable[[r.JobProgress], None]] = None,
-            on_event: Optional[Callable[[str], None]] = None) -> RigSummary:
+            on_event: Optional[Callable[[str], None]] = None, frame: str = "object") -> RigSummary:
     """Runs ``measure`` as rig ``rig_id`` on ``job_id`` (0 = any running job)
     until the job ends: ``Rig(client, rig_id, spool_dir, retry_for_s,
     on_event=on_event).run(measure, job_id, max_commands, stop, on_progress)``,
     closing the rig afterwards. Returns the summary (``.error`` when it ended
-    early; ``.raise_for_error()``)."""
-    with Rig(client, rig_id, spool_dir, retry_for_s, on_event=on_event) as rig:
+    early; ``.raise_for_error()``).
+
+    ``frame``: the frame ``measure``'s traces are in: "object" (the mesh's),
+    "rig_base" or "rig_base_sensor_forces" (positions in the rig's base
+    frame, forces in its F/T sensor's). A rig frame needs the rig registered
+    to the object (``client.set_rig_registration``); ``command.rig_frame``
+    then has the command in the base frame. Spooled traces are resubmitted
+    in the frame of the run that resubmits them."""
+    with Rig(client, rig_id, spool_dir, retry_for_s, on_event=on_event, frame=frame) as rig:
         return rig.run(measure, job_id, max_commands, stop, on_progress)

@@ -285,3 +285,69 @@ def test_a_rig_waits_out_a_restart_and_keeps_what_it_could_not_deliver(lab, own_
         assert set(samples) == {first.command_id, second.command_id}
         stored = client.get_trace(samples[second.command_id].trace_id)
         assert bits(stored.f) == bits(second_trace.f)
+
+
+# ---------------------------------------------------------------- frames and calibration
+
+def rotation_matrix(wxyz) -> np.ndarray:
+    w, x, y, z = wxyz
+    return np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+                     [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+                     [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)]])
+
+
+POSE_WXYZ = np.array([0.9, 0.1, -0.3, 0.3]) / np.linalg.norm([0.9, 0.1, -0.3, 0.3])
+POSE_T = np.array([380.0, 90.0, -40.0])
+SENSOR_WXYZ = np.array([np.cos(np.pi / 4), 0.0, 0.0, np.sin(np.pi / 4)])  # 90 deg about z
+
+
+def to_rig_frame(trace: sc.Trace, sensor_forces: bool = True) -> sc.Trace:
+    """An object-frame trace as the registered rig records it: positions in its
+    base frame, forces in its sensor's (f_sensor = S^T R f)."""
+    R, S = rotation_matrix(POSE_WXYZ), rotation_matrix(SENSOR_WXYZ)
+    xyz = np.asarray(trace.xyz) @ R.T + POSE_T
+    f = np.asarray(trace.f) @ R.T
+    if sensor_forces:
+        f = f @ S  # (S^T f^T)^T
+    return sc.Trace(trace.trace_id, trace.command_id, trace.job_id, np.asarray(trace.t), xyz, f,
+                    np.asarray(trace.phase))
+
+
+def test_run_rig_in_the_rig_frame(client, plate, simulator, tmp_path):
+    rig_id = "py-rig-frame"
+    reg = client.set_rig_registration(plate.object_id, rig_id, POSE_WXYZ, POSE_T, tip_radius_mm=2.0,
+                                      sensor_rotation_wxyz=SENSOR_WXYZ)
+    assert reg["version"] == 1 and reg["tip_radius_mm"] == 2.0
+    assert client.get_rig_registration(object_id=plate.object_id, rig_name=rig_id)["registration_id"] == \
+        reg["registration_id"]
+    with pytest.raises(sc.SurfmapError) as bad:
+        client.set_rig_registration(plate.object_id, rig_id, [1, 0, 0, 0.5], POSE_T)
+    assert bad.value.code == grpc.StatusCode.INVALID_ARGUMENT and "not a unit quaternion" in bad.value.message
+
+    job = uniform_job(client, plate, budget=4)
+    seen: List[sc.ProbeCommand] = []
+
+    def measure(command: sc.ProbeCommand) -> sc.Trace:
+        seen.append(command)
+        return to_rig_frame(simulator.measure(command))
+
+    summary = sc.run_rig(client, measure, rig_id, job.job_id, spool_dir=tmp_path / "spool",
+                         on_event=lambda line: None, frame="rig_base_sensor_forces")
+    summary.raise_for_error()
+    assert summary.accepted == 4 and summary.rejected == 0
+    R = rotation_matrix(POSE_WXYZ)
+    for command in seen:
+        assert command.rig_frame is not None and command.rig_frame.registration_id == reg["registration_id"]
+        np.testing.assert_allclose(command.rig_frame.position, R @ command.position + POSE_T, atol=1e-9)
+        np.testing.assert_allclose(command.rig_frame.normal, R @ command.normal, atol=1e-9)
+        assert command.rig_frame.tool_centre_path.shape[0] >= 15
+    assert all(0.05 < s.fit.friction.mu < 1.0 for s in client.list_samples(job.job_id))
+
+    # The same rig-frame data stated as the object's frame: refused, naming the frame.
+    job2 = uniform_job(client, plate, budget=1)
+    with sc.Rig(client, rig_id, tmp_path / "spool2", on_event=lambda line: None) as rig:
+        command = lease_command(rig, job2.job_id)
+        with pytest.raises(sc.TraceRejected) as refused:
+            rig.submit(command, to_rig_frame(simulator.measure(command), sensor_forces=False))
+    assert refused.value.code == grpc.StatusCode.INVALID_ARGUMENT
+    assert "implausible trace: frame: the trace looks like it is in the rig's base frame" in str(refused.value)

@@ -5,7 +5,9 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 #include "absl/status/status.h"
@@ -13,6 +15,19 @@
 #include "server/estimate/drag_trace.h"
 
 namespace surfmap {
+
+// The command in the rig's base frame (frames and calibration; the server
+// sends it when the rig is registered to the object): contact points, mm.
+struct RigFrameRequest {
+  std::int64_t registration_id = 0;
+  Eigen::Vector3d position = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d drag_direction = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d start = Eigen::Vector3d::Zero();
+  Eigen::Vector3d end = Eigen::Vector3d::Zero();
+  std::vector<Eigen::Vector3d> tool_centre_path;  // contact + tip radius x outward normal, ~1 mm apart
+  double tip_radius_mm = 0.0;
+};
 
 struct ProbeRequest {
   // The site, mm. The drag segment is centred on it (the measurement is
@@ -31,6 +46,7 @@ struct ProbeRequest {
   int site_level = 0;
   int site_vertex = 0;
   std::int64_t lease_deadline_unix_ms = 0;  // a trace answered after this may be refused
+  std::optional<RigFrameRequest> rig_frame;  // the same command in the rig's base frame, when registered
 };
 
 // INVALID_ARGUMENT naming the field: non-finite vectors, a zero normal or
