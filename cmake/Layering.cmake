@@ -17,18 +17,19 @@
 
 # Rooms, in any order: the longest matching prefix wins.
 set(SURFMAP_ROOMS
-  server/base server/estimate server/frames server/mesh server/map server/plan server/codec server/haptics
-  storage server/jobs server/service proto clients tests)
+  server/base server/estimate server/geometry server/frames server/mesh server/map server/plan server/codec
+  server/haptics storage server/jobs server/service proto clients tests)
 
 set(SURFMAP_ROOM_MAY_LINK_server/base "")
 set(SURFMAP_ROOM_MAY_LINK_server/estimate server/base)
 set(SURFMAP_ROOM_MAY_LINK_proto "")
-set(SURFMAP_ROOM_MAY_LINK_server/mesh server/base server/estimate)
+set(SURFMAP_ROOM_MAY_LINK_server/geometry "")
+set(SURFMAP_ROOM_MAY_LINK_server/mesh server/base server/estimate server/geometry)
 set(SURFMAP_ROOM_MAY_LINK_server/frames server/base server/estimate)
 set(SURFMAP_ROOM_MAY_LINK_server/map server/base server/estimate server/mesh)
 set(SURFMAP_ROOM_MAY_LINK_server/plan server/base server/estimate server/mesh server/map)
 set(SURFMAP_ROOM_MAY_LINK_server/codec server/base server/estimate proto)
-set(SURFMAP_ROOM_MAY_LINK_server/haptics server/base server/estimate server/codec proto)
+set(SURFMAP_ROOM_MAY_LINK_server/haptics server/base server/estimate server/geometry server/codec proto)
 set(SURFMAP_ROOM_MAY_LINK_storage server/base)
 set(SURFMAP_ROOM_MAY_LINK_server/jobs
   server/base server/estimate server/frames server/mesh server/map server/plan server/codec storage)

@@ -18,20 +18,13 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "server/geometry/closest_point.h"
 
 namespace surfmap::haptics {
 
-struct TriangleHit {
-  int triangle = -1;
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();  // weights of the triangle's vertices 0, 1, 2
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double squared_distance = 0.0;
-};
-
-// The closest point of triangle (a, b, c) to p with its barycentrics
-// (Ericson, Real-Time Collision Detection 5.1.5).
-TriangleHit ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                   const Eigen::Vector3d& c);
+// A surface lookup's answer: the closest triangle, its barycentrics and point.
+using TriangleHit = ::surfmap::ClosestTriangle;
+using ::surfmap::ClosestPointOnTriangle;
 
 class SurfaceLocator {
  public:

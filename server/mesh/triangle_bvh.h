@@ -6,20 +6,9 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "server/geometry/closest_point.h"
 
 namespace surfmap {
-
-struct ClosestTriangle {
-  int triangle = -1;
-  Eigen::Vector3d barycentric = Eigen::Vector3d::Zero();  // weights of the triangle's vertices 0, 1, 2
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  double squared_distance = 0.0;
-};
-
-// The closest point of triangle (a, b, c) to p, with its barycentrics.
-// Points in an edge or vertex region get exact zeros in the other weights.
-ClosestTriangle ClosestPointOnTriangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                       const Eigen::Vector3d& b, const Eigen::Vector3d& c);
 
 class TriangleBvh {
  public:
