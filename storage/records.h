@@ -281,6 +281,7 @@ struct AcceptTraceResult {
   std::optional<FitRecord> fit;     // the fit version 1 as stored (also for a retry)
   int64_t accepted_unix_ms = 0;     // the trace's and fit's stored time (also for a retry)
   int64_t command_id = 0;           // the command answered (an import's implied command)
+  std::string metadata_json = "{}"; // the trace's provenance as stored (also for a retry: the first one's)
 };
 
 // A trace refused as implausible for its command: kept, out of the map.

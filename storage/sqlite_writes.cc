@@ -279,6 +279,27 @@ absl::StatusOr<std::optional<CommandRecord>> CurrentLeaseOf(SqliteConnection& db
   return std::optional<CommandRecord>(std::move(command));
 }
 
+// The answer for a trace already stored (a retry, a repeated import): what
+// the first write stored, its first fit and the plan's revision. Nothing is
+// written.
+absl::Status AnswerStoredTrace(SqliteConnection& db, int64_t job_id, int64_t trace_id, int64_t command_id,
+                               int64_t received_unix_ms, std::string metadata_json, AcceptTraceResult* result) {
+  result->trace_id = trace_id;
+  result->command_id = command_id;
+  result->already_accepted = true;
+  result->accepted_unix_ms = received_unix_ms;
+  result->metadata_json = std::move(metadata_json);
+  SURFMAP_ASSIGN_OR_RETURN(result->plan_revision, CurrentPlanRevision(db, job_id));
+  absl::StatusOr<FitRecord> fit = LoadFit(db, trace_id, 1);
+  if (fit.ok()) {
+    result->fit_id = fit->id;
+    result->fit = std::move(*fit);
+  } else if (fit.status().code() != absl::StatusCode::kNotFound) {
+    return fit.status();
+  }
+  return absl::OkStatus();
+}
+
 // A command that already has a trace: this submission is a retry of it (the
 // same rig, the same samples), or it is refused without writing anything.
 absl::StatusOr<AcceptTraceResult> AnswerRepeatedSubmission(SqliteConnection& db, const EncodedTrace& in,
@@ -304,18 +325,9 @@ absl::StatusOr<AcceptTraceResult> AnswerRepeatedSubmission(SqliteConnection& db,
         " samples that differ from it: a command takes one trace, so it was not stored"));
   }
   AcceptTraceResult result;
-  result.trace_id = stored.id;
-  result.command_id = req.command_id;
-  result.already_accepted = true;
-  result.accepted_unix_ms = stored.received_unix_ms;
-  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, req.job_id));
-  absl::StatusOr<FitRecord> fit = LoadFit(db, stored.id, 1);
-  if (fit.ok()) {
-    result.fit_id = fit->id;
-    result.fit = std::move(*fit);
-  } else if (fit.status().code() != absl::StatusCode::kNotFound) {
-    return fit.status();
-  }
+  SURFMAP_RETURN_IF_ERROR(
+      AnswerStoredTrace(db, req.job_id, stored.id, req.command_id, stored.received_unix_ms, stored.metadata_json,
+                        &result));
   if (req.lease_next.has_value()) {
     // The first write leased this rig its next command: hand back the same
     // one, so a retry never leaves an orphaned lease. Only when the rig holds
@@ -338,24 +350,14 @@ namespace {
 absl::StatusOr<std::optional<AcceptTraceResult>> FindImported(SqliteConnection& db, int64_t job_id,
                                                               const std::string& sha256) {
   SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                           db.Prepare("SELECT id, command_id, received_unix_ms FROM traces "
+                           db.Prepare("SELECT id, command_id, received_unix_ms, metadata_json FROM traces "
                                       "WHERE job_id = ?1 AND import_sha256 = ?2"));
   stmt.BindInt(1, job_id).BindText(2, sha256);
   SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
   if (!found) return std::optional<AcceptTraceResult>();
   AcceptTraceResult result;
-  result.trace_id = stmt.ColumnInt(0);
-  result.command_id = stmt.ColumnInt(1);
-  result.accepted_unix_ms = stmt.ColumnInt(2);
-  result.already_accepted = true;
-  SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CurrentPlanRevision(db, job_id));
-  absl::StatusOr<FitRecord> fit = LoadFit(db, result.trace_id, 1);
-  if (fit.ok()) {
-    result.fit_id = fit->id;
-    result.fit = std::move(*fit);
-  } else if (fit.status().code() != absl::StatusCode::kNotFound) {
-    return fit.status();
-  }
+  SURFMAP_RETURN_IF_ERROR(AnswerStoredTrace(db, job_id, stmt.ColumnInt(0), stmt.ColumnInt(1), stmt.ColumnInt(2),
+                                            stmt.ColumnText(3), &result));
   return std::optional<AcceptTraceResult>(std::move(result));
 }
 
@@ -399,6 +401,7 @@ absl::Status InsertAcceptedTrace(SqliteConnection& db, const EncodedTrace& in, c
     result->trace_id = db.LastInsertRowId();
     result->accepted_unix_ms = now;
     result->command_id = command_id;
+    result->metadata_json = req.metadata_json;
   }
   if (!req.frame.empty() && req.frame != "object") {
     // A trace sent in a rig's frame: which frame, and the registration it was

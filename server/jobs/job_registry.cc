@@ -27,6 +27,7 @@ absl::StatusOr<std::shared_ptr<const AcceptedSample>> LatestSample(Store& store,
   sample->trace_id = record.trace.id;
   sample->fit = std::move(record.fit);
   sample->received_unix_ms = record.trace.received_unix_ms;
+  sample->metadata_json = std::move(record.trace.metadata_json);
   return std::shared_ptr<const AcceptedSample>(std::move(sample));
 }
 
@@ -141,6 +142,14 @@ absl::Status JobRegistry::CheckWritableLocked(JobRuntime& runtime) {
   StartReloadLocked(runtime);
   return absl::UnavailableError(absl::StrCat("job ", runtime.job_id,
                                              " is being re-read from the database after a failed write; retry"));
+}
+
+absl::Status JobRegistry::CheckTakesAnswersLocked(JobRuntime& runtime, const char* answers) {
+  SURFMAP_RETURN_IF_ERROR(CheckWritableLocked(runtime));
+  if (!IsFinalJobState(runtime.state)) return absl::OkStatus();
+  return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
+                                                    std::string(JobStateName(runtime.state)),
+                                                    ": it takes no more ", answers));
 }
 
 void JobRegistry::StartReloadLocked(JobRuntime& runtime) {

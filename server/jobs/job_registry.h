@@ -50,6 +50,11 @@ class JobRegistry {
   // Under runtime.mu, before a request changes the job: UNAVAILABLE (and a
   // reload started) while the job waits to be re-read after a failed write.
   absl::Status CheckWritableLocked(JobRuntime& runtime) ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
+  // CheckWritableLocked, and FAILED_PRECONDITION once the job is finished:
+  // "job 7 is cancelled: it takes no more <answers>" (traces, failure
+  // reports, imported traces: every answer that changes the plan).
+  absl::Status CheckTakesAnswersLocked(JobRuntime& runtime, const char* answers)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
 
   SurfaceCache& surfaces() { return surfaces_; }
   size_t loaded_jobs() ABSL_LOCKS_EXCLUDED(mu_);

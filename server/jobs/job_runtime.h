@@ -34,12 +34,15 @@ struct MapSnapshot {
 };
 
 // A trace the job accepted, with what a Sample shows of it: the command (site,
-// drag, the rig that measured it), the trace id and the fit made on arrival.
+// drag, the rig that measured it), the trace id, the fit made on arrival and
+// the provenance as stored. The answers to a submission and to an import
+// extend it, so a Sample is built from one form whichever way the trace came.
 struct AcceptedSample {
   CommandRecord command;
   int64_t trace_id = 0;
   FitRecord fit;
   int64_t received_unix_ms = 0;
+  std::string metadata_json = "{}";
 };
 
 struct JobRuntime : std::enable_shared_from_this<JobRuntime> {

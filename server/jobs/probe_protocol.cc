@@ -289,12 +289,7 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
   TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr, rig_id};
   MutexLock lock(&runtime.mu);
   if (!repeated) {
-    SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
-    if (IsFinalJobState(runtime.state)) {
-      return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
-                                                        std::string(JobStateName(runtime.state)), "; trace for command ",
-                                                        context.record.id, " not accepted"));
-    }
+    SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "traces"));
     PlanJournalEntry answer;
     answer.sequence = context.probe.sequence;
     answer.fit = TextureOf(fit);
@@ -349,6 +344,7 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
   outcome.trace_id = result->trace_id;
   outcome.fit = std::move(*result->fit);
   outcome.received_unix_ms = result->accepted_unix_ms;
+  outcome.metadata_json = std::move(result->metadata_json);
   outcome.already_accepted = result->already_accepted;
   if (!result->already_accepted) outcome.decoded_fit = pending.decoded_fit;
   bool finished = false;
@@ -357,13 +353,8 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
     MutexLock lock(&runtime.mu);
     outcome.progress = runtime.plan.Progress();
     if (pending.plan_changed && !result->already_accepted) {
-      auto sample = std::make_shared<AcceptedSample>();
-      sample->command = outcome.command;
-      sample->trace_id = outcome.trace_id;
-      sample->fit = outcome.fit;
-      sample->received_unix_ms = outcome.received_unix_ms;
       // Completions run in commit order: this is the newest trace.
-      runtime.latest_sample = std::move(sample);
+      runtime.latest_sample = std::make_shared<AcceptedSample>(static_cast<const AcceptedSample&>(outcome));
       runtime.updated_unix_ms = std::max(runtime.updated_unix_ms, outcome.received_unix_ms);
       if (pending.completes_job) {
         runtime.durable_state = JobState::kCompleted;  // written with this trace
@@ -415,12 +406,7 @@ absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const st
                                          const std::string& reason, FailureKind kind, FailureCallback& done) {
   JobRuntime& runtime = *context.runtime;
   MutexLock lock(&runtime.mu);
-  SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
-  if (IsFinalJobState(runtime.state)) {
-    return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
-                                                      std::string(JobStateName(runtime.state)),
-                                                      ": it takes no more failure reports"));
-  }
+  SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "failure reports"));
   PlanJournalEntry answer;
   answer.kind = PlanJournalEntry::Kind::kFailure;
   answer.sequence = context.probe.sequence;

@@ -29,12 +29,10 @@
 
 namespace surfmap {
 
-struct SubmitOutcome {
-  CommandRecord command;
+// The sample as stored (for a retry: what the first submission stored, its
+// provenance included), and what else the rig is told.
+struct SubmitOutcome : AcceptedSample {
   ProbeCommand probe;
-  int64_t trace_id = 0;
-  FitRecord fit;  // version 1, as stored
-  int64_t received_unix_ms = 0;
   bool already_accepted = false;
   PlanProgress progress;
   std::optional<LeaseOutcome> next;              // when the submission asked to lease the next command

@@ -191,7 +191,6 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
   write.job_id = request.job_id;
   write.encoded_samples = EncodeSamples(ToStoredSamples(trace));  // O(samples): before the lock
   write.metadata_json = ImportMetadataJson(request);
-  const std::string metadata_json = write.metadata_json;
   write.import = TraceImport{ImpliedCommandRecord(implied), request.source, request.file_sha256};
   CommandRecord command;  // as the write stores it; the id comes with the result
   command.job_id = request.job_id;
@@ -204,12 +203,7 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
   bool completes_job = false;
   {
     MutexLock lock(&runtime.mu);
-    SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(runtime));
-    if (IsFinalJobState(runtime.state)) {
-      return absl::FailedPreconditionError(absl::StrCat("job ", runtime.job_id, " is ",
-                                                        std::string(JobStateName(runtime.state)),
-                                                        ": it takes no more traces, imported or not"));
-    }
+    SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "traces, imported or not"));
     PlanJournalEntry entry;
     entry.kind = PlanJournalEntry::Kind::kImport;
     entry.line = LineSampleOf(fit);
@@ -228,9 +222,9 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     // Queued under the lock: writes of one job commit in the order their plan changes were made.
     auto decoded = std::make_shared<const TraceFit>(fit);
     store_->AcceptTraceAsync(
-        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job, metadata_json,
+        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job,
                            done = std::move(done)](absl::StatusOr<AcceptTraceResult> result) mutable {
-          executors_.completions->Post([this, runtime_ptr, command, implied, decoded, completes_job, metadata_json,
+          executors_.completions->Post([this, runtime_ptr, command, implied, decoded, completes_job,
                                         result = std::move(result), done = std::move(done)]() mutable {
             JobRuntime& runtime = *runtime_ptr;
             if (!result.ok()) return done(registry_->MarkWriteFailed(runtime, result.status()));
@@ -251,16 +245,12 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
             outcome.fit = *result->fit;
             outcome.received_unix_ms = result->accepted_unix_ms;
             outcome.decoded_fit = decoded;
-            outcome.metadata_json = metadata_json;
+            outcome.metadata_json = std::move(result->metadata_json);
             bool finished = false;
             {
               MutexLock lock(&runtime.mu);
-              auto sample = std::make_shared<AcceptedSample>();
-              sample->command = outcome.command;
-              sample->trace_id = outcome.trace_id;
-              sample->fit = outcome.fit;
-              sample->received_unix_ms = outcome.received_unix_ms;
-              runtime.latest_sample = std::move(sample);
+              runtime.latest_sample =
+                  std::make_shared<AcceptedSample>(static_cast<const AcceptedSample&>(outcome));
               runtime.updated_unix_ms = std::max(runtime.updated_unix_ms, outcome.received_unix_ms);
               if (completes_job) runtime.durable_state = JobState::kCompleted;
               finished = IsFinalJobState(runtime.durable_state);

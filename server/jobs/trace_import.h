@@ -57,14 +57,11 @@ std::string Sha256Hex(std::string_view bytes);
 // without allocating, before the reader builds the trace.
 absl::Status CheckCsvSize(std::string_view csv, int max_samples);
 
-struct TraceImportOutcome {
-  CommandRecord command;        // the implied command, as stored
-  ProbeCommand probe;           // its decoded form
-  int64_t trace_id = 0;
-  FitRecord fit;                // version 1
-  int64_t received_unix_ms = 0; // when it was imported
+// The sample as stored: command = the implied command, received = when it was
+// imported, metadata_json = ImportMetadataJson.
+struct TraceImportOutcome : AcceptedSample {
+  ProbeCommand probe;           // the implied command's decoded form
   bool already_imported = false;
-  std::string metadata_json;    // as stored (ImportMetadataJson)
   std::shared_ptr<const TraceFit> decoded_fit;  // null for a repeat
 };
 

@@ -191,7 +191,7 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
   };
   s_.coordinator->probes().SubmitTrace(
       command_id, rig_id, source, lease_next, choice,
-      [response, rig_id, command_id, metadata_json, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
+      [response, rig_id, command_id, finish = std::move(finish)](absl::StatusOr<SubmitOutcome> outcome) {
         if (!outcome.ok()) {
           // Every refusal, whatever its cause (an implausible trace, an expired
           // lease, a conflict): a rig whose traces keep being refused is what an
@@ -200,16 +200,8 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
                        absl::StatusCodeToString(outcome.status().code()), LogQuote(std::string(outcome.status().message())));
           return finish(outcome.status());
         }
-        SampleRecord record;
-        record.trace.id = outcome->trace_id;
-        record.trace.command_id = outcome->command.id;
-        record.trace.job_id = outcome->command.job_id;
-        record.trace.received_unix_ms = outcome->received_unix_ms;
-        // A retry answers with what the first submission stored; its metadata is the request's own.
-        record.trace.metadata_json = metadata_json;
-        record.command = outcome->command;
-        record.fit = outcome->fit;
-        absl::StatusOr<pb::Sample> sample = BuildSample(record, &outcome->probe, outcome->decoded_fit.get());
+        // A retry answers with what the first submission stored, its provenance included.
+        absl::StatusOr<pb::Sample> sample = BuildSample(*outcome, &outcome->probe, outcome->decoded_fit.get());
         if (!sample.ok()) return finish(sample.status());  // stored; a retry reads it back the same way
         *response->mutable_sample() = std::move(*sample);
         response->set_already_accepted(outcome->already_accepted);

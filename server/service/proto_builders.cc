@@ -121,15 +121,17 @@ absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCo
   return s;
 }
 
-absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted) {
+absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted, const ProbeCommand* probe,
+                                       const TraceFit* decoded_fit) {
   SampleRecord record;
   record.trace.id = accepted.trace_id;
   record.trace.command_id = accepted.command.id;
   record.trace.job_id = accepted.command.job_id;
   record.trace.received_unix_ms = accepted.received_unix_ms;
+  record.trace.metadata_json = accepted.metadata_json;
   record.command = accepted.command;
   record.fit = accepted.fit;
-  return BuildSample(record);
+  return BuildSample(record, probe, decoded_fit);
 }
 
 absl::Status AppendSamples(const std::vector<SampleRecord>& samples,

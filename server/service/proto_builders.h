@@ -30,8 +30,10 @@ pb::PlanEstimate PlanEstimateToProto(const PlanEstimate& estimate, bool simplifi
 // command or fit cannot be read.
 absl::StatusOr<pb::Sample> BuildSample(const SampleRecord& record, const ProbeCommand* probe = nullptr,
                                        const TraceFit* decoded_fit = nullptr);
-// A sample of a trace the job accepted (its fit on arrival).
-absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted);
+// A sample of a trace the job accepted (its fit on arrival), as BuildSample
+// of its SampleRecord.
+absl::StatusOr<pb::Sample> BuildSample(const AcceptedSample& accepted, const ProbeCommand* probe = nullptr,
+                                       const TraceFit* decoded_fit = nullptr);
 // Samples read from one snapshot (JobReads::ListSamples), appended in order.
 absl::Status AppendSamples(const std::vector<SampleRecord>& samples,
                            google::protobuf::RepeatedPtrField<pb::Sample>* out);

@@ -40,15 +40,7 @@ grpc::ServerUnaryReactor* TraceServiceImpl::ImportTrace(grpc::CallbackServerCont
                          LogQuote(std::string(outcome.status().message())));
             return finish(outcome.status());
           }
-          SampleRecord record;
-          record.trace.id = outcome->trace_id;
-          record.trace.command_id = outcome->command.id;
-          record.trace.job_id = outcome->command.job_id;
-          record.trace.received_unix_ms = outcome->received_unix_ms;
-          record.trace.metadata_json = outcome->metadata_json;
-          record.command = outcome->command;
-          record.fit = outcome->fit;
-          absl::StatusOr<pb::Sample> sample = BuildSample(record, &outcome->probe, outcome->decoded_fit.get());
+          absl::StatusOr<pb::Sample> sample = BuildSample(*outcome, &outcome->probe, outcome->decoded_fit.get());
           if (!sample.ok()) return finish(sample.status());  // stored; a repeat reads it back the same way
           *response->mutable_sample() = std::move(*sample);
           response->set_already_imported(outcome->already_imported);

@@ -247,6 +247,14 @@ TEST(Provenance, RoundTripsOnObjectsJobsAndSubmittedTraces) {
   pb::GetSampleResponse got_sample;
   GRPC_ASSERT_OK(stubs.maps->GetSample(Context().get(), get_sample, &got_sample));
   ExpectSameProvenance(got_sample.sample().provenance(), LabProvenance("rig operator"));
+  // A retry of the same trace with other provenance: acknowledged as already
+  // stored, and the answer shows what was stored (the first provenance), not
+  // what the retry sent.
+  *submit.mutable_provenance() = LabProvenance("someone else");
+  pb::SubmitTraceResponse retried;
+  GRPC_ASSERT_OK(stubs.probe->SubmitTrace(Context().get(), submit, &retried));
+  EXPECT_TRUE(retried.already_accepted());
+  ExpectSameProvenance(retried.sample().provenance(), LabProvenance("rig operator"));
 
   // Out of bounds: named, nothing created.
   pb::CreateJobRequest bad = create;
