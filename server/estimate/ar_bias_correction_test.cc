@@ -106,6 +106,23 @@ TEST(ArBiasCorrectionTest, DeterministicForASeed) {
   EXPECT_NE(a->a, raw->a);
 }
 
+TEST(ArBiasCorrectionTest, TheCorrectionKeepsTheProcessVarianceTheFitImplied) {
+  // The corrected coefficients change the model's variance gain; sigma must
+  // follow so that sigma^2 / prod(1 - k^2) stays what the data showed (a
+  // renderer plays sigma through the impulse response of a).
+  const Eigen::VectorXd x = SimulateRoughness(ArParams{{0.6, 0.25}, 0.11}, 2 * kSegment, 8);
+  ArFitOptions options;
+  const absl::StatusOr<ArFit> raw = FitAutoregressive(x, options);
+  options.bias_replicates = 64;
+  options.bias_seed = 8;
+  const absl::StatusOr<ArFit> corrected = FitAutoregressive(x, options);
+  ASSERT_TRUE(raw.ok() && corrected.ok());
+  ASSERT_NE(corrected->a, raw->a) << "no correction happened: the test would prove nothing";
+  EXPECT_NE(corrected->sigma, raw->sigma);
+  EXPECT_NEAR(ArProcessVariance(corrected->a, corrected->sigma), ArProcessVariance(raw->a, raw->sigma),
+              1e-12 * ArProcessVariance(raw->a, raw->sigma));
+}
+
 TEST(ArBiasCorrectionTest, CorrectionIsShrunkToStayStationary) {
   // Roots of modulus sqrt(0.95): a full correction by this bias would leave
   // the unit circle.

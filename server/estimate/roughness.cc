@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <random>
 #include <string>
 
@@ -173,8 +174,16 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
     for (const auto& x : segments) lengths.push_back(static_cast<int>(x.size()));
     const ArBiasEstimate bias = EstimateArBias(fit.a, fit.sigma, lengths, options);
     if (bias.replicates_used > 0) {
+      // The correction reshapes the spectrum, not the amplitude the data
+      // showed: keep the process variance the fitted model implied,
+      // sigma^2 / prod(1 - k_i^2), so that sigma follows the new coefficients
+      // (a renderer plays sigma through the model's impulse response).
+      const double implied_variance = ArProcessVariance(fit.a, fit.sigma);
       fit.a = ApplyArBiasCorrection(fit.a, bias.bias);
       largest_root = ArLargestRootModulus(fit.a);
+      if (largest_root < 1.0 && std::isfinite(implied_variance)) {
+        fit.sigma = std::sqrt(implied_variance / ArProcessVariance(fit.a, 1.0));
+      }
     }
   }
   fit.stationary = largest_root < 1.0;
@@ -220,6 +229,15 @@ Eigen::VectorXd SimulateRoughness(const ArParams& params, int n, std::uint64_t s
     x[t] = v;
   }
   return Eigen::Map<const Eigen::VectorXd>(x.data() + burn_in, n);
+}
+
+double ArProcessVariance(const std::vector<double>& a, double sigma) {
+  double gain = 1.0;
+  for (double k : ArToReflection(a)) {
+    if (!(std::abs(k) < 1.0)) return std::numeric_limits<double>::infinity();
+    gain *= 1.0 - k * k;
+  }
+  return sigma * sigma / gain;
 }
 
 std::vector<double> ArToReflection(const std::vector<double>& a) {

@@ -162,4 +162,9 @@ Eigen::VectorXd SimulateRoughness(const ArParams& params, int n, std::uint64_t s
 std::vector<double> ArToReflection(const std::vector<double>& a);
 std::vector<double> ReflectionToAr(const std::vector<double>& k);
 
+// The variance of the stationary AR process a driven by innovations of
+// standard deviation sigma: sigma^2 / prod(1 - k_i^2), k = ArToReflection(a).
+// Infinity for a non-stationary model.
+double ArProcessVariance(const std::vector<double>& a, double sigma);
+
 }  // namespace surfmap

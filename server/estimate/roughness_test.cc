@@ -487,6 +487,21 @@ TEST(ReflectionTest, RoundTripsAndStableModelsMapInsideUnitInterval) {
   }
 }
 
+TEST(ProcessVarianceTest, KnownAnswersAndNonStationaryModels) {
+  // AR(1): sigma^2 / (1 - a^2).
+  EXPECT_DOUBLE_EQ(ArProcessVariance({0.5}, 1.0), 4.0 / 3.0);
+  // AR(2): sigma^2 (1 - a2) / ((1 + a2) ((1 - a2)^2 - a1^2)), rubber 0.6 / 0.25.
+  const double a1 = 0.6, a2 = 0.25, sigma = 0.11;
+  EXPECT_NEAR(ArProcessVariance({a1, a2}, sigma),
+              sigma * sigma * (1 - a2) / ((1 + a2) * ((1 - a2) * (1 - a2) - a1 * a1)), 1e-15);
+  // And the simulated process has that variance (2e5 samples: ~1 % spread).
+  const Eigen::VectorXd x = SimulateRoughness(ArParams{{a1, a2}, sigma}, 200000, 4);
+  const double variance = (x.array() - x.mean()).square().mean();
+  EXPECT_NEAR(variance, ArProcessVariance({a1, a2}, sigma), 0.05 * variance);
+  EXPECT_TRUE(std::isinf(ArProcessVariance({1.2}, 1.0)));
+  EXPECT_DOUBLE_EQ(ArProcessVariance({}, 2.0), 4.0);
+}
+
 TEST(SimulateRoughnessTest, SeededAndStationary) {
   const Eigen::VectorXd x = SimulateRoughness(kMasonite, 300, 1);
   EXPECT_EQ(x.size(), 300);

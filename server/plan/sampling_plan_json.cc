@@ -227,7 +227,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
     o.regions.prior_mu_std_floor = in.Double(r, w, "prior_mu_std_floor");
     o.regions.min_mu_se = in.Double(r, w, "min_mu_se");
     o.regions.min_spread = in.Double(r, w, "min_spread");
-    o.regions.change_location_mm = in.Double(r, w, "change_location_mm");
+    // Added after "regions" itself: plans saved by builds in between keep the default.
+    if (r.contains("change_location_mm")) o.regions.change_location_mm = in.Double(r, w, "change_location_mm");
   }
   if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
   return o;

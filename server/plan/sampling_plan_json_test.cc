@@ -116,6 +116,23 @@ TEST(SaveRestoreTest, ReadsTheProbeSpeedUnderTheCurrentAndTheOldKey) {
       << missing.status();
 }
 
+// "change_location_mm" joined options.regions later than the others: a plan
+// saved without it restores with the default.
+TEST(SaveRestoreTest, APlanSavedBeforeChangeLocationRestoresWithTheDefault) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.max_level = 1;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
+  ASSERT_TRUE(saved["options"]["regions"].contains("change_location_mm"));
+  saved["options"]["regions"].erase("change_location_mm");
+  auto restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(nlohmann::json::parse(restored->SaveJson())["options"]["regions"]["change_location_mm"],
+            SamplingPlanOptions{}.regions.change_location_mm);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);
