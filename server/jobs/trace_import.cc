@@ -119,6 +119,16 @@ void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::str
   if (!stored.ok()) return done(stored.status());
   if (*stored != 0) return AnswerStored(*stored, std::move(done));
 
+  // A finished job takes nothing, refused or not: say so before any work (and
+  // before a refusal would be kept in it).
+  absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = registry_->Get(request.job_id);
+  if (!runtime.ok()) return done(runtime.status());
+  {
+    MutexLock lock(&(*runtime)->mu);
+    if (absl::Status takes = registry_->CheckTakesAnswersLocked(**runtime, "traces, imported or not"); !takes.ok()) {
+      return done(takes);
+    }
+  }
   if (absl::Status bounded = CheckCsvSize(csv, max_samples); !bounded.ok()) return done(bounded);
   absl::StatusOr<DragTrace> made =
       ParseTraceCsv(csv, request.file_name.empty() ? std::string_view("import") : std::string_view(request.file_name));
@@ -129,8 +139,6 @@ void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::str
                                                           " samples; the limit is ", max_samples,
                                                           " (max_trace_samples)")));
   }
-  absl::StatusOr<std::shared_ptr<JobRuntime>> runtime = registry_->Get(request.job_id);
-  if (!runtime.ok()) return done(runtime.status());
   const JobParams& params = (*runtime)->params;
   auto refused = [&](const absl::Status& s) {
     return absl::Status(s.code(), absl::StrCat(ImportName(request), ": ", s.message()));

@@ -151,6 +151,24 @@ TEST_F(TraceImportTest, ADragOffTheSurfaceIsRefusedAndKeptNamingItsSource) {
   EXPECT_TRUE(samples->empty());
 }
 
+TEST_F(TraceImportTest, AFinishedJobTakesNoImportRefusedOrNot) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  ASSERT_THAT(SetState(job.record.id, JobState::kCancelled).status(), IsOk());
+  // A good drag and one off the surface get the same answer, and nothing is
+  // kept in the cancelled job.
+  EXPECT_THAT(Import(job.record.id, PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3), "good.csv").status(),
+              StatusIs(absl::StatusCode::kFailedPrecondition));
+  absl::StatusOr<TraceImportOutcome> lifted =
+      Import(job.record.id, PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 4, /*lift=*/15.0), "lifted.csv");
+  EXPECT_THAT(lifted.status(), StatusIs(absl::StatusCode::kFailedPrecondition));
+  EXPECT_NE(lifted.status().message().find("cancelled: it takes no more traces"), std::string_view::npos)
+      << lifted.status();
+  absl::StatusOr<std::vector<RejectedTraceRecord>> rejected = coordinator_->reads().ListRejectedTraces(job.record.id);
+  ASSERT_THAT(rejected.status(), IsOk());
+  EXPECT_TRUE(rejected->empty());
+}
+
 TEST_F(TraceImportTest, BadRequestsAreRefusedNamingTheField) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);
