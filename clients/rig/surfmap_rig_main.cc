@@ -229,6 +229,13 @@ int RunRig(const RunArgs& args) {
               << "'\n";
     return 2;
   }
+  if (!args.driver.empty() && args.frame != "object") {
+    // The driver protocol's trace line is in the object's frame
+    // (clients/rig/README.md): stating another frame would mislabel every trace.
+    std::cerr << "surfmap-rig: --frame " << args.frame << " works with --sim only: an external driver answers in "
+                 "the object's frame (it gets the rig-frame command to move by)\n";
+    return 2;
+  }
   absl::StatusOr<double> retry_for = surfmap::rig::ParseDurationSeconds(args.retry_for);
   if (!retry_for.ok()) {
     std::cerr << "surfmap-rig: --retry-for: " << retry_for.status().message() << "\n";

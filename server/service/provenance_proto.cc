@@ -58,11 +58,27 @@ void FillMetadata(const std::string& metadata_json, int64_t imported_unix_ms, pb
     auto it = j.find("import");
     if (it == j.end() || !it->is_object()) return;
     const nlohmann::json& i = *it;
-    import->set_source(i.value("source", std::string()));
-    import->set_file_name(i.value("file_name", std::string()));
-    import->set_file_sha256(i.value("file_sha256", std::string()));
-    const int64_t recorded = i.value("recorded_unix_ms", int64_t{0});
-    if (recorded > 0) *import->mutable_recorded() = TimestampFromUnixMs(recorded);
+    // Field by field, type-checked (json::value throws on a wrong type).
+    auto text = [&](const char* key) -> std::string {
+      auto f = i.find(key);
+      if (f == i.end()) return "";
+      if (!f->is_string()) {
+        spdlog::warn("stored import metadata: {} is not a string; left out of the answer", key);
+        return "";
+      }
+      return f->get<std::string>();
+    };
+    import->set_source(text("source"));
+    import->set_file_name(text("file_name"));
+    import->set_file_sha256(text("file_sha256"));
+    if (auto r = i.find("recorded_unix_ms"); r != i.end()) {
+      // The range a Timestamp takes (0001..9999); 0 = not given.
+      if (r->is_number_integer() && r->get<int64_t>() > 0 && r->get<int64_t>() <= 253402300799999LL) {
+        *import->mutable_recorded() = TimestampFromUnixMs(r->get<int64_t>());
+      } else if (!r->is_number_integer() || r->get<int64_t>() != 0) {
+        spdlog::warn("stored import metadata: recorded_unix_ms is not a time; left out of the answer");
+      }
+    }
     *import->mutable_imported() = TimestampFromUnixMs(imported_unix_ms);
   }
 }

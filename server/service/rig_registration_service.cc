@@ -16,6 +16,12 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::SetRigRegistration(grpc::CallbackSe
     if (!in.has_object_pose() || !in.object_pose().has_rotation()) {
       return absl::InvalidArgumentError("registration.object_pose.rotation is required (a unit quaternion w, x, y, z)");
     }
+    // Never a silent (0, 0, 0): the object at the rig's base origin would send
+    // the robot there.
+    if (!in.object_pose().has_translation_mm()) {
+      return absl::InvalidArgumentError(
+          "registration.object_pose.translation_mm is required (the object's origin in the rig's base frame, mm)");
+    }
     absl::StatusOr<RigRegistration> registration = RigRegistrationFromProto(in);
     if (!registration.ok()) {
       return absl::Status(registration.status().code(),

@@ -80,6 +80,25 @@ TEST(RigDriver, AnExternalDriverProgramMapsThePlateAsTheBuiltInSimulatorDoes) {
   }
 }
 
+TEST(RigDriver, ADriverCannotStateARigFrameItsTraceLinesAreNotIn) {
+  // The driver protocol's trace line is in the object's frame: --frame
+  // rig_base with --driver would mislabel every trace, so it is refused
+  // before anything is leased.
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformLevel0Spec(setup.object_id)));
+  ITEST_ASSERT_OK_AND_ASSIGN(
+      rig, ChildProcess::Start({SURFMAP_RIG_PATH, "--server", setup.server->address(), "--job",
+                                absl::StrCat(job.job_id()), "--rig-id", "arm", "--spool", setup.server->dir() + "/spool",
+                                "--quiet", "--frame", "rig_base", "--driver", "cat > /dev/null"},
+                               setup.server->dir() + "/rig.log"));
+  ITEST_ASSERT_OK_AND_ASSIGN(exit_code, rig->Wait(seconds(60)));
+  const std::string output = rig->Output();
+  EXPECT_EQ(exit_code, 2) << output;
+  EXPECT_NE(output.find("--frame rig_base works with --sim only"), std::string::npos) << output;
+  ITEST_ASSERT_OK_AND_ASSIGN(info, GetJob(*setup.stubs, job.job_id()));
+  EXPECT_EQ(info.progress().leased(), 0) << "a command was leased";
+}
+
 TEST(RigDriver, ADriverThatBreaksTheProtocolStopsTheRigAndTheSiteGoesBack) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, UniformLevel0Spec(setup.object_id)));

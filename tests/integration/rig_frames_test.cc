@@ -101,6 +101,10 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
     bad = ToRequest(setup->object_id, registration);
     bad.mutable_object_pose()->mutable_translation_mm()->set_x(NAN);
     EXPECT_THAT(Register(stubs, bad, &set), StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("not finite")));
+    bad = ToRequest(setup->object_id, registration);
+    bad.mutable_object_pose()->clear_translation_mm();
+    EXPECT_THAT(Register(stubs, bad, &set),
+                StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("object_pose.translation_mm is required")));
     EXPECT_THAT(Register(stubs, ToRequest(999, registration), &set),
                 StatusIs(absl::StatusCode::kNotFound, HasSubstr("object 999 does not exist")));
   }

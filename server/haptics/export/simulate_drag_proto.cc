@@ -1,6 +1,7 @@
 #include "server/haptics/export/simulate_drag_proto.h"
 
 #include <cmath>
+#include <cstdint>
 
 #include "absl/strings/str_cat.h"
 #include "server/haptics/export/texture_map_proto.h"
@@ -24,6 +25,8 @@ absl::StatusOr<double> InRange(const char* name, double value, double fallback, 
 
 Eigen::Vector3d FromVec3(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
+constexpr int64_t kMaxSimulatedSamples = 500'000;  // ~37 MB of answer
+
 }  // namespace
 
 absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapResponse& map,
@@ -42,6 +45,16 @@ absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapRespo
   options.pause_s = request.has_pause_s() ? request.pause_s() : 0.5;
   if (!std::isfinite(options.pause_s) || options.pause_s < 0 || options.pause_s > 10) {
     return absl::InvalidArgumentError(absl::StrCat("pause_s must be in [0, 10] (unset = 0.5), got ", options.pause_s));
+  }
+  // Checked before any work: each sample is ~74 bytes of the answer (seven
+  // trace columns, phase, mu, roughness, region), and an answer must fit the
+  // server's 64 MB message limit with room to spare.
+  const double samples =
+      (2.0 * *length / options.speed_mm_s + options.pause_s) * options.sample_rate_hz;
+  if (samples > kMaxSimulatedSamples) {
+    return absl::InvalidArgumentError(absl::StrCat(
+        "the drag would have ", static_cast<int64_t>(samples), " samples ((2 length_mm / speed_mm_s + pause_s) * "
+        "sample_rate_hz); the limit is ", kMaxSimulatedSamples, ": shorten it, drag faster or sample slower"));
   }
   const Eigen::Vector3d start = FromVec3(request.position());
   const Eigen::Vector3d direction = FromVec3(request.direction());

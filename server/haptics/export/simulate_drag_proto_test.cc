@@ -92,6 +92,13 @@ TEST(SimulateDragOnMapTest, RejectsBadRequests) {
   EXPECT_EQ(code([](auto& r) { r.set_length_mm(501); }), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(code([](auto& r) { r.set_speed_mm_s(2000); }), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(code([](auto& r) { r.set_pause_s(-1); }), absl::StatusCode::kInvalidArgument);
+  // 500 mm at 2 mm/s, 10 kHz: 5 million samples, far past what an answer carries.
+  EXPECT_EQ(code([](auto& r) {
+              r.set_length_mm(500);
+              r.set_speed_mm_s(2);
+              r.set_sample_rate_hz(10000);
+            }),
+            absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(code([](auto& r) { r.clear_direction(); }), absl::StatusCode::kInvalidArgument);
   EXPECT_EQ(code([](auto& r) { r.mutable_direction()->set_x(0); r.mutable_direction()->set_z(1); }),
             absl::StatusCode::kInvalidArgument);  // along the normal
