@@ -78,7 +78,8 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   request.budget = options.sample_budget;
   request.seed = options.seed;
   request.reach = options.reach;
-  const SamplingPlanOptions plan_options = PlanOptionsFor(request);
+  SamplingPlanOptions plan_options = PlanOptionsFor(request);
+  plan_options.follow_boundaries = options.follow_boundaries;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);

@@ -58,6 +58,7 @@ struct MappingRunOptions {
   int sample_budget = 0;         // 0 = the mode's default (kUncertainty and kUniformSpread need one)
   std::uint64_t seed = 1;        // plan issue order, rig noise, kUniformSpread's first vertex
   Reachability reach;            // per job: sites outside are not planned
+  bool follow_boundaries = false;  // kBoundary: SamplingPlanOptions::follow_boundaries
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

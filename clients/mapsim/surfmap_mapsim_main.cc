@@ -64,6 +64,7 @@ int Main(int argc, char** argv) {
   std::string png, ply, json_path;
   int rig_level = 3;
   bool details = false;
+  bool follow = false;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -82,6 +83,8 @@ int Main(int argc, char** argv) {
       ->check(CLI::IsMember({"friction", "roughness", "both"}))
       ->capture_default_str();
   app.add_option("--rig-level", rig_level, "Loop level of the simulated rig's surface")->capture_default_str();
+  app.add_flag("--follow-boundaries", follow,
+               "boundary plans follow every boundary a drag crossed before choosing by uncertainty (an experiment)");
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -95,6 +98,7 @@ int Main(int argc, char** argv) {
   base.threshold = threshold;
   base.sample_budget = budget;
   base.seed = seed;
+  base.follow_boundaries = follow;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

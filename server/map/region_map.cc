@@ -308,7 +308,8 @@ absl::Status RegionMap::Rebuild() {
     for (const Eigen::Vector3d& p : placed_[i].data_points) data.push_back({p, piece_region_[i]});
   }
   links_ = 0;
-  for (const LabelledPoint& p : BoundaryLinkPoints(marks, data, options_.links, &links_)) {
+  marks_ = std::move(marks);
+  for (const LabelledPoint& p : BoundaryLinkPoints(marks_, data, options_.links, &links_)) {
     const SurfacePoint hit = locator_->Closest(p.point);
     if (hit.triangle < 0) continue;
     surface_seeds.push_back({hit.triangle, hit.barycentric, p.label});

@@ -6,6 +6,7 @@
 #include <tuple>
 
 #include <Eigen/Geometry>
+#include "server/geometry/segment_distance.h"
 #include "server/plan/drag_direction.h"
 
 namespace surfmap {
@@ -24,12 +25,6 @@ constexpr int kDirections = 12;
 // disc, so the best drag is among the best few discs; 16 costs ~16 x 12
 // corridor sums per choice.
 constexpr int kShortlist = 16;
-
-double DistanceToSegment(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double t = std::clamp((p - a).dot(ab) / ab.squaredNorm(), 0.0, 1.0);
-  return (p - (a + t * ab)).norm();
-}
 
 }  // namespace
 
@@ -71,6 +66,16 @@ void BoundarySelector::ForEachWithin(const Eigen::Vector3d& centre, double radiu
       }
     }
   }
+}
+
+int BoundarySelector::NearestVertex(const Eigen::Vector3d& p, double radius_mm) const {
+  int best = -1;
+  double best_d2 = 0.0;
+  ForEachWithin(p, radius_mm, [&](int v) {
+    const double d2 = (level_->limit_positions[v] - p).squaredNorm();
+    if (best < 0 || d2 < best_d2 || (d2 == best_d2 && v < best)) best = v, best_d2 = d2;
+  });
+  return best;
 }
 
 double BoundarySelector::MinGain(double mu_resolution) const {

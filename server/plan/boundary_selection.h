@@ -64,6 +64,11 @@ class BoundarySelector {
   double MinGain(double mu_resolution) const;
 
   double reach_mm() const { return 0.5 * drag_length_mm_; }
+  double half_window_mm() const { return half_window_mm_; }  // h above
+
+  // The vertex of the level nearest p within radius_mm (ties: the lower);
+  // -1 when none is.
+  int NearestVertex(const Eigen::Vector3d& p, double radius_mm) const;
 
  private:
   template <typename Fn>

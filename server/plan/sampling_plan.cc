@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "absl/strings/str_cat.h"
+#include "server/plan/boundary_tracing.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/site_order.h"
 
@@ -235,6 +236,7 @@ std::optional<ProbeCommand> SamplingPlan::NextCommand() {
   const Eigen::Vector3d& n = finest.limit_normals[r.site.vertex];
   command.normal = n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::UnitZ();
   command.drag_direction = DirectionFor(r);
+  issued_direction_[r.sequence] = command.drag_direction;
   command.probe = options_.probe;
   // A selection error can only come from the map rejecting a fit, and every
   // fit was validated by RecordFit; the command is valid either way.
@@ -282,6 +284,7 @@ absl::Status SamplingPlan::RecordMeasurement(std::uint64_t sequence, const Textu
   auto vertex = OutstandingVertex(sequence);
   if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
+  issued_direction_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
   CountSite(r, -1);
   r.state = SiteState::kMeasured;
@@ -312,6 +315,7 @@ absl::Status SamplingPlan::RecordFailure(std::uint64_t sequence, std::string_vie
   auto vertex = OutstandingVertex(sequence);
   if (!vertex.ok()) return vertex.status();
   outstanding_.erase(sequence);
+  issued_direction_.erase(sequence);
   SiteRecord& r = sites_.at(*vertex);
   CountSite(r, -1);
   ++r.failures;
@@ -596,6 +600,7 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     for (const Eigen::Vector3d& p : no_go_) near_no_go |= (finest.limit_positions[v] - p).squaredNorm() < reach * reach;
     candidate[v] = !near_no_go;
   }
+  if (options_.follow_boundaries) slots -= FollowBoundaries(slots, candidate, covered);
   // Stop when no drag could remove more than a resolution-sized error over
   // its whole corridor.
   const double min_gain = std::max(options_.min_uncertainty_score, selector_->MinGain(options_.regions.merge.mu_resolution));
@@ -611,6 +616,85 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     covered.push_back(finest.limit_positions[choice.vertex]);
   }
   return absl::OkStatus();
+}
+
+std::vector<DragSegment> SamplingPlan::DragWindows() const {
+  std::vector<DragSegment> out;
+  auto add_path = [&](const LineSample& line) {
+    for (size_t i = 0; i + 1 < line.path_points.size(); ++i) out.push_back({line.path_points[i], line.path_points[i + 1]});
+  };
+  for (int v : measured_order_) {
+    if (const SiteRecord& r = sites_.at(v); r.line) add_path(*r.line);
+  }
+  for (const ImportedDrag& d : imported_) add_path(d.line);
+  const SurfaceLevel& finest = *levels_.back();
+  const double h = selector_->half_window_mm();
+  auto add_centre = [&](int v, const Eigen::Vector3d* direction) {
+    const Eigen::Vector3d& c = finest.limit_positions[v];
+    if (direction == nullptr) {
+      out.push_back({c, c});  // direction not known yet: where it is
+    } else {
+      out.push_back({c - h * *direction, c + h * *direction});
+    }
+  };
+  for (const auto& [sequence, v] : outstanding_) {
+    auto it = issued_direction_.find(sequence);
+    add_centre(v, it == issued_direction_.end() ? nullptr : &it->second);
+  }
+  for (const auto& key : pending_) {
+    const int v = std::get<3>(key);
+    auto it = selected_direction_.find(v);
+    add_centre(v, it == selected_direction_.end() ? nullptr : &it->second);
+  }
+  return out;
+}
+
+int SamplingPlan::FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered) {
+  if (slots <= 0) return 0;
+  const SurfaceLevel& finest = *levels_.back();
+  BoundaryTraceOptions trace;
+  trace.link_mm = options_.regions.links.max_length_mm;
+  const double h = selector_->half_window_mm();
+  const std::vector<ChangeMark>& marks = region_map_->change_marks();
+  std::vector<DragSegment> drags = DragWindows();
+  const std::vector<TraceTarget> targets = OpenTraceTargets(marks, drags, trace);
+  int added = 0;
+  for (size_t k = 0; k < targets.size() && added < slots; ++k) {
+    const TraceTarget& target = targets[k];
+    if (Explored(target, drags, trace)) continue;  // by a drag placed in this loop
+    // A drag that crossed two edges of a narrow feature leaves two targets
+    // a feature's width apart along its direction; one drag centred between
+    // them crosses both when its window holds both with the margin.
+    Eigen::Vector3d centre = target.point;
+    for (size_t m = k + 1; m < targets.size(); ++m) {
+      const TraceTarget& other = targets[m];
+      if (marks[other.mark].drag != marks[target.mark].drag || other.side != target.side) continue;
+      if ((other.point - target.point).norm() <= 2.0 * (h - trace.explored_mm)) {
+        centre = 0.5 * (target.point + other.point);
+        break;
+      }
+    }
+    // The target is off the surface by the boundary's curvature over a step
+    // (12 mm on a 20 mm radius: 3.6 mm); half a step away is another place.
+    const int v = selector_->NearestVertex(centre, 0.5 * trace.step_share * trace.link_mm);
+    if (v < 0 || v >= static_cast<int>(candidate.size()) || !candidate[v]) continue;
+    const Eigen::Vector3d n = finest.limit_normals[v].norm() > 0 ? Eigen::Vector3d(finest.limit_normals[v].normalized())
+                                                                  : Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d direction = target.direction - target.direction.dot(n) * n;
+    if (direction.norm() < 1e-6) continue;
+    direction.normalize();
+    SiteRecord r;
+    r.site = {std::max(options_.coarsest_level, NaturalLevel(v)), v};
+    r.origin = SiteOrigin::kSelected;
+    AddSite(std::move(r));
+    if (sites_.at(v).state != SiteState::kPending) break;  // skipped: out of budget or cancelled
+    selected_direction_[v] = direction;
+    candidate[v] = 0;
+    covered.push_back(finest.limit_positions[v]);
+    drags.push_back({finest.limit_positions[v] - h * direction, finest.limit_positions[v] + h * direction});
+    ++added;
+  }
+  return added;
 }
 
 }  // namespace surfmap

@@ -78,6 +78,7 @@
 #include "server/estimate/line_sample.h"
 #include "server/map/region_map.h"
 #include "server/plan/boundary_selection.h"
+#include "server/plan/boundary_tracing.h"
 #include "server/plan/probe_command.h"
 #include "server/plan/sampling_plan_options.h"
 
@@ -207,6 +208,12 @@ class SamplingPlan {
   bool Reachable(int vertex) const;
   Eigen::Vector3d DirectionFor(const SiteRecord& r);
   absl::Status RefreshBoundarySelection();  // kBoundary
+  // kBoundary with follow_boundaries: queues up to `slots` drags that follow
+  // boundaries found so far (boundary_tracing.h); returns how many.
+  int FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered);
+  // The data windows of measured and imported drags (their paths) and of
+  // issued and queued ones (where their direction is known).
+  std::vector<DragSegment> DragWindows() const;
   absl::Status EnsureRegionMap();
   absl::Status Initialise();  // derived structures from levels_ and options_
   int NaturalLevel(int vertex) const;
@@ -257,6 +264,9 @@ class SamplingPlan {
   bool region_map_stale_ = true;
   std::optional<BoundarySelector> selector_;
   std::map<int, Eigen::Vector3d> selected_direction_;
+  // The drag direction of each outstanding command (by sequence); not saved:
+  // after a restore those drags count as points in DragWindows.
+  std::map<std::uint64_t, Eigen::Vector3d> issued_direction_;
 };
 
 // The default sample budget of a boundary plan: 1.5 x the number of control

@@ -158,6 +158,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
         {"min_spread", o.regions.min_spread},
         {"change_location_mm", o.regions.change_location_mm}}},
       {"lookahead", o.lookahead},
+      {"follow_boundaries", o.follow_boundaries},
   };
 }
 
@@ -231,6 +232,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
     if (r.contains("change_location_mm")) o.regions.change_location_mm = in.Double(r, w, "change_location_mm");
   }
   if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
+  // Added later: a plan saved before goes on choosing as it did.
+  o.follow_boundaries = j.contains("follow_boundaries") && in.Bool(j, "options", "follow_boundaries");
   return o;
 }
 

@@ -133,6 +133,23 @@ TEST(SaveRestoreTest, APlanSavedBeforeChangeLocationRestoresWithTheDefault) {
             SamplingPlanOptions{}.regions.change_location_mm);
 }
 
+TEST(SaveRestoreTest, FollowBoundariesIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.max_level = 1;
+  o.follow_boundaries = true;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_TRUE(restored->options().follow_boundaries);
+  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
+  saved["options"].erase("follow_boundaries");
+  restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_FALSE(restored->options().follow_boundaries);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

@@ -70,6 +70,11 @@ struct SamplingPlanOptions {
   // is chosen with the others counted as covered; more rigs than this wait
   // rather than measure where the newest drags would have sent them.
   int lookahead = 4;
+  // kBoundary: follow every boundary a drag crossed, a drag at a time along
+  // it, before choosing by uncertainty (boundary_tracing.h). Off by default:
+  // measured over six seeds it keeps narrow bands whole but starves
+  // drag-sized patches of the follow-up budget (docs/method.md section 4).
+  bool follow_boundaries = false;
 
   bool IsValid(std::string* why) const;
 };
