@@ -193,6 +193,13 @@ std::vector<BrokenMesh> BrokenMeshes() {
        MeshFormat::kObj, {"line 8", "NUL byte at column 8"}},
       {"carriage-return line ends, bad index", "v 0 0 0\rv 1 0 0\rv 0 1 0\r# x\rf 1 2 9\r", MeshFormat::kObj,
        {"line 5", "index 9 is out of range"}},
+      {"256-gon face, carriage-return line ends", [] {
+         std::string obj;
+         for (int k = 0; k < 256; ++k) obj += "v " + std::to_string(k) + " " + std::to_string(k % 7) + " 0\r";
+         obj += "f";
+         for (int k = 1; k <= 256; ++k) obj += " " + std::to_string(k);
+         return obj + "\r";
+       }(), MeshFormat::kObj, {"line 257", "a face with 256 vertices", "the limit is 255 vertices per polygon"}},
       {"ply no magic", "plx\nformat ascii 1.0\nend_header\n", MeshFormat::kPly, {"header line 1", "'ply'"}},
       {"ply bad version", "ply\nformat ascii 2.0\nend_header\n", MeshFormat::kPly,
        {"header line 2", "unsupported PLY version '2.0'"}},

@@ -13,6 +13,12 @@
 namespace surfmap {
 namespace {
 
+// Debian's tinyobjloader (1.0.x) stores a face's vertex count in an unsigned
+// char: a larger polygon wraps around (1000 -> 232) and the cross-check
+// below could only say the readers disagree. Such a face is refused here,
+// naming its line and the limit.
+constexpr int kMaxPolygonVertices = 255;
+
 // What a first pass over the text learns that tinyobjloader does not report:
 // coordinates parsed strictly (tinyobjloader turns "nan" or "abc" into 0 and
 // silently drops faces with fewer than 3 vertices) and the line of each face.
@@ -96,6 +102,11 @@ absl::StatusOr<ObjScan> ScanObj(std::string_view bytes, std::string_view source)
       if (tokens.size() < 4) {
         return absl::InvalidArgumentError(absl::StrFormat(
             "%s line %d: face has %d vertices; a face needs at least 3", source, line_number, tokens.size() - 1));
+      }
+      if (tokens.size() - 1 > kMaxPolygonVertices) {
+        return absl::InvalidArgumentError(absl::StrFormat(
+            "%s line %d: a face with %d vertices; the limit is %d vertices per polygon (split it into smaller "
+            "polygons or triangles)", source, line_number, tokens.size() - 1, kMaxPolygonVertices));
       }
       scan.face_lines.push_back(line_number);
       scan.face_sizes.push_back(static_cast<int>(tokens.size()) - 1);

@@ -4,7 +4,6 @@
 #include "server/service/grpc_services.h"
 #include "server/service/proto_builders.h"
 #include "server/mesh/mesh_units.h"
-#include "server/service/upload_limits.h"
 
 namespace surfmap {
 
@@ -25,9 +24,6 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
     if (absl::Status s = ValidateName("name", request->name(), 1, 200); !s.ok()) return s;
     absl::StatusOr<Provenance> provenance = ProvenanceFromProto(request->provenance());
     if (!provenance.ok()) return provenance.status();
-    if (format == MeshFormat::kObj) {
-      if (absl::Status s = CheckObjPolygonSizes(request->mesh()); !s.ok()) return s;
-    }
     JobCoordinator::UploadOptions options;
     if (request->has_scale()) {
       options.mm_per_unit = request->scale();
