@@ -999,7 +999,7 @@ TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
 namespace surfmap {
 namespace {
 
-// Frames and calibration (schema version 4).
+// Frames and calibration (schema version 5).
 TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChanged) {
   CreatedJob job = Job(2);
   const int64_t object = job.job.object_id;
