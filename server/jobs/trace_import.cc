@@ -67,10 +67,22 @@ std::string Sha256Hex(std::string_view bytes) {
 }
 
 absl::Status CheckCsvSize(std::string_view csv, int max_samples) {
-  const int64_t lines = std::count(csv.begin(), csv.end(), '\n') + (csv.empty() || csv.back() == '\n' ? 0 : 1);
+  // Blank lines are skipped by the reader (docs/trace-format.md), so they do
+  // not count: a double-spaced file of max_samples rows is within the limit.
+  int64_t lines = 0;
+  bool blank = true;  // the current line so far holds only blanks
+  for (char c : csv) {
+    if (c == '\n') {
+      lines += !blank;
+      blank = true;
+    } else if (c != ' ' && c != '\t' && c != '\r') {
+      blank = false;
+    }
+  }
+  lines += !blank;
   const int64_t limit = static_cast<int64_t>(max_samples) + 101;  // + header + comment lines
   if (lines > limit) {
-    return absl::ResourceExhaustedError(absl::StrCat("trace CSV has ", lines, " lines; the limit is ", limit, " (",
+    return absl::ResourceExhaustedError(absl::StrCat("trace CSV has ", lines, " non-blank lines; the limit is ", limit, " (",
                                                      max_samples, " samples per trace, max_trace_samples, + header "
                                                      "and 100 comment lines)"));
   }

@@ -178,5 +178,18 @@ TEST_F(TraceImportTest, BadRequestsAreRefusedNamingTheField) {
   EXPECT_THAT(got->status(), StatusIs(absl::StatusCode::kResourceExhausted));
 }
 
+// The size bound counts the lines the reader reads: blank ones (which it
+// skips) do not count, so a double-spaced file of max_samples rows passes and
+// one row more is still refused.
+TEST(CheckCsvSizeTest, BlankLinesDoNotCount) {
+  std::string spaced = "t,x,y,z,fx,fy,fz,phase\n\n";
+  for (int i = 0; i < 100 + 100; ++i) spaced += "0,0,0,0,0,0,5,fwd\r\n \t\n";  // 200 rows: max + the 100 comment lines
+  EXPECT_THAT(CheckCsvSize(spaced, 100), IsOk());
+  spaced += "0,0,0,0,0,0,5,fwd\n\n";
+  EXPECT_THAT(CheckCsvSize(spaced, 100), StatusIs(absl::StatusCode::kResourceExhausted));
+  EXPECT_THAT(CheckCsvSize("", 0), IsOk());
+  EXPECT_THAT(CheckCsvSize("a\nb", 0), IsOk());  // header + one comment-sized line, no final newline
+}
+
 }  // namespace
 }  // namespace surfmap::testing
