@@ -335,6 +335,10 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
       return;
     }
   }
+  if (absl::Status s = sqlite::ValidateFrame(request); !s.ok()) {
+    done(std::move(s));
+    return;
+  }
   // Encode here, on the caller's thread: the writer thread is the bottleneck.
   auto encoded = std::make_shared<sqlite::EncodedTrace>();
   if (request.encoded_samples.empty()) {

@@ -1046,5 +1046,29 @@ TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChang
   EXPECT_EQ(store_->GetTraceFrame(999).status().code(), absl::StatusCode::kNotFound);
 }
 
+// A bad frame is refused before the write is queued, naming the frame, and
+// nothing is stored (the writer would fail it only after the caller had
+// changed its plan in memory).
+TEST_F(SqliteStoreTest, ABadTraceFrameIsRefusedBeforeTheWrite) {
+  CreatedJob job = Job(2);
+  absl::StatusOr<RigRegistrationRecord> reg = store_->AddRigRegistration({job.job.object_id, "arm", "{}"});
+  ASSERT_TRUE(reg.ok()) << reg.status();
+  CommandRecord command = Lease(job.job.id, "arm");
+  const auto refused = [&](const std::string& frame, int64_t registration_id) {
+    AcceptTraceRequest request = MakeTestAccept(command, 20);
+    request.frame = frame;
+    request.registration_id = registration_id;
+    absl::Status s = store_->AcceptTrace(request).status();
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << frame << " " << s;
+    EXPECT_NE(s.message().find("frame:"), std::string_view::npos) << s;
+  };
+  refused("rig_tip", reg->id);       // not a frame
+  refused("rig_base", 0);            // a rig's frame without its registration
+  refused("object", reg->id);        // the object's frame with one
+  absl::StatusOr<std::vector<TraceRecord>> traces = store_->ListTraces(job.job.id, false);
+  ASSERT_TRUE(traces.ok()) << traces.status();
+  EXPECT_TRUE(traces->empty());
+}
+
 }  // namespace
 }  // namespace surfmap

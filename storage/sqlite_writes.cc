@@ -452,6 +452,26 @@ absl::Status ValidateImport(const AcceptTraceRequest& request) {
   return absl::OkStatus();
 }
 
+absl::Status ValidateFrame(const AcceptTraceRequest& request) {
+  if (request.frame.empty() || request.frame == "object") {
+    if (request.registration_id != 0) {
+      return absl::InvalidArgumentError(absl::StrCat("frame: a trace in the object's frame has no registration (got "
+                                                     "registration_id ", request.registration_id, ")"));
+    }
+    return absl::OkStatus();
+  }
+  if (request.frame != "rig_base" && request.frame != "rig_base_sensor_forces") {
+    return absl::InvalidArgumentError(absl::StrCat("frame: '", request.frame, "' is not a trace frame (object, "
+                                                   "rig_base or rig_base_sensor_forces)"));
+  }
+  if (request.registration_id <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("frame: a trace in frame '", request.frame,
+                                                   "' needs the registration it was converted with (registration_id "
+                                                   "must be positive, got ", request.registration_id, ")"));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const EncodedTrace& in, int64_t now) {
   const AcceptTraceRequest& req = in.request;
   if (req.import.has_value()) return ImportTraceWrite(db, in, now);

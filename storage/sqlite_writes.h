@@ -26,6 +26,11 @@ absl::Status ValidateFit(const NewFit& fit, const std::string& where);
 absl::Status ValidateLease(const LeaseRequest& request);
 // An import's fields (request.import set): its hash, source and command.
 absl::Status ValidateImport(const AcceptTraceRequest& request);
+// The frame the samples were sent in: "" or "object" with no registration,
+// or a rig's frame ("rig_base", "rig_base_sensor_forces") with one. Checked
+// before queuing: a bad frame found by the writer fails after the caller has
+// changed its plan in memory (which then reloads, failing what is queued).
+absl::Status ValidateFrame(const AcceptTraceRequest& request);
 
 // ---- Steps (writer thread) ----
 absl::StatusOr<JobRecord> LoadJob(SqliteConnection& db, int64_t job_id);
