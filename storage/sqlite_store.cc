@@ -668,19 +668,17 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
       [shared, now](SqliteConnection& db) -> absl::StatusOr<int64_t> {
         if (shared->implied_command.has_value()) {
           // A refused import: its implied command, failed, names the source.
-          SURFMAP_ASSIGN_OR_RETURN(std::vector<int64_t> ids,
-                                   InsertCommands(db, shared->job_id, {*shared->implied_command}, now,
-                                                  "implied_command"));
-          SURFMAP_ASSIGN_OR_RETURN(SqliteStatement mark,
-                                   db.Prepare("UPDATE commands SET state = 'failed', lease_owner = ?2, attempt = 1 "
-                                              "WHERE id = ?1"));
-          mark.BindInt(1, ids.front()).BindText(2, shared->rig_id);
-          SURFMAP_RETURN_IF_ERROR(Annotate(mark.Run(), "implied_command"));
-          shared->command_id = ids.front();
-        }
-        SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
-        if (command.job_id != shared->job_id) {
-          return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
+          // The job must take imports, as for a stored one (checked first).
+          SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, shared->job_id));
+          SURFMAP_RETURN_IF_ERROR(sqlite::CheckTakesImports(job));
+          SURFMAP_ASSIGN_OR_RETURN(shared->command_id,
+                                   sqlite::InsertAnsweredCommand(db, shared->job_id, *shared->implied_command,
+                                                                 "failed", shared->rig_id, now, "implied_command"));
+        } else {
+          SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
+          if (command.job_id != shared->job_id) {
+            return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
+          }
         }
         SURFMAP_RETURN_IF_ERROR(InsertEvents(db, shared->job_id, shared->events, now));
         SURFMAP_ASSIGN_OR_RETURN(SqliteStatement count,

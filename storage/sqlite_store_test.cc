@@ -1046,6 +1046,62 @@ TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChang
   EXPECT_EQ(store_->GetTraceFrame(999).status().code(), absl::StatusCode::kNotFound);
 }
 
+// An import's implied command is written once, with its final state and
+// owner (no insert-then-update), stored or refused; a job that takes no
+// more imports refuses both before anything is written.
+TEST_F(SqliteStoreTest, AnImportsCommandIsWrittenOnceWithItsFinalState) {
+  CreatedJob job = Job(1);
+  {
+    // Counts every later UPDATE of a command row (a trigger in the file, seen by the store's writer).
+    auto db = SqliteConnection::Open(path_, {});
+    ASSERT_TRUE(db.ok()) << db.status();
+    ASSERT_TRUE((*db)->Exec("CREATE TABLE command_updates (id INTEGER); "
+                            "CREATE TRIGGER count_command_updates AFTER UPDATE ON commands "
+                            "BEGIN INSERT INTO command_updates VALUES (NEW.id); END;").ok());
+  }
+  AcceptTraceRequest request;
+  request.job_id = job.job.id;
+  request.samples = MakeTestSamples(20, 3);
+  request.fit = MakeTestFit(0.3);
+  request.import = TraceImport{MakeTestCommand(0, 0), "hand-rig", std::string(64, 'a')};
+  absl::StatusOr<AcceptTraceResult> stored = store_->AcceptTrace(request);
+  ASSERT_TRUE(stored.ok()) << stored.status();
+  const auto rejected = [&](int64_t job_id) {
+    NewRejectedTrace r;
+    r.job_id = job_id;
+    r.rig_id = "hand-rig";
+    r.check_name = "surface";
+    r.message = "off the surface";
+    r.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+    r.implied_command = MakeTestCommand(0, 0);
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  absl::StatusOr<int64_t> refused = rejected(job.job.id);
+  ASSERT_TRUE(refused.ok()) << refused.status();
+  absl::StatusOr<RejectedTraceRecord> kept = store_->GetRejectedTrace(*refused);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  auto db = SqliteConnection::Open(path_, {});
+  ASSERT_TRUE(db.ok());
+  EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM command_updates"), 0);
+  for (const auto& [id, state] : {std::pair<int64_t, CommandState>{stored->command_id, CommandState::kDone},
+                                  {kept->command_id, CommandState::kFailed}}) {
+    absl::StatusOr<CommandRecord> command = store_->GetCommand(id);
+    ASSERT_TRUE(command.ok()) << command.status();
+    EXPECT_EQ(command->state, state);
+    EXPECT_EQ(command->lease_owner, "hand-rig");
+    EXPECT_EQ(command->attempt, 1);
+  }
+  // A cancelled job takes neither: nothing is written.
+  ASSERT_TRUE(store_->UpdateJobState({job.job.id, JobState::kCancelled, {}}).ok());
+  const int64_t commands = *(*db)->QueryInt("SELECT COUNT(*) FROM commands");
+  request.import->sha256 = std::string(64, 'b');
+  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(rejected(job.job.id).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM commands"), commands);
+}
+
 // A bad frame is refused before the write is queued, naming the frame, and
 // nothing is stored (the writer would fail it only after the caller had
 // changed its plan in memory).

@@ -40,6 +40,15 @@ absl::Status InsertEvents(SqliteConnection& db, int64_t job_id, const std::vecto
 absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_t job_id,
                                                     const std::vector<NewCommand>& commands, int64_t now,
                                                     const std::string& field);
+// One command already answered (an import's implied command: 'done' when
+// stored, 'failed' when refused), inserted with its final state, owner and
+// attempt 1 in one row write.
+absl::StatusOr<int64_t> InsertAnsweredCommand(SqliteConnection& db, int64_t job_id, const NewCommand& command,
+                                              const char* state, const std::string& owner, int64_t now,
+                                              const std::string& field);
+// FAILED_PRECONDITION unless the job takes imports (it is not cancelled or
+// completed).
+absl::Status CheckTakesImports(const JobRecord& job);
 // Inserts the fit and returns it as the store now holds it, so writers answer
 // with exactly what a later read gives (a NaN headline number reads as empty).
 absl::StatusOr<FitRecord> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version, const NewFit& fit,
