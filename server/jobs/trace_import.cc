@@ -151,10 +151,14 @@ void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::str
   absl::StatusOr<LocatedDrag> located = LocateImportedDrag(trace, *(*runtime)->surface, params.probe);
   if (!located.ok()) return done(refused(located.status()));
   const ProbeCommand& implied = located->command;
-  // The same checks as a leased trace's, against the command the path implies.
-  absl::Status plausible =
-      CheckTraceNearSurface(located->max_surface_distance_mm, located->farthest_sample, params.limits);
-  if (plausible.ok()) plausible = CheckTraceAgainstCommand(trace, implied, params.limits);
+  // The same checks as a leased trace's, against the command the path
+  // implies: the cheap ones first (one pass; a malformed trace is refused as
+  // such), then the surface distance (a closest-point query per sample).
+  absl::Status plausible = CheckTraceAgainstCommand(trace, implied, params.limits);
+  if (plausible.ok()) {
+    const SurfaceDistance farthest = FarthestFromSurface(trace, *(*runtime)->surface);
+    plausible = CheckTraceNearSurface(farthest.max_mm, farthest.sample, params.limits);
+  }
   if (!plausible.ok()) {
     if (PlausibilityCheckName(plausible).empty()) return done(refused(plausible));  // malformed: nothing to keep
     return KeepRejected(request, *runtime, implied, trace, plausible, std::move(done));
