@@ -220,6 +220,11 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
   {
     MutexLock lock(&runtime.mu);
     SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "traces, imported or not"));
+    if (runtime.importing_sha256.count(request.file_sha256) > 0) {
+      // As QueueTrace answers for a leased trace: before the plan changes.
+      return absl::UnavailableError("the same file is being stored; retry the import (it then answers "
+                                    "already_imported)");
+    }
     PlanJournalEntry entry;
     entry.kind = PlanJournalEntry::Kind::kImport;
     entry.line = LineSampleOf(fit);
@@ -228,6 +233,7 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     PlanWrite plan_write = TakePlanChangeLocked(runtime, entry);
     completes_job = plan_write.new_job_state.has_value();
     std::move(plan_write).MoveInto(write);
+    runtime.importing_sha256.insert(request.file_sha256);  // until the write's completion
     runtime.measured_revision++;
     write.fit = NewFitOf(fit, runtime.params.fit);
     write.events.push_back(Event("trace_imported", {{"source", request.source},
@@ -238,17 +244,37 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     // Queued under the lock: writes of one job commit in the order their plan changes were made.
     auto decoded = std::make_shared<const TraceFit>(fit);
     store_->AcceptTraceAsync(
-        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job,
+        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job, sha256 = request.file_sha256,
                            done = std::move(done)](absl::StatusOr<AcceptTraceResult> result) mutable {
           executors_.completions->Post([this, runtime_ptr, command, implied, decoded, completes_job,
-                                        result = std::move(result), done = std::move(done)]() mutable {
+                                        sha256 = std::move(sha256), result = std::move(result),
+                                        done = std::move(done)]() mutable {
             JobRuntime& runtime = *runtime_ptr;
+            {
+              MutexLock lock(&runtime.mu);
+              runtime.importing_sha256.erase(sha256);
+            }
             if (!result.ok()) return done(registry_->MarkWriteFailed(runtime, result.status()));
             if (result->already_accepted) {
-              // Another import of the same file won the race: memory recorded
-              // this one too, the database did not; reload the job from it.
+              // Backstop (importing_sha256 keeps this from happening within
+              // one server): the file was stored by another writer; memory
+              // recorded this one too, the database did not, so the job is
+              // reloaded. The answer is the stored import, from the result
+              // (no read on this queue).
               (void)registry_->MarkWriteFailed(runtime, absl::OkStatus());
-              return AnswerStored(result->trace_id, std::move(done));
+              if (!result->fit.has_value()) {
+                return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
+              }
+              TraceImportOutcome repeat;
+              repeat.command = command;
+              repeat.command.id = result->command_id;
+              repeat.probe = implied;
+              repeat.trace_id = result->trace_id;
+              repeat.fit = *result->fit;
+              repeat.received_unix_ms = result->accepted_unix_ms;
+              repeat.metadata_json = std::move(result->metadata_json);
+              repeat.already_imported = true;
+              return done(std::move(repeat));
             }
             if (!result->fit.has_value()) {
               return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));

@@ -4,6 +4,9 @@
 // and a drag off the surface is refused and kept naming its source.
 #include "server/jobs/trace_import.h"
 
+#include <chrono>
+#include <thread>
+
 #include <nlohmann/json.hpp>
 
 #include "gtest/gtest.h"
@@ -44,6 +47,16 @@ class TraceImportTest : public CoordinatorFixture {
     std::optional<absl::StatusOr<TraceImportOutcome>> got = answer.Get("ImportTrace");
     if (!got) return absl::DeadlineExceededError("ImportTrace timed out");
     return *got;
+  }
+
+  // Starts an import; the answer comes in `answer`.
+  void StartImport(int64_t job_id, const std::string& csv, const std::string& file_name,
+                   Awaited<absl::StatusOr<TraceImportOutcome>>& answer) {
+    TraceImportRequest request;
+    request.job_id = job_id;
+    request.source = "hand-rig";
+    request.file_name = file_name;
+    coordinator_->imports().Import(request, std::make_shared<const std::string>(csv), 1'000'000, answer.Callback());
   }
 
   // The plan's pieces of imported drags (drag ids past every vertex of the plan's finest level) and its measured
