@@ -295,6 +295,7 @@ struct RejectedTraceRecord {
   int64_t n_samples = 0;
   std::vector<StoredSample> samples;  // empty when listed without samples
   int64_t received_unix_ms = 0;
+  std::string import_sha256;  // a refused import's file ("" otherwise)
 };
 
 struct NewRejectedTrace {
@@ -308,6 +309,10 @@ struct NewRejectedTrace {
   // A refused import: command_id is 0 and this command (the one its path
   // implies) is stored first, as failed, with rig_id as its lease owner.
   std::optional<NewCommand> implied_command;
+  // A refused import's file (64 lower-case hex digits; required with
+  // implied_command): kept once per job; the same file again writes nothing
+  // and answers the stored rejected trace's id.
+  std::string import_sha256;
 };
 
 // A trace with the command it answers and one of its fits, read in one

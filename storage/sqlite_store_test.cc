@@ -1074,6 +1074,7 @@ TEST_F(SqliteStoreTest, AnImportsCommandIsWrittenOnceWithItsFinalState) {
     r.message = "off the surface";
     r.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
     r.implied_command = MakeTestCommand(0, 0);
+    r.import_sha256 = std::string(64, 'd');
     std::promise<absl::StatusOr<int64_t>> kept;
     store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
     return kept.get_future().get();
@@ -1100,6 +1101,45 @@ TEST_F(SqliteStoreTest, AnImportsCommandIsWrittenOnceWithItsFinalState) {
   EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_EQ(rejected(job.job.id).status().code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM commands"), commands);
+}
+
+// A refused import is kept once per file and job: importing the refused
+// file again answers the stored rejected trace and writes nothing (no
+// command, event or rejected trace).
+TEST_F(SqliteStoreTest, ARefusedImportIsKeptOncePerFileAndJob) {
+  CreatedJob job = Job(1);
+  const auto keep = [&](NewRejectedTrace r) {
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  NewRejectedTrace import;
+  import.job_id = job.job.id;
+  import.rig_id = "hand-rig";
+  import.check_name = "surface";
+  import.message = "off the surface";
+  import.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+  import.implied_command = MakeTestCommand(0, 0);
+  import.import_sha256 = std::string(64, 'c');
+  import.events.push_back(NewEvent{"import_rejected", "{}"});
+  absl::StatusOr<int64_t> first = keep(import);
+  ASSERT_TRUE(first.ok()) << first.status();
+  const auto rejected_rows = [&] {
+    auto db = SqliteConnection::Open(path_, {});
+    return *(*db)->QueryInt("SELECT COUNT(*) FROM rejected_traces");
+  };
+  const std::map<std::string, int64_t> before = TableCounts();
+  const int64_t rejected_before = rejected_rows();
+  absl::StatusOr<int64_t> again = keep(import);
+  ASSERT_TRUE(again.ok()) << again.status();
+  EXPECT_EQ(*again, *first);
+  EXPECT_EQ(TableCounts(), before) << "a repeat refused import wrote something";
+  EXPECT_EQ(rejected_rows(), rejected_before);
+  absl::StatusOr<RejectedTraceRecord> imported = store_->GetRejectedTrace(*first);
+  ASSERT_TRUE(imported.ok()) << imported.status();
+  EXPECT_EQ(imported->import_sha256, std::string(64, 'c'));
+  import.import_sha256 = "not a hash";
+  EXPECT_EQ(keep(import).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 // A bad frame is refused before the write is queued, naming the frame, and

@@ -483,6 +483,13 @@ absl::Status ValidateFrame(const AcceptTraceRequest& request) {
   return absl::OkStatus();
 }
 
+absl::Status ValidateSha256(const std::string& sha256, absl::string_view field) {
+  if (sha256.size() != 64 || sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
+    return absl::InvalidArgumentError(absl::StrCat(field, " must be 64 lower-case hex digits"));
+  }
+  return absl::OkStatus();
+}
+
 absl::StatusOr<AcceptTraceResult> AcceptTraceWrite(SqliteConnection& db, const EncodedTrace& in, int64_t now) {
   const AcceptTraceRequest& req = in.request;
   if (req.import.has_value()) return ImportTraceWrite(db, in, now);

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "server/base/status_macros.h"
 #include "storage/records.h"
 #include "storage/sqlite_connection.h"
@@ -31,6 +32,8 @@ absl::Status ValidateImport(const AcceptTraceRequest& request);
 // before queuing: a bad frame found by the writer fails after the caller has
 // changed its plan in memory (which then reloads, failing what is queued).
 absl::Status ValidateFrame(const AcceptTraceRequest& request);
+// A file's SHA-256: 64 lower-case hex digits; the error names `field`.
+absl::Status ValidateSha256(const std::string& sha256, absl::string_view field);
 
 // ---- Steps (writer thread) ----
 absl::StatusOr<JobRecord> LoadJob(SqliteConnection& db, int64_t job_id);

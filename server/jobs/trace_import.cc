@@ -182,6 +182,7 @@ void TraceImporter::KeepRejected(const TraceImportRequest& request, const std::s
   rejected.check_name = PlausibilityCheckName(refusal);
   rejected.message = absl::StrCat(ImportName(request), ": ", refusal.message());
   rejected.encoded_samples = EncodeSamples(ToStoredSamples(trace));
+  rejected.import_sha256 = request.file_sha256;  // the same file refused again writes nothing
   rejected.events.push_back(Event("import_rejected", {{"source", request.source},
                                                       {"file_name", request.file_name},
                                                       {"file_sha256", request.file_sha256},

@@ -158,10 +158,18 @@ TEST_F(TraceImportTest, ADragOffTheSurfaceIsRefusedAndKeptNamingItsSource) {
   EXPECT_EQ(rejected->front().rig_id, "hand-rig");
   EXPECT_EQ(rejected->front().check_name, "surface");
   EXPECT_GT(rejected->front().command_id, 0);
+  EXPECT_EQ(rejected->front().import_sha256, Sha256Hex(PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3, 15.0)));
   EXPECT_EQ(ImportedPiecesAndMeasured(job.record.id).first, 0);
   absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 0);
   ASSERT_THAT(samples.status(), IsOk());
   EXPECT_TRUE(samples->empty());
+  // The same refused file again: the same refusal, nothing more kept.
+  absl::StatusOr<TraceImportOutcome> again =
+      Import(job.record.id, PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3, /*lift=*/15.0), "lifted_again.csv");
+  EXPECT_THAT(again.status(), StatusIs(absl::StatusCode::kInvalidArgument));
+  rejected = coordinator_->reads().ListRejectedTraces(job.record.id);
+  ASSERT_THAT(rejected.status(), IsOk());
+  EXPECT_EQ(rejected->size(), 1u);
 }
 
 // A file too short to be a drag, whatever else is wrong with it, is refused
