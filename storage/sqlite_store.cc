@@ -335,7 +335,7 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
       return;
     }
   }
-  if (absl::Status s = sqlite::ValidateFrame(request); !s.ok()) {
+  if (absl::Status s = sqlite::ValidateFrame(request.frame, request.registration_id); !s.ok()) {
     done(std::move(s));
     return;
   }
@@ -627,7 +627,7 @@ namespace {
 
 constexpr char kRejectedColumns[] =
     "id, command_id, job_id, rig_id, check_name, message, n_samples, sample_encoding, received_unix_ms, "
-    "import_sha256";
+    "import_sha256, frame, registration_id";
 
 absl::StatusOr<RejectedTraceRecord> ReadRejected(const SqliteStatement& s, bool with_samples) {
   RejectedTraceRecord r;
@@ -640,11 +640,13 @@ absl::StatusOr<RejectedTraceRecord> ReadRejected(const SqliteStatement& s, bool 
   r.n_samples = s.ColumnInt(6);
   r.received_unix_ms = s.ColumnInt(8);
   r.import_sha256 = s.ColumnText(9);  // "" for NULL
+  r.frame = s.ColumnText(10);
+  r.registration_id = s.ColumnInt(11);
   if (with_samples) {
     if (s.ColumnInt(7) != kSampleEncodingPackedLE) {
       return absl::DataLossError(absl::StrCat("rejected trace ", r.id, " has unknown sample encoding"));
     }
-    SURFMAP_ASSIGN_OR_RETURN(r.samples, DecodeSamples(s.ColumnBlob(10)));
+    SURFMAP_ASSIGN_OR_RETURN(r.samples, DecodeSamples(s.ColumnBlob(12)));
   }
   return r;
 }
@@ -662,6 +664,10 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
   }
   if (trace.implied_command.has_value() != (trace.command_id == 0)) {
     done(absl::InvalidArgumentError("rejected trace: give a command_id or an implied command (an import), not both"));
+    return;
+  }
+  if (absl::Status s = sqlite::ValidateFrame(trace.frame, trace.registration_id); !s.ok()) {
+    done(std::move(s));
     return;
   }
   if (trace.implied_command.has_value()) {
@@ -708,8 +714,8 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
         SURFMAP_ASSIGN_OR_RETURN(
             SqliteStatement stmt,
             db.Prepare("INSERT INTO rejected_traces (command_id, job_id, rig_id, check_name, message, n_samples, "
-                       "sample_encoding, received_unix_ms, samples, import_sha256) "
-                       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10)"));
+                       "sample_encoding, received_unix_ms, samples, import_sha256, frame, registration_id) "
+                       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"));
         stmt.BindInt(1, shared->command_id).BindInt(2, shared->job_id).BindText(3, shared->rig_id);
         stmt.BindText(4, shared->check_name).BindText(5, shared->message);
         stmt.BindInt(6, static_cast<int64_t>(shared->encoded_samples.size() / kEncodedSampleBytes));
@@ -719,6 +725,8 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
         } else {
           stmt.BindText(10, shared->import_sha256);
         }
+        stmt.BindText(11, shared->frame.empty() ? std::string("object") : shared->frame);
+        stmt.BindInt(12, shared->registration_id);
         SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing the rejected trace"));
         return db.LastInsertRowId();
       },

@@ -1142,6 +1142,53 @@ TEST_F(SqliteStoreTest, ARefusedImportIsKeptOncePerFileAndJob) {
   EXPECT_EQ(keep(import).status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+// A rejected trace keeps the frame it was sent in and its registration (its
+// samples are stored as sent); an import's is in the object's frame.
+TEST_F(SqliteStoreTest, ARejectedTraceKeepsItsFrameAndRegistration) {
+  CreatedJob job = Job(1);
+  const auto keep = [&](NewRejectedTrace r) {
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  NewRejectedTrace import;
+  import.job_id = job.job.id;
+  import.rig_id = "hand-rig";
+  import.check_name = "surface";
+  import.message = "off the surface";
+  import.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+  import.implied_command = MakeTestCommand(0, 0);
+  import.import_sha256 = std::string(64, 'c');
+  absl::StatusOr<int64_t> first = keep(import);
+  ASSERT_TRUE(first.ok()) << first.status();
+
+  absl::StatusOr<RigRegistrationRecord> reg = store_->AddRigRegistration({job.job.object_id, "arm", "{}"});
+  ASSERT_TRUE(reg.ok()) << reg.status();
+  CommandRecord command = Lease(job.job.id, "arm");
+  NewRejectedTrace rig;
+  rig.command_id = command.id;
+  rig.job_id = job.job.id;
+  rig.rig_id = "arm";
+  rig.check_name = "offset";
+  rig.message = "wrong frame?";
+  rig.encoded_samples = EncodeSamples(MakeTestSamples(20, 5));
+  rig.frame = "rig_base";
+  rig.registration_id = reg->id;
+  absl::StatusOr<int64_t> kept = keep(rig);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  absl::StatusOr<RejectedTraceRecord> read = store_->GetRejectedTrace(*kept);
+  ASSERT_TRUE(read.ok()) << read.status();
+  EXPECT_EQ(read->frame, "rig_base");
+  EXPECT_EQ(read->registration_id, reg->id);
+  EXPECT_EQ(read->samples.size(), 20u);
+  absl::StatusOr<RejectedTraceRecord> imported = store_->GetRejectedTrace(*first);
+  ASSERT_TRUE(imported.ok()) << imported.status();
+  EXPECT_EQ(imported->frame, "object");
+  EXPECT_EQ(imported->registration_id, 0);
+  rig.registration_id = 0;  // a rig's frame without its registration
+  EXPECT_EQ(keep(rig).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 // A bad frame is refused before the write is queued, naming the frame, and
 // nothing is stored (the writer would fail it only after the caller had
 // changed its plan in memory).

@@ -463,22 +463,22 @@ absl::Status ValidateImport(const AcceptTraceRequest& request) {
   return absl::OkStatus();
 }
 
-absl::Status ValidateFrame(const AcceptTraceRequest& request) {
-  if (request.frame.empty() || request.frame == "object") {
-    if (request.registration_id != 0) {
+absl::Status ValidateFrame(const std::string& frame, int64_t registration_id) {
+  if (frame.empty() || frame == "object") {
+    if (registration_id != 0) {
       return absl::InvalidArgumentError(absl::StrCat("frame: a trace in the object's frame has no registration (got "
-                                                     "registration_id ", request.registration_id, ")"));
+                                                     "registration_id ", registration_id, ")"));
     }
     return absl::OkStatus();
   }
-  if (request.frame != "rig_base" && request.frame != "rig_base_sensor_forces") {
-    return absl::InvalidArgumentError(absl::StrCat("frame: '", request.frame, "' is not a trace frame (object, "
+  if (frame != "rig_base" && frame != "rig_base_sensor_forces") {
+    return absl::InvalidArgumentError(absl::StrCat("frame: '", frame, "' is not a trace frame (object, "
                                                    "rig_base or rig_base_sensor_forces)"));
   }
-  if (request.registration_id <= 0) {
-    return absl::InvalidArgumentError(absl::StrCat("frame: a trace in frame '", request.frame,
+  if (registration_id <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("frame: a trace in frame '", frame,
                                                    "' needs the registration it was converted with (registration_id "
-                                                   "must be positive, got ", request.registration_id, ")"));
+                                                   "must be positive, got ", registration_id, ")"));
   }
   return absl::OkStatus();
 }

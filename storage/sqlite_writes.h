@@ -31,7 +31,7 @@ absl::Status ValidateImport(const AcceptTraceRequest& request);
 // or a rig's frame ("rig_base", "rig_base_sensor_forces") with one. Checked
 // before queuing: a bad frame found by the writer fails after the caller has
 // changed its plan in memory (which then reloads, failing what is queued).
-absl::Status ValidateFrame(const AcceptTraceRequest& request);
+absl::Status ValidateFrame(const std::string& frame, int64_t registration_id);
 // A file's SHA-256: 64 lower-case hex digits; the error names `field`.
 absl::Status ValidateSha256(const std::string& sha256, absl::string_view field);
 
