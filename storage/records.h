@@ -295,6 +295,9 @@ struct RejectedTraceRecord {
   int64_t n_samples = 0;
   std::vector<StoredSample> samples;  // empty when listed without samples
   int64_t received_unix_ms = 0;
+  std::string import_sha256;  // a refused import's file ("" otherwise)
+  std::string frame = "object";  // as sent (see TraceFrameRecord)
+  int64_t registration_id = 0;
 };
 
 struct NewRejectedTrace {
@@ -308,6 +311,14 @@ struct NewRejectedTrace {
   // A refused import: command_id is 0 and this command (the one its path
   // implies) is stored first, as failed, with rig_id as its lease owner.
   std::optional<NewCommand> implied_command;
+  // A refused import's file (64 lower-case hex digits; required with
+  // implied_command): kept once per job; the same file again writes nothing
+  // and answers the stored rejected trace's id.
+  std::string import_sha256;
+  // The frame the samples were sent in ("" or "object", or a rig's frame with
+  // the registration they were converted with), as for AcceptTraceRequest.
+  std::string frame;
+  int64_t registration_id = 0;
 };
 
 // A trace with the command it answers and one of its fits, read in one

@@ -162,12 +162,29 @@ CREATE TABLE trace_frames (
 );
 )sql";
 
+// Version 6 (review fixes): a refused import is kept once per file and job
+// (the file's SHA-256, unique per job like an accepted import's), so
+// importing a refused file again writes nothing; and a rejected trace keeps
+// the frame it was sent in and the registration it was converted with, as an
+// accepted one does (trace_frames). Rows before version 6 have neither: NULL
+// hash, frame 'object', registration 0.
+constexpr char kRejectedImportsAndFrames[] = R"sql(
+ALTER TABLE rejected_traces ADD COLUMN import_sha256 TEXT;
+ALTER TABLE rejected_traces ADD COLUMN frame TEXT NOT NULL DEFAULT 'object'
+  CHECK (frame IN ('object', 'rig_base', 'rig_base_sensor_forces'));
+ALTER TABLE rejected_traces ADD COLUMN registration_id INTEGER NOT NULL DEFAULT 0;
+CREATE UNIQUE INDEX rejected_traces_by_import ON rejected_traces (job_id, import_sha256)
+  WHERE import_sha256 IS NOT NULL;
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
     {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
     {3, "traces refused as implausible, kept out of the map", kRejectedTraces},
     {4, "provenance metadata on objects, jobs and traces; imported traces by file hash", kImportAndProvenance},
     {5, "rig registrations (frames and calibration); the frame of traces sent in a rig's frame", kRigRegistrations},
+    {6, "refused imports kept once per file and job; the frame and registration of rejected traces",
+     kRejectedImportsAndFrames},
 };
 
 }  // namespace

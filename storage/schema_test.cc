@@ -40,6 +40,31 @@ TEST(SchemaTest, MigratesEmptyFileToLatestVersion) {
   ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations()).ok());
 }
 
+// Version 6 on a version-5 file: a rejected trace stored before it reads as
+// sent in the object's frame with no file hash; a file's hash is unique per
+// job among rejected traces, traces without one (not imports) are not.
+TEST(SchemaTest, Version6KeepsOlderRejectedTracesAndRefusedFilesOncePerJob) {
+  TempDbDir dir;
+  auto db = OpenRaw(dir.Path("a.db"));
+  ASSERT_GE(SchemaMigrations().size(), 6u);
+  ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations().first(5)).ok());
+  ASSERT_TRUE(db->Exec("PRAGMA foreign_keys = OFF").ok());  // rows without their job and command
+  ASSERT_TRUE(db->Exec("INSERT INTO rejected_traces (command_id, job_id, rig_id, check_name, message, n_samples, "
+                       "sample_encoding, received_unix_ms, samples) VALUES (1, 1, 'arm', 'offset', 'm', 1, 1, 0, x'00')")
+                  .ok());
+  ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations()).ok());
+  EXPECT_EQ(QueryInt(*db, "SELECT COUNT(*) FROM rejected_traces WHERE import_sha256 IS NULL AND frame = 'object' "
+                          "AND registration_id = 0"),
+            1);
+  const std::string insert =
+      "INSERT INTO rejected_traces (command_id, job_id, rig_id, check_name, message, n_samples, sample_encoding, "
+      "received_unix_ms, samples, import_sha256) VALUES (1, 1, 'hand', 'surface', 'm', 1, 1, 0, x'00', ";
+  EXPECT_TRUE(db->Exec(insert + "NULL)").ok());  // a second trace without a hash
+  EXPECT_TRUE(db->Exec(insert + "'aa')").ok());
+  EXPECT_FALSE(db->Exec(insert + "'aa')").ok()) << "the same refused file kept twice in one job";
+  EXPECT_FALSE(db->Exec("UPDATE rejected_traces SET frame = 'tool' WHERE id = 1").ok()) << "an unknown frame";
+}
+
 TEST(SchemaTest, ConnectionSettingsAreDurableWalWithForeignKeys) {
   TempDbDir dir;
   auto db = OpenRaw(dir.Path("a.db"));

@@ -335,6 +335,10 @@ void SqliteStore::AcceptTraceAsync(AcceptTraceRequest request, AcceptTraceCallba
       return;
     }
   }
+  if (absl::Status s = sqlite::ValidateFrame(request.frame, request.registration_id); !s.ok()) {
+    done(std::move(s));
+    return;
+  }
   // Encode here, on the caller's thread: the writer thread is the bottleneck.
   auto encoded = std::make_shared<sqlite::EncodedTrace>();
   if (request.encoded_samples.empty()) {
@@ -622,7 +626,8 @@ absl::StatusOr<std::vector<SampleRecord>> SqliteStore::ReadJobSamples(int64_t jo
 namespace {
 
 constexpr char kRejectedColumns[] =
-    "id, command_id, job_id, rig_id, check_name, message, n_samples, sample_encoding, received_unix_ms";
+    "id, command_id, job_id, rig_id, check_name, message, n_samples, sample_encoding, received_unix_ms, "
+    "import_sha256, frame, registration_id";
 
 absl::StatusOr<RejectedTraceRecord> ReadRejected(const SqliteStatement& s, bool with_samples) {
   RejectedTraceRecord r;
@@ -634,11 +639,14 @@ absl::StatusOr<RejectedTraceRecord> ReadRejected(const SqliteStatement& s, bool 
   r.message = s.ColumnText(5);
   r.n_samples = s.ColumnInt(6);
   r.received_unix_ms = s.ColumnInt(8);
+  r.import_sha256 = s.ColumnText(9);  // "" for NULL
+  r.frame = s.ColumnText(10);
+  r.registration_id = s.ColumnInt(11);
   if (with_samples) {
     if (s.ColumnInt(7) != kSampleEncodingPackedLE) {
       return absl::DataLossError(absl::StrCat("rejected trace ", r.id, " has unknown sample encoding"));
     }
-    SURFMAP_ASSIGN_OR_RETURN(r.samples, DecodeSamples(s.ColumnBlob(9)));
+    SURFMAP_ASSIGN_OR_RETURN(r.samples, DecodeSamples(s.ColumnBlob(12)));
   }
   return r;
 }
@@ -658,25 +666,44 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
     done(absl::InvalidArgumentError("rejected trace: give a command_id or an implied command (an import), not both"));
     return;
   }
+  if (absl::Status s = sqlite::ValidateFrame(trace.frame, trace.registration_id); !s.ok()) {
+    done(std::move(s));
+    return;
+  }
+  if (trace.implied_command.has_value()) {
+    if (absl::Status s = sqlite::ValidateSha256(trace.import_sha256, "rejected trace: import_sha256"); !s.ok()) {
+      done(std::move(s));
+      return;
+    }
+  } else if (!trace.import_sha256.empty()) {
+    done(absl::InvalidArgumentError("rejected trace: import_sha256 is for a refused import (implied command) only"));
+    return;
+  }
   auto shared = std::make_shared<NewRejectedTrace>(std::move(trace));
   const int64_t now = Now();
   writer_->SubmitForResult<int64_t>(
       [shared, now](SqliteConnection& db) -> absl::StatusOr<int64_t> {
         if (shared->implied_command.has_value()) {
           // A refused import: its implied command, failed, names the source.
-          SURFMAP_ASSIGN_OR_RETURN(std::vector<int64_t> ids,
-                                   InsertCommands(db, shared->job_id, {*shared->implied_command}, now,
-                                                  "implied_command"));
-          SURFMAP_ASSIGN_OR_RETURN(SqliteStatement mark,
-                                   db.Prepare("UPDATE commands SET state = 'failed', lease_owner = ?2, attempt = 1 "
-                                              "WHERE id = ?1"));
-          mark.BindInt(1, ids.front()).BindText(2, shared->rig_id);
-          SURFMAP_RETURN_IF_ERROR(Annotate(mark.Run(), "implied_command"));
-          shared->command_id = ids.front();
-        }
-        SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
-        if (command.job_id != shared->job_id) {
-          return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
+          // The job must take imports, as for a stored one (checked first).
+          SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, shared->job_id));
+          SURFMAP_RETURN_IF_ERROR(sqlite::CheckTakesImports(job));
+          // The same file refused before: its rejected trace, nothing written
+          // (a refused file imported again and again does not grow the file).
+          SURFMAP_ASSIGN_OR_RETURN(
+              SqliteStatement same,
+              db.Prepare("SELECT id FROM rejected_traces WHERE job_id = ?1 AND import_sha256 = ?2"));
+          same.BindInt(1, shared->job_id).BindText(2, shared->import_sha256);
+          SURFMAP_ASSIGN_OR_RETURN(bool stored, same.Step());
+          if (stored) return same.ColumnInt(0);
+          SURFMAP_ASSIGN_OR_RETURN(shared->command_id,
+                                   sqlite::InsertAnsweredCommand(db, shared->job_id, *shared->implied_command,
+                                                                 "failed", shared->rig_id, now, "implied_command"));
+        } else {
+          SURFMAP_ASSIGN_OR_RETURN(CommandRecord command, LoadCommand(db, shared->command_id));
+          if (command.job_id != shared->job_id) {
+            return absl::InvalidArgumentError(absl::StrCat("command ", command.id, " belongs to job ", command.job_id));
+          }
         }
         SURFMAP_RETURN_IF_ERROR(InsertEvents(db, shared->job_id, shared->events, now));
         SURFMAP_ASSIGN_OR_RETURN(SqliteStatement count,
@@ -687,11 +714,19 @@ void SqliteStore::RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallb
         SURFMAP_ASSIGN_OR_RETURN(
             SqliteStatement stmt,
             db.Prepare("INSERT INTO rejected_traces (command_id, job_id, rig_id, check_name, message, n_samples, "
-                       "sample_encoding, received_unix_ms, samples) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)"));
+                       "sample_encoding, received_unix_ms, samples, import_sha256, frame, registration_id) "
+                       "VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)"));
         stmt.BindInt(1, shared->command_id).BindInt(2, shared->job_id).BindText(3, shared->rig_id);
         stmt.BindText(4, shared->check_name).BindText(5, shared->message);
         stmt.BindInt(6, static_cast<int64_t>(shared->encoded_samples.size() / kEncodedSampleBytes));
         stmt.BindInt(7, kSampleEncodingPackedLE).BindInt(8, now).BindBlob(9, shared->encoded_samples);
+        if (shared->import_sha256.empty()) {
+          stmt.BindNull(10);
+        } else {
+          stmt.BindText(10, shared->import_sha256);
+        }
+        stmt.BindText(11, shared->frame.empty() ? std::string("object") : shared->frame);
+        stmt.BindInt(12, shared->registration_id);
         SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing the rejected trace"));
         return db.LastInsertRowId();
       },

@@ -1,5 +1,5 @@
 // SqliteStore: rig registrations and the frames of stored traces (schema
-// version 4). A registration is never updated: a new one for the same
+// version 5). A registration is never updated: a new one for the same
 // (object, rig) is the next version, so a trace converted with an older one
 // can always be read back with it.
 #include "absl/strings/str_cat.h"

@@ -999,7 +999,7 @@ TEST_F(SqliteStoreTest, BackgroundCheckpointKeepsWalBounded) {
 namespace surfmap {
 namespace {
 
-// Frames and calibration (schema version 4).
+// Frames and calibration (schema version 5).
 TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChanged) {
   CreatedJob job = Job(2);
   const int64_t object = job.job.object_id;
@@ -1044,6 +1044,173 @@ TEST_F(SqliteStoreTest, RigRegistrationsAreVersionedPerObjectAndRigAndNeverChang
   EXPECT_EQ(frame->frame, "object");
   EXPECT_EQ(frame->registration_id, 0);
   EXPECT_EQ(store_->GetTraceFrame(999).status().code(), absl::StatusCode::kNotFound);
+}
+
+// An import's implied command is written once, with its final state and
+// owner (no insert-then-update), stored or refused; a job that takes no
+// more imports refuses both before anything is written.
+TEST_F(SqliteStoreTest, AnImportsCommandIsWrittenOnceWithItsFinalState) {
+  CreatedJob job = Job(1);
+  {
+    // Counts every later UPDATE of a command row (a trigger in the file, seen by the store's writer).
+    auto db = SqliteConnection::Open(path_, {});
+    ASSERT_TRUE(db.ok()) << db.status();
+    ASSERT_TRUE((*db)->Exec("CREATE TABLE command_updates (id INTEGER); "
+                            "CREATE TRIGGER count_command_updates AFTER UPDATE ON commands "
+                            "BEGIN INSERT INTO command_updates VALUES (NEW.id); END;").ok());
+  }
+  AcceptTraceRequest request;
+  request.job_id = job.job.id;
+  request.samples = MakeTestSamples(20, 3);
+  request.fit = MakeTestFit(0.3);
+  request.import = TraceImport{MakeTestCommand(0, 0), "hand-rig", std::string(64, 'a')};
+  absl::StatusOr<AcceptTraceResult> stored = store_->AcceptTrace(request);
+  ASSERT_TRUE(stored.ok()) << stored.status();
+  const auto rejected = [&](int64_t job_id) {
+    NewRejectedTrace r;
+    r.job_id = job_id;
+    r.rig_id = "hand-rig";
+    r.check_name = "surface";
+    r.message = "off the surface";
+    r.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+    r.implied_command = MakeTestCommand(0, 0);
+    r.import_sha256 = std::string(64, 'd');
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  absl::StatusOr<int64_t> refused = rejected(job.job.id);
+  ASSERT_TRUE(refused.ok()) << refused.status();
+  absl::StatusOr<RejectedTraceRecord> kept = store_->GetRejectedTrace(*refused);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  auto db = SqliteConnection::Open(path_, {});
+  ASSERT_TRUE(db.ok());
+  EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM command_updates"), 0);
+  for (const auto& [id, state] : {std::pair<int64_t, CommandState>{stored->command_id, CommandState::kDone},
+                                  {kept->command_id, CommandState::kFailed}}) {
+    absl::StatusOr<CommandRecord> command = store_->GetCommand(id);
+    ASSERT_TRUE(command.ok()) << command.status();
+    EXPECT_EQ(command->state, state);
+    EXPECT_EQ(command->lease_owner, "hand-rig");
+    EXPECT_EQ(command->attempt, 1);
+  }
+  // A cancelled job takes neither: nothing is written.
+  ASSERT_TRUE(store_->UpdateJobState({job.job.id, JobState::kCancelled, {}}).ok());
+  const int64_t commands = *(*db)->QueryInt("SELECT COUNT(*) FROM commands");
+  request.import->sha256 = std::string(64, 'b');
+  EXPECT_EQ(store_->AcceptTrace(request).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(rejected(job.job.id).status().code(), absl::StatusCode::kFailedPrecondition);
+  EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM commands"), commands);
+}
+
+// A refused import is kept once per file and job: importing the refused
+// file again answers the stored rejected trace and writes nothing (no
+// command, event or rejected trace).
+TEST_F(SqliteStoreTest, ARefusedImportIsKeptOncePerFileAndJob) {
+  CreatedJob job = Job(1);
+  const auto keep = [&](NewRejectedTrace r) {
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  NewRejectedTrace import;
+  import.job_id = job.job.id;
+  import.rig_id = "hand-rig";
+  import.check_name = "surface";
+  import.message = "off the surface";
+  import.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+  import.implied_command = MakeTestCommand(0, 0);
+  import.import_sha256 = std::string(64, 'c');
+  import.events.push_back(NewEvent{"import_rejected", "{}"});
+  absl::StatusOr<int64_t> first = keep(import);
+  ASSERT_TRUE(first.ok()) << first.status();
+  const auto rejected_rows = [&] {
+    auto db = SqliteConnection::Open(path_, {});
+    return *(*db)->QueryInt("SELECT COUNT(*) FROM rejected_traces");
+  };
+  const std::map<std::string, int64_t> before = TableCounts();
+  const int64_t rejected_before = rejected_rows();
+  absl::StatusOr<int64_t> again = keep(import);
+  ASSERT_TRUE(again.ok()) << again.status();
+  EXPECT_EQ(*again, *first);
+  EXPECT_EQ(TableCounts(), before) << "a repeat refused import wrote something";
+  EXPECT_EQ(rejected_rows(), rejected_before);
+  absl::StatusOr<RejectedTraceRecord> imported = store_->GetRejectedTrace(*first);
+  ASSERT_TRUE(imported.ok()) << imported.status();
+  EXPECT_EQ(imported->import_sha256, std::string(64, 'c'));
+  import.import_sha256 = "not a hash";
+  EXPECT_EQ(keep(import).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+// A rejected trace keeps the frame it was sent in and its registration (its
+// samples are stored as sent); an import's is in the object's frame.
+TEST_F(SqliteStoreTest, ARejectedTraceKeepsItsFrameAndRegistration) {
+  CreatedJob job = Job(1);
+  const auto keep = [&](NewRejectedTrace r) {
+    std::promise<absl::StatusOr<int64_t>> kept;
+    store_->RecordRejectedTraceAsync(std::move(r), [&](absl::StatusOr<int64_t> id) { kept.set_value(id); });
+    return kept.get_future().get();
+  };
+  NewRejectedTrace import;
+  import.job_id = job.job.id;
+  import.rig_id = "hand-rig";
+  import.check_name = "surface";
+  import.message = "off the surface";
+  import.encoded_samples = EncodeSamples(MakeTestSamples(20, 4));
+  import.implied_command = MakeTestCommand(0, 0);
+  import.import_sha256 = std::string(64, 'c');
+  absl::StatusOr<int64_t> first = keep(import);
+  ASSERT_TRUE(first.ok()) << first.status();
+
+  absl::StatusOr<RigRegistrationRecord> reg = store_->AddRigRegistration({job.job.object_id, "arm", "{}"});
+  ASSERT_TRUE(reg.ok()) << reg.status();
+  CommandRecord command = Lease(job.job.id, "arm");
+  NewRejectedTrace rig;
+  rig.command_id = command.id;
+  rig.job_id = job.job.id;
+  rig.rig_id = "arm";
+  rig.check_name = "offset";
+  rig.message = "wrong frame?";
+  rig.encoded_samples = EncodeSamples(MakeTestSamples(20, 5));
+  rig.frame = "rig_base";
+  rig.registration_id = reg->id;
+  absl::StatusOr<int64_t> kept = keep(rig);
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  absl::StatusOr<RejectedTraceRecord> read = store_->GetRejectedTrace(*kept);
+  ASSERT_TRUE(read.ok()) << read.status();
+  EXPECT_EQ(read->frame, "rig_base");
+  EXPECT_EQ(read->registration_id, reg->id);
+  EXPECT_EQ(read->samples.size(), 20u);
+  absl::StatusOr<RejectedTraceRecord> imported = store_->GetRejectedTrace(*first);
+  ASSERT_TRUE(imported.ok()) << imported.status();
+  EXPECT_EQ(imported->frame, "object");
+  EXPECT_EQ(imported->registration_id, 0);
+  rig.registration_id = 0;  // a rig's frame without its registration
+  EXPECT_EQ(keep(rig).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+// A bad frame is refused before the write is queued, naming the frame, and
+// nothing is stored (the writer would fail it only after the caller had
+// changed its plan in memory).
+TEST_F(SqliteStoreTest, ABadTraceFrameIsRefusedBeforeTheWrite) {
+  CreatedJob job = Job(2);
+  absl::StatusOr<RigRegistrationRecord> reg = store_->AddRigRegistration({job.job.object_id, "arm", "{}"});
+  ASSERT_TRUE(reg.ok()) << reg.status();
+  CommandRecord command = Lease(job.job.id, "arm");
+  const auto refused = [&](const std::string& frame, int64_t registration_id) {
+    AcceptTraceRequest request = MakeTestAccept(command, 20);
+    request.frame = frame;
+    request.registration_id = registration_id;
+    absl::Status s = store_->AcceptTrace(request).status();
+    EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument) << frame << " " << s;
+    EXPECT_NE(s.message().find("frame:"), std::string_view::npos) << s;
+  };
+  refused("rig_tip", reg->id);       // not a frame
+  refused("rig_base", 0);            // a rig's frame without its registration
+  refused("object", reg->id);        // the object's frame with one
+  absl::StatusOr<std::vector<TraceRecord>> traces = store_->ListTraces(job.job.id, false);
+  ASSERT_TRUE(traces.ok()) << traces.status();
+  EXPECT_TRUE(traces->empty());
 }
 
 }  // namespace

@@ -96,6 +96,29 @@ absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_
   return ids;
 }
 
+absl::StatusOr<int64_t> InsertAnsweredCommand(SqliteConnection& db, int64_t job_id, const NewCommand& c,
+                                              const char* state, const std::string& owner, int64_t now,
+                                              const std::string& field) {
+  SURFMAP_ASSIGN_OR_RETURN(
+      SqliteStatement stmt,
+      db.Prepare("INSERT INTO commands (job_id, site_level, site_vertex, state, lease_owner, attempt, "
+                 "created_unix_ms, command_json) VALUES (?1, ?2, ?3, ?4, ?5, 1, ?6, ?7)"));
+  stmt.BindInt(1, job_id).BindInt(2, c.site_level).BindInt(3, c.site_vertex).BindText(4, state);
+  stmt.BindText(5, owner).BindInt(6, now).BindText(7, c.command_json);
+  if (absl::Status s = stmt.Run(); !s.ok()) {
+    return Annotate(s, absl::StrCat(field, " (site level ", c.site_level, " vertex ", c.site_vertex, ")"));
+  }
+  return db.LastInsertRowId();
+}
+
+absl::Status CheckTakesImports(const JobRecord& job) {
+  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
+    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ", std::string(JobStateName(job.state)),
+                                                      ": it takes no more traces, imported or not"));
+  }
+  return absl::OkStatus();
+}
+
 // Inserts the fit and returns it as the store now holds it, so writers answer
 // with exactly what a later read gives (a NaN headline number reads as empty).
 absl::StatusOr<FitRecord> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version,
@@ -361,23 +384,6 @@ absl::StatusOr<std::optional<AcceptTraceResult>> FindImported(SqliteConnection& 
   return std::optional<AcceptTraceResult>(std::move(result));
 }
 
-// An import's implied command, stored as done (measured by the source).
-absl::StatusOr<int64_t> InsertImportedCommand(SqliteConnection& db, const AcceptTraceRequest& req, int64_t now) {
-  SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
-  if (job.state == JobState::kCancelled || job.state == JobState::kCompleted) {
-    return absl::FailedPreconditionError(absl::StrCat("job ", job.id, " is ", std::string(JobStateName(job.state)),
-                                                      ": it takes no more traces, imported or not"));
-  }
-  SURFMAP_ASSIGN_OR_RETURN(std::vector<int64_t> ids,
-                           InsertCommands(db, req.job_id, {req.import->command}, now, "import.command"));
-  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                           db.Prepare("UPDATE commands SET state = 'done', lease_owner = ?2, attempt = 1 "
-                                      "WHERE id = ?1"));
-  stmt.BindInt(1, ids.front()).BindText(2, req.import->source);
-  SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "import.command"));
-  return ids.front();
-}
-
 // The trace, its fit and the plan change: the rows every accepted trace
 // writes, leased or imported.
 absl::Status InsertAcceptedTrace(SqliteConnection& db, const EncodedTrace& in, const JobRecord& job,
@@ -412,7 +418,8 @@ absl::Status InsertAcceptedTrace(SqliteConnection& db, const EncodedTrace& in, c
     stmt.BindInt(1, result->trace_id).BindText(2, req.frame).BindInt(3, req.registration_id);
     SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "storing the trace's frame"));
   }
-  SURFMAP_RETURN_IF_ERROR(SetCommandState(db, command_id, "done"));
+  // A leased command becomes done here; an import's was inserted done.
+  if (!req.import.has_value()) SURFMAP_RETURN_IF_ERROR(SetCommandState(db, command_id, "done"));
   if (req.fit.has_value()) {
     SURFMAP_ASSIGN_OR_RETURN(FitRecord fit, InsertFit(db, result->trace_id, 1, *req.fit, now));
     result->fit_id = fit.id;
@@ -425,12 +432,16 @@ absl::StatusOr<AcceptTraceResult> ImportTraceWrite(SqliteConnection& db, const E
   const AcceptTraceRequest& req = in.request;
   SURFMAP_ASSIGN_OR_RETURN(std::optional<AcceptTraceResult> stored, FindImported(db, req.job_id, req.import->sha256));
   if (stored.has_value()) return std::move(*stored);
-  SURFMAP_ASSIGN_OR_RETURN(int64_t command_id, InsertImportedCommand(db, req, now));
+  // Every check before any insert; the job loaded once.
   SURFMAP_ASSIGN_OR_RETURN(JobRecord job, LoadJob(db, req.job_id));
+  SURFMAP_RETURN_IF_ERROR(CheckTakesImports(job));
   const PlanChange change{req.new_plan_json, req.plan_journal_entry, req.expected_plan_revision,
                           req.new_commands, req.new_job_state, req.events};
   AcceptTraceResult result;
   SURFMAP_ASSIGN_OR_RETURN(result.plan_revision, CheckPlanChange(db, job, change));
+  // The implied command, stored done (measured by the source) in one row write.
+  SURFMAP_ASSIGN_OR_RETURN(int64_t command_id, InsertAnsweredCommand(db, req.job_id, req.import->command, "done",
+                                                                     req.import->source, now, "import.command"));
   SURFMAP_RETURN_IF_ERROR(InsertAcceptedTrace(db, in, job, command_id, now, &result));
   return result;
 }
@@ -449,6 +460,33 @@ absl::Status ValidateImport(const AcceptTraceRequest& request) {
                                       "no lease_owner, no lease_next)");
   }
   if (import.command.command_json.empty()) return absl::InvalidArgumentError("import: command_json is empty");
+  return absl::OkStatus();
+}
+
+absl::Status ValidateFrame(const std::string& frame, int64_t registration_id) {
+  if (frame.empty() || frame == "object") {
+    if (registration_id != 0) {
+      return absl::InvalidArgumentError(absl::StrCat("frame: a trace in the object's frame has no registration (got "
+                                                     "registration_id ", registration_id, ")"));
+    }
+    return absl::OkStatus();
+  }
+  if (frame != "rig_base" && frame != "rig_base_sensor_forces") {
+    return absl::InvalidArgumentError(absl::StrCat("frame: '", frame, "' is not a trace frame (object, "
+                                                   "rig_base or rig_base_sensor_forces)"));
+  }
+  if (registration_id <= 0) {
+    return absl::InvalidArgumentError(absl::StrCat("frame: a trace in frame '", frame,
+                                                   "' needs the registration it was converted with (registration_id "
+                                                   "must be positive, got ", registration_id, ")"));
+  }
+  return absl::OkStatus();
+}
+
+absl::Status ValidateSha256(const std::string& sha256, absl::string_view field) {
+  if (sha256.size() != 64 || sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
+    return absl::InvalidArgumentError(absl::StrCat(field, " must be 64 lower-case hex digits"));
+  }
   return absl::OkStatus();
 }
 

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "absl/strings/string_view.h"
 #include "server/base/status_macros.h"
 #include "storage/records.h"
 #include "storage/sqlite_connection.h"
@@ -26,6 +27,13 @@ absl::Status ValidateFit(const NewFit& fit, const std::string& where);
 absl::Status ValidateLease(const LeaseRequest& request);
 // An import's fields (request.import set): its hash, source and command.
 absl::Status ValidateImport(const AcceptTraceRequest& request);
+// The frame the samples were sent in: "" or "object" with no registration,
+// or a rig's frame ("rig_base", "rig_base_sensor_forces") with one. Checked
+// before queuing: a bad frame found by the writer fails after the caller has
+// changed its plan in memory (which then reloads, failing what is queued).
+absl::Status ValidateFrame(const std::string& frame, int64_t registration_id);
+// A file's SHA-256: 64 lower-case hex digits; the error names `field`.
+absl::Status ValidateSha256(const std::string& sha256, absl::string_view field);
 
 // ---- Steps (writer thread) ----
 absl::StatusOr<JobRecord> LoadJob(SqliteConnection& db, int64_t job_id);
@@ -35,6 +43,15 @@ absl::Status InsertEvents(SqliteConnection& db, int64_t job_id, const std::vecto
 absl::StatusOr<std::vector<int64_t>> InsertCommands(SqliteConnection& db, int64_t job_id,
                                                     const std::vector<NewCommand>& commands, int64_t now,
                                                     const std::string& field);
+// One command already answered (an import's implied command: 'done' when
+// stored, 'failed' when refused), inserted with its final state, owner and
+// attempt 1 in one row write.
+absl::StatusOr<int64_t> InsertAnsweredCommand(SqliteConnection& db, int64_t job_id, const NewCommand& command,
+                                              const char* state, const std::string& owner, int64_t now,
+                                              const std::string& field);
+// FAILED_PRECONDITION unless the job takes imports (it is not cancelled or
+// completed).
+absl::Status CheckTakesImports(const JobRecord& job);
 // Inserts the fit and returns it as the store now holds it, so writers answer
 // with exactly what a later read gives (a NaN headline number reads as empty).
 absl::StatusOr<FitRecord> InsertFit(SqliteConnection& db, int64_t trace_id, int32_t version, const NewFit& fit,

@@ -129,7 +129,9 @@ class Store {
   // ---- Rejected traces ----
   // Keeps a refused trace with its events, at most kMaxRejectedPerCommand per
   // command (later ones are counted in the events only). The callback gets
-  // the id, or 0 when the command's quota was used up.
+  // the id, or 0 when the command's quota was used up. A refused import is
+  // kept once per file (import_sha256) and job: the same file again writes
+  // nothing and gets the stored one's id.
   static constexpr int kMaxRejectedPerCommand = 3;
   using RejectedCallback = std::function<void(absl::StatusOr<int64_t>)>;
   virtual void RecordRejectedTraceAsync(NewRejectedTrace trace, RejectedCallback done) = 0;

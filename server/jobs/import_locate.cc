@@ -55,12 +55,16 @@ absl::StatusOr<LocatedDrag> LocateImportedDrag(const DragTrace& trace, const Loo
   const Eigen::Vector3d tangent = chord - chord.dot(c.normal) * c.normal;
   c.drag_direction = tangent.norm() > 1e-9 * std::max(1.0, chord.norm()) ? Eigen::Vector3d(tangent.normalized())
                                                                           : TangentDragDirection(c.normal);
+  return out;
+}
 
+SurfaceDistance FarthestFromSurface(const DragTrace& trace, const LoopSurface& surface) {
+  SurfaceDistance out;
   for (size_t i = 0; i < trace.samples.size(); ++i) {
     const double d = surface.ClosestPoint(trace.samples[i].position).distance;
-    if (d > out.max_surface_distance_mm) {
-      out.max_surface_distance_mm = d;
-      out.farthest_sample = static_cast<int>(i);
+    if (d > out.max_mm) {
+      out.max_mm = d;
+      out.sample = static_cast<int>(i);
     }
   }
   return out;

@@ -14,8 +14,11 @@
 //
 // A commanded site is on the surface by construction, so the command checks
 // alone would pass a path hovering millimetres above it: the largest distance
-// of any sample from the surface is measured here too, for
-// CheckTraceNearSurface.
+// of any sample from the surface is measured too (FarthestFromSurface), for
+// CheckTraceNearSurface. Locating costs one closest-point query; the distance
+// check one per sample, so the importer runs it only after the cheap command
+// checks (a malformed file is refused as malformed, not kept as off the
+// surface, and a file of 1e6 samples that fails on length costs no queries).
 #pragma once
 
 #include "absl/status/statusor.h"
@@ -27,14 +30,20 @@ namespace surfmap {
 
 struct LocatedDrag {
   ProbeCommand command;                    // sequence 0; site = (finest level, nearest vertex)
-  double max_surface_distance_mm = 0.0;    // of any sample from the finest limit surface
-  int farthest_sample = 0;                 // its index
+};
+
+struct SurfaceDistance {
+  double max_mm = 0.0;   // of any sample from the finest limit surface
+  int sample = 0;        // its index
 };
 
 // INVALID_ARGUMENT ("malformed trace: ...") for a trace without forward
 // samples or with a non-finite position (the CSV reader refuses both; other
-// sources must too). O(samples x log triangles).
+// sources must too). O(samples + log triangles): one closest-point query.
 absl::StatusOr<LocatedDrag> LocateImportedDrag(const DragTrace& trace, const LoopSurface& surface,
                                                const ProbeParameters& probe);
+
+// The sample farthest from the surface. O(samples x log triangles).
+SurfaceDistance FarthestFromSurface(const DragTrace& trace, const LoopSurface& surface);
 
 }  // namespace surfmap

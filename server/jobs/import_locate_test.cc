@@ -41,9 +41,10 @@ DragTrace DragOn(const LoopSurface& surface, const Eigen::Vector3d& start, const
 }
 
 // The implied command passes every check a leased trace goes through, and the fit's normal is the surface's.
-void ExpectPlausible(const DragTrace& trace, const LocatedDrag& located) {
+void ExpectPlausible(const DragTrace& trace, const LoopSurface& surface, const LocatedDrag& located) {
   const TraceLimits limits;
-  EXPECT_THAT(CheckTraceNearSurface(located.max_surface_distance_mm, located.farthest_sample, limits), IsOk());
+  const SurfaceDistance farthest = FarthestFromSurface(trace, surface);
+  EXPECT_THAT(CheckTraceNearSurface(farthest.max_mm, farthest.sample, limits), IsOk());
   EXPECT_THAT(CheckTraceAgainstCommand(trace, located.command, limits), IsOk());
   absl::StatusOr<TraceFit> fit = FitTrace(trace, FitOptions{});
   ASSERT_TRUE(fit.ok()) << fit.status();
@@ -64,11 +65,11 @@ TEST(LocateImportedDragTest, ADragOnAPlaneIsFoundAtItsMiddleAlongItsDirection) {
   EXPECT_GT(std::abs(c.normal.z()), 0.999);
   EXPECT_GT(c.drag_direction.dot(direction), 0.999);
   EXPECT_NEAR(c.drag_direction.dot(c.normal), 0.0, 1e-9);
-  EXPECT_LT(located->max_surface_distance_mm, 0.1);
+  EXPECT_LT(FarthestFromSurface(trace, *plate).max_mm, 0.1);
   EXPECT_EQ(c.site.level, plate->max_level());
   EXPECT_LT((plate->finest().limit_positions[c.site.vertex] - c.position).norm(), 10.0);
   EXPECT_EQ(c.probe.segment_length_mm, probe.segment_length_mm);  // the job's drag, not the file's
-  ExpectPlausible(trace, *located);
+  ExpectPlausible(trace, *plate, *located);
 }
 
 TEST(LocateImportedDragTest, ADragOnASphereHasTheSurfaceNormalAtItsMiddle) {
@@ -85,8 +86,8 @@ TEST(LocateImportedDragTest, ADragOnASphereHasTheSurfaceNormalAtItsMiddle) {
   EXPECT_GT(c.normal.dot(c.position.normalized()), 0.99);
   EXPECT_NEAR(c.drag_direction.dot(c.normal), 0.0, 1e-9);
   EXPECT_GT(c.drag_direction.y(), 0.9);
-  EXPECT_LT(located->max_surface_distance_mm, 0.1);
-  ExpectPlausible(trace, *located);
+  EXPECT_LT(FarthestFromSurface(trace, *ball).max_mm, 0.1);
+  ExpectPlausible(trace, *ball, *located);
 }
 
 TEST(LocateImportedDragTest, ADragAboveTheSurfaceIsRefusedByTheSurfaceCheck) {
@@ -95,11 +96,12 @@ TEST(LocateImportedDragTest, ADragAboveTheSurfaceIsRefusedByTheSurfaceCheck) {
   for (DragSample& s : trace.samples) s.position.z() += 15.0;  // another frame, 15 mm up
   absl::StatusOr<LocatedDrag> located = LocateImportedDrag(trace, *plate, ProbeParameters{});
   ASSERT_TRUE(located.ok()) << located.status();
-  EXPECT_NEAR(located->max_surface_distance_mm, 15.0, 0.1);
+  const SurfaceDistance farthest = FarthestFromSurface(trace, *plate);
+  EXPECT_NEAR(farthest.max_mm, 15.0, 0.1);
   // The command checks alone measure from a site on the surface: they would pass it.
   EXPECT_THAT(CheckTraceAgainstCommand(trace, located->command, TraceLimits{}), IsOk());
   const absl::Status refused =
-      CheckTraceNearSurface(located->max_surface_distance_mm, located->farthest_sample, TraceLimits{});
+      CheckTraceNearSurface(farthest.max_mm, farthest.sample, TraceLimits{});
   EXPECT_THAT(refused, StatusIs(absl::StatusCode::kInvalidArgument));
   EXPECT_EQ(PlausibilityCheckName(refused), "surface");
   EXPECT_NE(refused.message().find("from the object's surface; the limit is 10.0 mm"), std::string_view::npos)

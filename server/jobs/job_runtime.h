@@ -15,6 +15,8 @@
 #include <map>
 #include <memory>
 #include <optional>
+#include <set>
+#include <string>
 
 #include "absl/base/thread_annotations.h"
 #include "server/base/mutex.h"
@@ -83,6 +85,11 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   // reloaded. While set, requests that change the job are refused UNAVAILABLE.
   bool needs_reload ABSL_GUARDED_BY(mu) = false;
   bool reloading ABSL_GUARDED_BY(mu) = false;
+  // SHA-256s of imported files whose write is queued, not yet durable: a
+  // second import of the same file meanwhile is refused UNAVAILABLE before it
+  // changes the plan (the writer would store it once, leaving memory one
+  // plan change ahead of the database).
+  std::set<std::string> importing_sha256 ABSL_GUARDED_BY(mu);
 
   // The map, rebuilt lazily on the pool.
   std::optional<RegionMap> map_builder ABSL_GUARDED_BY(map_mu);  // holds the map level's factorisation

@@ -219,7 +219,7 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
         return done(absl::Status(plausible.code(), absl::StrCat("trace for command ", command_id, ": ",
                                                                 plausible.message())));
       }
-      return KeepRejected(*context, rig_id, as_sent,
+      return KeepRejected(*context, rig_id, as_sent, stored_frame,
                           ExplainWrongFrame(plausible, as_sent, frame.frame, rig->get(), context->probe, limits),
                           std::move(done));
     }
@@ -230,7 +230,7 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
                                absl::StrCat("trace for command ", command_id, ": ", fitted.status().message())));
     }
     if (absl::Status plausible = CheckFitAgainstCommand(trace, *fitted, context->probe, limits); !plausible.ok()) {
-      return KeepRejected(*context, rig_id, as_sent,
+      return KeepRejected(*context, rig_id, as_sent, stored_frame,
                           ExplainWrongFrame(plausible, as_sent, frame.frame, rig->get(), context->probe, limits),
                           std::move(done));
     }
@@ -242,7 +242,7 @@ void ProbeProtocol::FitAndSubmit(int64_t command_id, const std::string& rig_id, 
 }
 
 void ProbeProtocol::KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
-                                 const absl::Status& refusal, SubmitCallback done) {
+                                 const TraceFrameRecord& frame, const absl::Status& refusal, SubmitCallback done) {
   NewRejectedTrace rejected;
   rejected.command_id = context.record.id;
   rejected.job_id = context.record.job_id;
@@ -250,10 +250,14 @@ void ProbeProtocol::KeepRejected(const CommandContext& context, const std::strin
   rejected.check_name = PlausibilityCheckName(refusal);
   rejected.message = std::string(refusal.message());
   rejected.encoded_samples = EncodeSamples(ToStoredSamples(trace));
+  rejected.frame = frame.frame;  // the samples are kept as sent: in this frame
+  rejected.registration_id = frame.registration_id;
   rejected.events.push_back(Event("trace_rejected", {{"command_id", context.record.id},
                                                      {"rig", rig_id},
                                                      {"check", rejected.check_name},
-                                                     {"message", rejected.message}}));
+                                                     {"message", rejected.message},
+                                                     {"frame", frame.frame},
+                                                     {"registration_id", frame.registration_id}}));
   const absl::Status answer(refusal.code(),
                             absl::StrCat("trace for command ", context.record.id, " refused (kept for inspection, "
                                          "not in the map): ", refusal.message()));

@@ -106,9 +106,9 @@ class ProbeProtocol {
   // tool-centre path. In memory only (no store read); ~0.1 ms.
   void AttachRigFrame(LeaseOutcome& outcome, const std::string& rig_id) const;
   // Keeps a trace refused as implausible (out of the map, with an event) and
-  // answers the refusal.
+  // answers the refusal. `trace` is as sent, in `frame` (stored with it).
   void KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,
-                    const absl::Status& refusal, SubmitCallback done);
+                    const TraceFrameRecord& frame, const absl::Status& refusal, SubmitCallback done);
   // Under the job's lock: the checks, the plan change and the queued write.
   absl::Status QueueTrace(const CommandContext& context, const std::string& rig_id, const TraceFit& fit,
                           std::vector<StoredSample> samples, bool lease_next, const TraceFrameRecord& frame,

@@ -67,10 +67,22 @@ std::string Sha256Hex(std::string_view bytes) {
 }
 
 absl::Status CheckCsvSize(std::string_view csv, int max_samples) {
-  const int64_t lines = std::count(csv.begin(), csv.end(), '\n') + (csv.empty() || csv.back() == '\n' ? 0 : 1);
+  // Blank lines are skipped by the reader (docs/trace-format.md), so they do
+  // not count: a double-spaced file of max_samples rows is within the limit.
+  int64_t lines = 0;
+  bool blank = true;  // the current line so far holds only blanks
+  for (char c : csv) {
+    if (c == '\n') {
+      lines += !blank;
+      blank = true;
+    } else if (c != ' ' && c != '\t' && c != '\r') {
+      blank = false;
+    }
+  }
+  lines += !blank;
   const int64_t limit = static_cast<int64_t>(max_samples) + 101;  // + header + comment lines
   if (lines > limit) {
-    return absl::ResourceExhaustedError(absl::StrCat("trace CSV has ", lines, " lines; the limit is ", limit, " (",
+    return absl::ResourceExhaustedError(absl::StrCat("trace CSV has ", lines, " non-blank lines; the limit is ", limit, " (",
                                                      max_samples, " samples per trace, max_trace_samples, + header "
                                                      "and 100 comment lines)"));
   }
@@ -147,10 +159,14 @@ void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::str
   absl::StatusOr<LocatedDrag> located = LocateImportedDrag(trace, *(*runtime)->surface, params.probe);
   if (!located.ok()) return done(refused(located.status()));
   const ProbeCommand& implied = located->command;
-  // The same checks as a leased trace's, against the command the path implies.
-  absl::Status plausible =
-      CheckTraceNearSurface(located->max_surface_distance_mm, located->farthest_sample, params.limits);
-  if (plausible.ok()) plausible = CheckTraceAgainstCommand(trace, implied, params.limits);
+  // The same checks as a leased trace's, against the command the path
+  // implies: the cheap ones first (one pass; a malformed trace is refused as
+  // such), then the surface distance (a closest-point query per sample).
+  absl::Status plausible = CheckTraceAgainstCommand(trace, implied, params.limits);
+  if (plausible.ok()) {
+    const SurfaceDistance farthest = FarthestFromSurface(trace, *(*runtime)->surface);
+    plausible = CheckTraceNearSurface(farthest.max_mm, farthest.sample, params.limits);
+  }
   if (!plausible.ok()) {
     if (PlausibilityCheckName(plausible).empty()) return done(refused(plausible));  // malformed: nothing to keep
     return KeepRejected(request, *runtime, implied, trace, plausible, std::move(done));
@@ -174,6 +190,7 @@ void TraceImporter::KeepRejected(const TraceImportRequest& request, const std::s
   rejected.check_name = PlausibilityCheckName(refusal);
   rejected.message = absl::StrCat(ImportName(request), ": ", refusal.message());
   rejected.encoded_samples = EncodeSamples(ToStoredSamples(trace));
+  rejected.import_sha256 = request.file_sha256;  // the same file refused again writes nothing
   rejected.events.push_back(Event("import_rejected", {{"source", request.source},
                                                       {"file_name", request.file_name},
                                                       {"file_sha256", request.file_sha256},
@@ -212,6 +229,11 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
   {
     MutexLock lock(&runtime.mu);
     SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "traces, imported or not"));
+    if (runtime.importing_sha256.count(request.file_sha256) > 0) {
+      // As QueueTrace answers for a leased trace: before the plan changes.
+      return absl::UnavailableError("the same file is being stored; retry the import (it then answers "
+                                    "already_imported)");
+    }
     PlanJournalEntry entry;
     entry.kind = PlanJournalEntry::Kind::kImport;
     entry.line = LineSampleOf(fit);
@@ -220,6 +242,7 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     PlanWrite plan_write = TakePlanChangeLocked(runtime, entry);
     completes_job = plan_write.new_job_state.has_value();
     std::move(plan_write).MoveInto(write);
+    runtime.importing_sha256.insert(request.file_sha256);  // until the write's completion
     runtime.measured_revision++;
     write.fit = NewFitOf(fit, runtime.params.fit);
     write.events.push_back(Event("trace_imported", {{"source", request.source},
@@ -230,17 +253,37 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     // Queued under the lock: writes of one job commit in the order their plan changes were made.
     auto decoded = std::make_shared<const TraceFit>(fit);
     store_->AcceptTraceAsync(
-        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job,
+        std::move(write), [this, runtime_ptr, command, implied, decoded, completes_job, sha256 = request.file_sha256,
                            done = std::move(done)](absl::StatusOr<AcceptTraceResult> result) mutable {
           executors_.completions->Post([this, runtime_ptr, command, implied, decoded, completes_job,
-                                        result = std::move(result), done = std::move(done)]() mutable {
+                                        sha256 = std::move(sha256), result = std::move(result),
+                                        done = std::move(done)]() mutable {
             JobRuntime& runtime = *runtime_ptr;
+            {
+              MutexLock lock(&runtime.mu);
+              runtime.importing_sha256.erase(sha256);
+            }
             if (!result.ok()) return done(registry_->MarkWriteFailed(runtime, result.status()));
             if (result->already_accepted) {
-              // Another import of the same file won the race: memory recorded
-              // this one too, the database did not; reload the job from it.
+              // Backstop (importing_sha256 keeps this from happening within
+              // one server): the file was stored by another writer; memory
+              // recorded this one too, the database did not, so the job is
+              // reloaded. The answer is the stored import, from the result
+              // (no read on this queue).
               (void)registry_->MarkWriteFailed(runtime, absl::OkStatus());
-              return AnswerStored(result->trace_id, std::move(done));
+              if (!result->fit.has_value()) {
+                return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
+              }
+              TraceImportOutcome repeat;
+              repeat.command = command;
+              repeat.command.id = result->command_id;
+              repeat.probe = implied;
+              repeat.trace_id = result->trace_id;
+              repeat.fit = *result->fit;
+              repeat.received_unix_ms = result->accepted_unix_ms;
+              repeat.metadata_json = std::move(result->metadata_json);
+              repeat.already_imported = true;
+              return done(std::move(repeat));
             }
             if (!result->fit.has_value()) {
               return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));

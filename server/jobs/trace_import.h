@@ -52,9 +52,10 @@ struct TraceImportRequest {
 // The SHA-256 of `bytes`, 64 lower-case hex digits.
 std::string Sha256Hex(std::string_view bytes);
 
-// RESOURCE_EXHAUSTED when `csv` has more lines than a trace of max_samples
-// samples may (its header and up to 100 comment lines besides): counted
-// without allocating, before the reader builds the trace.
+// RESOURCE_EXHAUSTED when `csv` has more non-blank lines than a trace of
+// max_samples samples may (its header and up to 100 comment lines besides;
+// blank lines, which the reader skips, do not count): counted without
+// allocating, before the reader builds the trace.
 absl::Status CheckCsvSize(std::string_view csv, int max_samples);
 
 // The sample as stored: command = the implied command, received = when it was

@@ -4,6 +4,9 @@
 // and a drag off the surface is refused and kept naming its source.
 #include "server/jobs/trace_import.h"
 
+#include <chrono>
+#include <thread>
+
 #include <nlohmann/json.hpp>
 
 #include "gtest/gtest.h"
@@ -44,6 +47,16 @@ class TraceImportTest : public CoordinatorFixture {
     std::optional<absl::StatusOr<TraceImportOutcome>> got = answer.Get("ImportTrace");
     if (!got) return absl::DeadlineExceededError("ImportTrace timed out");
     return *got;
+  }
+
+  // Starts an import; the answer comes in `answer`.
+  void StartImport(int64_t job_id, const std::string& csv, const std::string& file_name,
+                   Awaited<absl::StatusOr<TraceImportOutcome>>& answer) {
+    TraceImportRequest request;
+    request.job_id = job_id;
+    request.source = "hand-rig";
+    request.file_name = file_name;
+    coordinator_->imports().Import(request, std::make_shared<const std::string>(csv), 1'000'000, answer.Callback());
   }
 
   // The plan's pieces of imported drags (drag ids past every vertex of the plan's finest level) and its measured
@@ -145,10 +158,75 @@ TEST_F(TraceImportTest, ADragOffTheSurfaceIsRefusedAndKeptNamingItsSource) {
   EXPECT_EQ(rejected->front().rig_id, "hand-rig");
   EXPECT_EQ(rejected->front().check_name, "surface");
   EXPECT_GT(rejected->front().command_id, 0);
+  EXPECT_EQ(rejected->front().import_sha256, Sha256Hex(PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3, 15.0)));
   EXPECT_EQ(ImportedPiecesAndMeasured(job.record.id).first, 0);
   absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 0);
   ASSERT_THAT(samples.status(), IsOk());
   EXPECT_TRUE(samples->empty());
+  // The same refused file again: the same refusal, nothing more kept.
+  absl::StatusOr<TraceImportOutcome> again =
+      Import(job.record.id, PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3, /*lift=*/15.0), "lifted_again.csv");
+  EXPECT_THAT(again.status(), StatusIs(absl::StatusCode::kInvalidArgument));
+  rejected = coordinator_->reads().ListRejectedTraces(job.record.id);
+  ASSERT_THAT(rejected.status(), IsOk());
+  EXPECT_EQ(rejected->size(), 1u);
+}
+
+// A file too short to be a drag, whatever else is wrong with it, is refused
+// as malformed and not kept: the cheap command checks run before the
+// surface-distance check (which would have kept it as "surface").
+// The same file imported twice at once: the second is refused UNAVAILABLE
+// before it changes the plan, so memory never runs ahead of the database and
+// a write queued behind both (another file) is stored, not failed by a reload.
+TEST_F(TraceImportTest, TheSameFileTwiceAtOnceIsRefusedWhileTheFirstIsStored) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  const std::string csv = PlateDragCsv({0, -30, 0}, {0, 1, 0}, 5);
+  const int64_t held = faults_->writes_submitted() + 1;
+  faults_->HoldWrite(held);
+  Awaited<absl::StatusOr<TraceImportOutcome>> first, second, other;
+  StartImport(job.record.id, csv, "a.csv", first);
+  ASSERT_TRUE(faults_->WaitUntilHeld(held, absl::Seconds(10)));
+  StartImport(job.record.id, csv, "a_again.csv", second);
+  std::optional<absl::StatusOr<TraceImportOutcome>> second_answer = second.Get("second import");
+  ASSERT_TRUE(second_answer.has_value());
+  EXPECT_THAT(second_answer->status(), StatusIs(absl::StatusCode::kUnavailable));
+  EXPECT_NE(second_answer->status().message().find("being stored; retry"), std::string_view::npos)
+      << second_answer->status();
+  StartImport(job.record.id, PlateDragCsv({-30, 10, 0}, {1, 0, 0}, 3), "b.csv", other);  // queued behind
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  faults_->ReleaseWrite(held);
+  std::optional<absl::StatusOr<TraceImportOutcome>> first_answer = first.Get("first import");
+  std::optional<absl::StatusOr<TraceImportOutcome>> other_answer = other.Get("other import");
+  ASSERT_TRUE(first_answer.has_value() && other_answer.has_value());
+  ASSERT_THAT(first_answer->status(), IsOk());
+  EXPECT_FALSE((*first_answer)->already_imported);
+  ASSERT_THAT(other_answer->status(), IsOk());
+  EXPECT_FALSE((*other_answer)->already_imported);
+  // Once durable, the same file answers the stored import.
+  absl::StatusOr<TraceImportOutcome> retried = Import(job.record.id, csv, "a_again.csv");
+  ASSERT_THAT(retried.status(), IsOk());
+  EXPECT_TRUE(retried->already_imported);
+  EXPECT_EQ(retried->trace_id, (*first_answer)->trace_id);
+  // Memory matches the database: two imported drags, after a reload too.
+  const int pieces = ImportedPiecesAndMeasured(job.record.id).first;
+  Reopen();
+  EXPECT_EQ(ImportedPiecesAndMeasured(job.record.id).first, pieces);
+  absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 0);
+  ASSERT_THAT(samples.status(), IsOk());
+  EXPECT_EQ(samples->size(), 2u);
+}
+
+TEST_F(TraceImportTest, ATwoSampleFileAboveTheSurfaceIsMalformedNotKept) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  const std::string csv = "t,x,y,z,fx,fy,fz,phase\n0,-10,0,15,1,0,5,fwd\n1,10,0,15,-1,0,5,rev\n";
+  absl::StatusOr<TraceImportOutcome> refused = Import(job.record.id, csv, "two.csv");
+  EXPECT_THAT(refused.status(), StatusIs(absl::StatusCode::kInvalidArgument));
+  EXPECT_NE(refused.status().message().find("malformed trace"), std::string_view::npos) << refused.status();
+  absl::StatusOr<std::vector<RejectedTraceRecord>> rejected = coordinator_->reads().ListRejectedTraces(job.record.id);
+  ASSERT_THAT(rejected.status(), IsOk());
+  EXPECT_TRUE(rejected->empty());
 }
 
 TEST_F(TraceImportTest, AFinishedJobTakesNoImportRefusedOrNot) {
@@ -194,6 +272,19 @@ TEST_F(TraceImportTest, BadRequestsAreRefusedNamingTheField) {
   std::optional<absl::StatusOr<TraceImportOutcome>> got = answer.Get("ImportTrace");
   ASSERT_TRUE(got.has_value());
   EXPECT_THAT(got->status(), StatusIs(absl::StatusCode::kResourceExhausted));
+}
+
+// The size bound counts the lines the reader reads: blank ones (which it
+// skips) do not count, so a double-spaced file of max_samples rows passes and
+// one row more is still refused.
+TEST(CheckCsvSizeTest, BlankLinesDoNotCount) {
+  std::string spaced = "t,x,y,z,fx,fy,fz,phase\n\n";
+  for (int i = 0; i < 100 + 100; ++i) spaced += "0,0,0,0,0,0,5,fwd\r\n \t\n";  // 200 rows: max + the 100 comment lines
+  EXPECT_THAT(CheckCsvSize(spaced, 100), IsOk());
+  spaced += "0,0,0,0,0,0,5,fwd\n\n";
+  EXPECT_THAT(CheckCsvSize(spaced, 100), StatusIs(absl::StatusCode::kResourceExhausted));
+  EXPECT_THAT(CheckCsvSize("", 0), IsOk());
+  EXPECT_THAT(CheckCsvSize("a\nb", 0), IsOk());  // header + one comment-sized line, no final newline
 }
 
 }  // namespace

@@ -8,8 +8,11 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "absl/strings/match.h"
 #include "gtest/gtest.h"
@@ -259,6 +262,21 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   EXPECT_EQ(rejected.rejected_traces(0).check(), "frame");
   EXPECT_EQ(rejected.rejected_traces(1).check(), "frame");
   EXPECT_EQ(rejected.rejected_traces(2).check(), "offset");
+  // Each with the frame it was sent in and its registration (its samples are
+  // kept as sent): in the trace_rejected events, and stored with it.
+  pb::ListJobEventsRequest list_events;
+  list_events.set_job_id(rig_job->job_id());
+  pb::ListJobEventsResponse events;
+  ASSERT_THAT(FromGrpc(stubs.jobs->ListJobEvents(Context().get(), list_events, &events), "ListJobEvents"), IsOk());
+  std::vector<std::pair<std::string, int64_t>> rejected_frames;
+  for (const pb::JobEvent& event : events.events()) {
+    if (event.kind() != "trace_rejected") continue;
+    const nlohmann::json detail = nlohmann::json::parse(event.detail_json());
+    rejected_frames.emplace_back(detail.at("frame").get<std::string>(), detail.at("registration_id").get<int64_t>());
+  }
+  const std::vector<std::pair<std::string, int64_t>> sent_in = {
+      {"object", 0}, {"rig_base", registration_id}, {"rig_base", registration_id}};
+  EXPECT_EQ(rejected_frames, sent_in);
 
   // A rig-frame trace from a rig without a registration is refused as such.
   absl::StatusOr<pb::SubmitTraceRequest> other = ExecuteOnRig(*setup->rig, *unregistered, "arm-2");
