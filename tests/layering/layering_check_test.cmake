@@ -49,10 +49,17 @@ expect_refused("surfmap_codec (server/codec) links surfmap_helper (clients/helpe
   "surfmap_codec|server/codec|surfmap_helper|clients/helper")
 expect_refused("surfmap_plan (server/plan) links surfmap_rig (clients/sim/rig): room server/plan may link only"
   "surfmap_plan|server/plan|surfmap_rig|clients/sim/rig")
-expect_refused("surfmap (clients/cli) links surfmap_itest_support (tests)"
+expect_refused("surfmap (clients/cli) links test code surfmap_itest_support (tests)"
   "surfmap|clients/cli|surfmap_itest_support|tests")
 expect_refused("surfmap_odd (odd/place) is in no room"
   "surfmap_odd|odd/place|surfmap_base|server/base")
+# Test code beside production code (a `testing` directory) may link what it
+# stands in for, and nothing that ships may link it, in its room or not.
+expect_clean("surfmap_storage_testing|storage/testing|surfmap_jobs|server/jobs")
+expect_refused("surfmap_jobs (server/jobs) links test code surfmap_storage_testing (storage/testing)"
+  "surfmap_jobs|server/jobs|surfmap_storage_testing|storage/testing")
+expect_refused("surfmap_storage (storage) links test code surfmap_storage_testing (storage/testing)"
+  "surfmap_storage|storage|surfmap_storage_testing|storage/testing")
 # One bad edge among good ones is still found.
 expect_refused("surfmap_base (server/base) links surfmap_proto (proto)"
   "surfmap_map|server/map|surfmap_mesh|server/mesh"
