@@ -34,6 +34,8 @@ struct Means {
   int corrected_stationary = 0;
 };
 
+// Each segment has a least-squares line removed, and the options say so, as
+// FitPieceRoughness does.
 Means MeanFits(const ArParams& truth, double noise_std) {
   Means m;
   std::mt19937_64 rng(99);
@@ -48,6 +50,7 @@ Means MeanFits(const ArParams& truth, double noise_std) {
     }
     ArFitOptions options;
     options.noise_variance = noise_std * noise_std;
+    options.segments_detrended = true;
     const absl::StatusOr<ArFit> raw = FitAutoregressive(segments, options);
     options.bias_replicates = 64;
     options.bias_seed = seed;
@@ -74,6 +77,43 @@ TEST(ArBiasCorrectionTest, RubberShortPieceIsUnbiased) {
   EXPECT_NEAR(m.corrected_a1, 0.60, kMeanTolerance);
   EXPECT_NEAR(m.corrected_a2, 0.25, kMeanTolerance);
   EXPECT_EQ(m.corrected_stationary, kSeeds);
+}
+
+// With the options at their defaults (a caller that never detrends), the
+// estimated bias is that of the plain (mean-removed) fit: the known answer is
+// the mean error of that fit over kBiasSeries independent 2 x kSegment series.
+// Replicates that were detrended (the old default) estimate the bias of a
+// different estimator, 0.04 (rubber) to 0.06 (AR(1) 0.9) more negative,
+// measured.
+// Tolerance: both sides are means of kBiasSeries fits with spread <= 0.1
+// (sqrt((1 - a_p^2) / n) at n = 100, a little more at this length), so their
+// difference has a standard error <= 0.1 * sqrt(2 / 4000) = 0.0022; 0.01 is
+// 4.5 of those, and a quarter of the smallest error the old default made.
+TEST(ArBiasCorrectionTest, DefaultOptionsEstimateTheBiasOfTheUndetrendedFit) {
+  constexpr int kBiasSeries = 4000;
+  constexpr double kBiasTolerance = 0.01;
+  for (const ArParams& truth : {ArParams{{0.60, 0.25}, 0.11}, ArParams{{0.9}, 0.1}}) {
+    const int p = static_cast<int>(truth.a.size());
+    ArFitOptions options;
+    options.order = p;
+    std::vector<double> mean_error(p, 0.0);
+    int fits = 0;
+    for (int seed = 0; seed < kBiasSeries; ++seed) {
+      const std::vector<Eigen::VectorXd> segments{SimulateRoughness(truth, kSegment, 2 * seed + 1000000),
+                                                  SimulateRoughness(truth, kSegment, 2 * seed + 1000001)};
+      const absl::StatusOr<ArFit> fit = FitAutoregressive(segments, options);
+      if (!fit.ok()) continue;
+      for (int j = 0; j < p; ++j) mean_error[j] += fit->a[j] - truth.a[j];
+      ++fits;
+    }
+    ASSERT_GT(fits, kBiasSeries * 9 / 10);
+    options.bias_replicates = kBiasSeries;
+    const ArBiasEstimate estimate = EstimateArBias(truth.a, truth.sigma, {kSegment, kSegment}, options);
+    ASSERT_GT(estimate.replicates_used, kBiasSeries * 9 / 10);
+    for (int j = 0; j < p; ++j) {
+      EXPECT_NEAR(estimate.bias[j], mean_error[j] / fits, kBiasTolerance) << "a" << j + 1 << " of AR(" << p << ")";
+    }
+  }
 }
 
 TEST(ArBiasCorrectionTest, MasoniteShortPieceIsUnbiased) {

@@ -60,6 +60,7 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
         ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm);
     ArFitOptions ar = RoughnessOptions(options, fit.noise_std, piece.mu);
     ar.bias_replicates = options.piece_bias_replicates;
+    ar.segments_detrended = true;  // ForceVariationSeries removed a line from each segment
     // A seed from the piece's own data (deterministic for a trace), so the
     // pieces pooled into a map do not share one Monte-Carlo error.
     ar.bias_seed = std::hash<double>{}(piece.mu) ^ (std::hash<double>{}(start) << 1);
