@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include "server/base/splitmix64.h"
 #include "server/base/testing/status_matchers.h"
 #include "server/estimate/ar_roots.h"
 #include "server/estimate/linear_detrend.h"
@@ -163,6 +165,30 @@ TEST(ArBiasCorrectionTest, RejectsBadReplicateCounts) {
   EXPECT_THAT(FitAutoregressive(x, options), StatusIs(absl::StatusCode::kInvalidArgument));
   options.bias_replicates = 10001;
   EXPECT_THAT(FitAutoregressive(x, options), StatusIs(absl::StatusCode::kInvalidArgument));
+}
+
+// Every random stream of 10000 replicates of 4 segments (the noise and each
+// texture) has its own seed, for two bias seeds. The old arithmetic seeded
+// replicate r's first texture with replicate r + 3959's noise seed.
+TEST(ArBiasCorrectionTest, ReplicateStreamsNeverShareASeed) {
+  std::set<std::uint64_t> seeds;
+  int streams = 0;
+  for (std::uint64_t bias_seed : {1ULL, 2ULL}) {
+    for (int r = 0; r < 10000; ++r) {
+      for (int stream = 0; stream <= 4; ++stream, ++streams) seeds.insert(BiasReplicateSeed(bias_seed, r, stream));
+    }
+  }
+  EXPECT_EQ(seeds.size(), static_cast<std::size_t>(streams));
+}
+
+// The piece seed is a function of the bit patterns alone (the same on every
+// platform) and tells apart pieces that std::hash-and-shift could confuse:
+// swapped values and equal mu at different starts.
+TEST(ArBiasCorrectionTest, PieceSeedsAreDistinctAndPortable) {
+  EXPECT_EQ(BiasSeedFromData(0.5, 10.0),
+            SplitMix64(SplitMix64(0x3fe0000000000000ULL) ^ 0x4024000000000000ULL));  // IEEE 754 bits of 0.5, 10
+  EXPECT_NE(BiasSeedFromData(0.5, 10.0), BiasSeedFromData(10.0, 0.5));
+  EXPECT_NE(BiasSeedFromData(0.5, 10.0), BiasSeedFromData(0.5, 15.0));
 }
 
 }  // namespace

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/estimate/ar_bias_correction.h"
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
 
@@ -63,7 +63,7 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
     ar.segments_detrended = true;  // ForceVariationSeries removed a line from each segment
     // A seed from the piece's own data (deterministic for a trace), so the
     // pieces pooled into a map do not share one Monte-Carlo error.
-    ar.bias_seed = std::hash<double>{}(piece.mu) ^ (std::hash<double>{}(start) << 1);
+    ar.bias_seed = BiasSeedFromData(piece.mu, start);
     absl::StatusOr<ArFit> roughness = series.ok() ? FitAutoregressive(*series, ar)
                                                   : absl::StatusOr<ArFit>(series.status());
     if (!roughness.ok()) {
