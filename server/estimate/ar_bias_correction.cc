@@ -1,13 +1,24 @@
 #include "server/estimate/ar_bias_correction.h"
 
+#include <bit>
 #include <cmath>
 #include <random>
 
+#include "server/base/splitmix64.h"
 #include "server/estimate/ar_roots.h"
 #include "server/estimate/linear_detrend.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap {
+
+std::uint64_t BiasReplicateSeed(std::uint64_t bias_seed, int replicate, int stream) {
+  const std::uint64_t replicate_seed = SplitMix64(SplitMix64(bias_seed) ^ static_cast<std::uint64_t>(replicate));
+  return SplitMix64(replicate_seed ^ static_cast<std::uint64_t>(stream));
+}
+
+std::uint64_t BiasSeedFromData(double mu, double start_mm) {
+  return SplitMix64(SplitMix64(std::bit_cast<std::uint64_t>(mu)) ^ std::bit_cast<std::uint64_t>(start_mm));
+}
 
 ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const std::vector<int>& segment_lengths,
                               const ArFitOptions& options) {
@@ -22,11 +33,11 @@ ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const 
   std::vector<double> sum(p, 0.0);
   std::vector<Eigen::VectorXd> segments(segment_lengths.size());
   for (int r = 0; r < options.bias_replicates; ++r) {
-    std::mt19937_64 noise_rng(options.bias_seed * 1000003ULL + 2 * r + 1);
+    std::mt19937_64 noise_rng(BiasReplicateSeed(options.bias_seed, r, 0));
     std::normal_distribution<double> noise(0.0, 1.0);
     for (std::size_t s = 0; s < segment_lengths.size(); ++s) {
       segments[s] = SimulateRoughness(model, segment_lengths[s],
-                                       options.bias_seed * 1000003ULL + 2 * r + 7919ULL * (s + 1));
+                                       BiasReplicateSeed(options.bias_seed, r, static_cast<int>(s) + 1));
       if (noise_std > 0.0) {
         for (Eigen::Index i = 0; i < segments[s].size(); ++i) segments[s](i) += noise_std * noise(noise_rng);
       }

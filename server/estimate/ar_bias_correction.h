@@ -43,6 +43,17 @@ struct ArBiasEstimate {
 ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const std::vector<int>& segment_lengths,
                               const ArFitOptions& options);
 
+// The seed of one random stream of bias replicate `replicate`: stream 0 is
+// the sensor noise, stream s + 1 the texture of segment s. SplitMix64 of the
+// replicate's own SplitMix64-mixed seed, so no two (seed, replicate, stream)
+// share a stream short of a 64-bit collision.
+std::uint64_t BiasReplicateSeed(std::uint64_t bias_seed, int replicate, int stream);
+
+// A bias seed from a piece's own numbers (its mu and start, mm): SplitMix64
+// over their bit patterns, the same on every platform (std::hash<double> is
+// implementation-defined).
+std::uint64_t BiasSeedFromData(double mu, double start_mm);
+
 // a - t * bias with t the largest of 1, 1/2, 1/4, 1/8, 0 that leaves the model
 // stationary.
 std::vector<double> ApplyArBiasCorrection(const std::vector<double>& a, const std::vector<double>& bias);

@@ -7,9 +7,11 @@
 #include <cmath>
 #include <cstdio>
 #include <random>
+#include <set>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include "server/base/splitmix64.h"
 #include "server/base/testing/status_matchers.h"
 #include "server/estimate/ar_roots.h"
 #include "server/estimate/linear_detrend.h"
@@ -34,6 +36,8 @@ struct Means {
   int corrected_stationary = 0;
 };
 
+// Each segment has a least-squares line removed, and the options say so, as
+// FitPieceRoughness does.
 Means MeanFits(const ArParams& truth, double noise_std) {
   Means m;
   std::mt19937_64 rng(99);
@@ -48,6 +52,7 @@ Means MeanFits(const ArParams& truth, double noise_std) {
     }
     ArFitOptions options;
     options.noise_variance = noise_std * noise_std;
+    options.segments_detrended = true;
     const absl::StatusOr<ArFit> raw = FitAutoregressive(segments, options);
     options.bias_replicates = 64;
     options.bias_seed = seed;
@@ -74,6 +79,43 @@ TEST(ArBiasCorrectionTest, RubberShortPieceIsUnbiased) {
   EXPECT_NEAR(m.corrected_a1, 0.60, kMeanTolerance);
   EXPECT_NEAR(m.corrected_a2, 0.25, kMeanTolerance);
   EXPECT_EQ(m.corrected_stationary, kSeeds);
+}
+
+// With the options at their defaults (a caller that never detrends), the
+// estimated bias is that of the plain (mean-removed) fit: the known answer is
+// the mean error of that fit over kBiasSeries independent 2 x kSegment series.
+// Replicates that were detrended (the old default) estimate the bias of a
+// different estimator, 0.04 (rubber) to 0.06 (AR(1) 0.9) more negative,
+// measured.
+// Tolerance: both sides are means of kBiasSeries fits with spread <= 0.1
+// (sqrt((1 - a_p^2) / n) at n = 100, a little more at this length), so their
+// difference has a standard error <= 0.1 * sqrt(2 / 4000) = 0.0022; 0.01 is
+// 4.5 of those, and a quarter of the smallest error the old default made.
+TEST(ArBiasCorrectionTest, DefaultOptionsEstimateTheBiasOfTheUndetrendedFit) {
+  constexpr int kBiasSeries = 4000;
+  constexpr double kBiasTolerance = 0.01;
+  for (const ArParams& truth : {ArParams{{0.60, 0.25}, 0.11}, ArParams{{0.9}, 0.1}}) {
+    const int p = static_cast<int>(truth.a.size());
+    ArFitOptions options;
+    options.order = p;
+    std::vector<double> mean_error(p, 0.0);
+    int fits = 0;
+    for (int seed = 0; seed < kBiasSeries; ++seed) {
+      const std::vector<Eigen::VectorXd> segments{SimulateRoughness(truth, kSegment, 2 * seed + 1000000),
+                                                  SimulateRoughness(truth, kSegment, 2 * seed + 1000001)};
+      const absl::StatusOr<ArFit> fit = FitAutoregressive(segments, options);
+      if (!fit.ok()) continue;
+      for (int j = 0; j < p; ++j) mean_error[j] += fit->a[j] - truth.a[j];
+      ++fits;
+    }
+    ASSERT_GT(fits, kBiasSeries * 9 / 10);
+    options.bias_replicates = kBiasSeries;
+    const ArBiasEstimate estimate = EstimateArBias(truth.a, truth.sigma, {kSegment, kSegment}, options);
+    ASSERT_GT(estimate.replicates_used, kBiasSeries * 9 / 10);
+    for (int j = 0; j < p; ++j) {
+      EXPECT_NEAR(estimate.bias[j], mean_error[j] / fits, kBiasTolerance) << "a" << j + 1 << " of AR(" << p << ")";
+    }
+  }
 }
 
 TEST(ArBiasCorrectionTest, MasoniteShortPieceIsUnbiased) {
@@ -140,6 +182,30 @@ TEST(ArBiasCorrectionTest, RejectsBadReplicateCounts) {
   EXPECT_THAT(FitAutoregressive(x, options), StatusIs(absl::StatusCode::kInvalidArgument));
   options.bias_replicates = 10001;
   EXPECT_THAT(FitAutoregressive(x, options), StatusIs(absl::StatusCode::kInvalidArgument));
+}
+
+// Every random stream of 10000 replicates of 4 segments (the noise and each
+// texture) has its own seed, for two bias seeds. The old arithmetic seeded
+// replicate r's first texture with replicate r + 3959's noise seed.
+TEST(ArBiasCorrectionTest, ReplicateStreamsNeverShareASeed) {
+  std::set<std::uint64_t> seeds;
+  int streams = 0;
+  for (std::uint64_t bias_seed : {1ULL, 2ULL}) {
+    for (int r = 0; r < 10000; ++r) {
+      for (int stream = 0; stream <= 4; ++stream, ++streams) seeds.insert(BiasReplicateSeed(bias_seed, r, stream));
+    }
+  }
+  EXPECT_EQ(seeds.size(), static_cast<std::size_t>(streams));
+}
+
+// The piece seed is a function of the bit patterns alone (the same on every
+// platform) and tells apart pieces that std::hash-and-shift could confuse:
+// swapped values and equal mu at different starts.
+TEST(ArBiasCorrectionTest, PieceSeedsAreDistinctAndPortable) {
+  EXPECT_EQ(BiasSeedFromData(0.5, 10.0),
+            SplitMix64(SplitMix64(0x3fe0000000000000ULL) ^ 0x4024000000000000ULL));  // IEEE 754 bits of 0.5, 10
+  EXPECT_NE(BiasSeedFromData(0.5, 10.0), BiasSeedFromData(10.0, 0.5));
+  EXPECT_NE(BiasSeedFromData(0.5, 10.0), BiasSeedFromData(0.5, 15.0));
 }
 
 }  // namespace

@@ -36,12 +36,14 @@ struct DragPiece {
   double mu = 0.0;          // mean of the per-pair mu
   double mu_std = 0.0;      // their sample standard deviation (the texture's spread, not an error)
   double mu_median = 0.0;
-  // Standard error of mu, sqrt(mean_inflation * mu_std^2 / pair_count) with
-  // the serial correlation of the pairs modelled (series_dependence.h):
-  // neighbouring pairs feel the same texture; never more than
-  // kMaxIndependentPairsPerMm independent pairs per mm are credited.
+  // Standard error of mu, sqrt(inflation * mu_std^2 / pair_count), and the
+  // independent pairs credited, pair_count / inflation. The variance
+  // inflation is the larger of the pairs' modelled serial correlation
+  // (SeriesDependence::mean_inflation, series_dependence.h: neighbouring pairs
+  // feel the same texture) and the cap's, pair_count / (kMaxIndependentPairsPerMm
+  // x the pairs' extent in mm, at least 1), clamped to 1..pair_count.
   double mu_se = 0.0;
-  double effective_pairs = 0.0;  // pair_count / mean_inflation
+  double effective_pairs = 0.0;  // pair_count / inflation (the capped one above)
   PieceRoughness roughness_state = PieceRoughness::kTooShort;
   std::string roughness_note;    // why not fitted (empty when fitted)
   ArFit roughness;               // when kFitted

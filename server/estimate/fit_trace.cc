@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/estimate/ar_bias_correction.h"
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
 
@@ -60,9 +60,10 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
         ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm);
     ArFitOptions ar = RoughnessOptions(options, fit.noise_std, piece.mu);
     ar.bias_replicates = options.piece_bias_replicates;
+    ar.segments_detrended = true;  // ForceVariationSeries removed a line from each segment
     // A seed from the piece's own data (deterministic for a trace), so the
     // pieces pooled into a map do not share one Monte-Carlo error.
-    ar.bias_seed = std::hash<double>{}(piece.mu) ^ (std::hash<double>{}(start) << 1);
+    ar.bias_seed = BiasSeedFromData(piece.mu, start);
     absl::StatusOr<ArFit> roughness = series.ok() ? FitAutoregressive(*series, ar)
                                                   : absl::StatusOr<ArFit>(series.status());
     if (!roughness.ok()) {

@@ -62,8 +62,10 @@ struct ArFitOptions {
   // a_stderr stays the uncorrected fit's.
   int bias_replicates = 0;
   // The caller removed a least-squares line from every segment
-  // (ForceVariationSeries does); the replicates are treated the same way.
-  bool segments_detrended = true;
+  // (ForceVariationSeries does: FitPieceRoughness sets this); the replicates
+  // are treated the same way. Off by default: detrending replicates of a
+  // series that was not detrended adds the detrend's own bias to the estimate.
+  bool segments_detrended = false;
   std::uint64_t bias_seed = 1;
   // False (with a reason in *why, if given) for order outside 1..20, step_mm
   // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0,

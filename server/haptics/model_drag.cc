@@ -113,7 +113,7 @@ absl::StatusOr<ModelDrag> RenderDragAlongPath(const TextureRenderer& renderer, c
 absl::StatusOr<std::vector<Eigen::Vector3d>> TraceModelPath(const TextureRenderer& renderer,
                                                             const Eigen::Vector3d& start,
                                                             const Eigen::Vector3d& direction, double length_mm,
-                                                            double step_mm) {
+                                                            double step_mm, int max_steps) {
   if (!direction.allFinite() || direction.norm() == 0) {
     return absl::InvalidArgumentError("the drag direction must be finite and non-zero");
   }
@@ -121,7 +121,11 @@ absl::StatusOr<std::vector<Eigen::Vector3d>> TraceModelPath(const TextureRendere
   if (!(length_mm > 0) || !(step_mm > 0) || !std::isfinite(length_mm) || !std::isfinite(step_mm)) {
     return absl::InvalidArgumentError("length and step must be finite and > 0");
   }
-  if (length_mm / step_mm > kMaxSteps) return absl::InvalidArgumentError("more than 10^6 path steps");
+  if (max_steps < 1 || max_steps > kMaxSteps) return absl::InvalidArgumentError("max_steps must be in 1..10^6");
+  if (length_mm / step_mm > max_steps) {
+    return absl::InvalidArgumentError(absl::StrCat("length / step = ", length_mm / step_mm, " is more than ",
+                                                   max_steps, " path steps"));
+  }
   ProbeState state;
   SurfaceLookup here = renderer.Locate(start, state);
   if (here.triangle < 0 || here.distance_mm > renderer.options().contact_distance_mm) {
@@ -142,6 +146,12 @@ absl::StatusOr<std::vector<Eigen::Vector3d>> TraceModelPath(const TextureRendere
     Eigen::Vector3d d = next.position - points.back();
     const double len = d.norm();
     if (len < 1e-9 * step_mm) break;  // stuck at an open boundary
+    // Distance alone does not bound the loop: steps the surface shortens
+    // (but not to nothing) could take arbitrarily many.
+    if (static_cast<int>(points.size()) > max_steps) {
+      return absl::FailedPreconditionError(absl::StrCat("the path took more than ", max_steps, " steps and covered ",
+                                                        travelled, " of ", length_mm, " mm"));
+    }
     points.push_back(next.position);
     travelled += len;
     // Carry the direction: the step actually taken, in the new tangent plane.

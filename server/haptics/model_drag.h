@@ -56,11 +56,13 @@ absl::StatusOr<ModelDrag> RenderDragAlongPath(const TextureRenderer& renderer, c
 // re-projected onto the surface, the direction carried along (its normal
 // component removed at every step). Errors: INVALID_ARGUMENT for a
 // non-finite or zero direction, one along the normal, a length or step not
-// > 0, more than 10^6 steps; FAILED_PRECONDITION when `start` is farther than
-// the contact distance from the surface.
+// > 0, length / step above `max_steps` (and max_steps outside 1..10^6);
+// FAILED_PRECONDITION when `start` is farther than the contact distance from
+// the surface, or when the path takes more than `max_steps` steps (steps the
+// surface keeps shortening would otherwise never cover the length).
 absl::StatusOr<std::vector<Eigen::Vector3d>> TraceModelPath(const TextureRenderer& renderer,
                                                             const Eigen::Vector3d& start,
                                                             const Eigen::Vector3d& direction, double length_mm,
-                                                            double step_mm = 0.25);
+                                                            double step_mm = 0.25, int max_steps = 1000000);
 
 }  // namespace surfmap::haptics

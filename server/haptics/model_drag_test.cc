@@ -56,6 +56,27 @@ TEST(ModelDragTest, ReversePassRetracesTheTexture) {
   }
 }
 
+// The path is bounded by its step count as well as its distance: 10 mm at
+// 1 mm steps on the plate is exactly 10 steps (11 points), so a cap of 10
+// passes and a cap of 9 fails up front; on the curved sphere (radius 15 mm,
+// coarse facets) the re-projected steps come out shorter than 1 mm, so 10 mm
+// needs more than 10 of them and the cap stops the walk itself.
+TEST(ModelDragTest, PathStepsAreBounded) {
+  auto plate = RubberPlate();
+  absl::StatusOr<std::vector<Eigen::Vector3d>> path = TraceModelPath(*plate, {10, 30, 0}, {1, 0, 0}, 10.0, 1.0, 10);
+  ASSERT_TRUE(path.ok()) << path.status();
+  EXPECT_EQ(path->size(), 11u);
+  EXPECT_EQ(TraceModelPath(*plate, {10, 30, 0}, {1, 0, 0}, 10.0, 1.0, 9).status().code(),
+            absl::StatusCode::kInvalidArgument);
+  TextureMap sphere_map = testing::Sphere(15.0, 8, 12);
+  testing::PaintSplit(sphere_map, 1e9, testing::kRubber, testing::kRubber);
+  auto sphere = *TextureRenderer::Create(std::move(sphere_map));
+  const absl::StatusOr<std::vector<Eigen::Vector3d>> capped =
+      TraceModelPath(*sphere, {15, 0, 0}, {0, 1, 0.2}, 10.0, 1.0, 10);
+  EXPECT_EQ(capped.status().code(), absl::StatusCode::kFailedPrecondition) << capped.status();
+  EXPECT_TRUE(TraceModelPath(*sphere, {15, 0, 0}, {0, 1, 0.2}, 10.0, 1.0, 100).ok());
+}
+
 TEST(ModelDragTest, RejectsBadInput) {
   auto renderer = RubberPlate();
   EXPECT_EQ(RenderDragAlongPath(*renderer, {{1, 1, 0}}, {}).status().code(), absl::StatusCode::kInvalidArgument);

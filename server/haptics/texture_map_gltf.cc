@@ -1,6 +1,9 @@
 #include "server/haptics/texture_map_gltf.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <initializer_list>
 #include <cstring>
 #include <limits>
 #include <sstream>
@@ -209,41 +212,137 @@ absl::StatusOr<TextureMap> ReadTextureGltf(std::string_view bytes, std::string_v
   const tinygltf::Value& extras = model.meshes[0].extras;
   if (!extras.Has("surfmap")) return fail("no extras.surfmap");
   const nlohmann::json meta = ToJson(extras.Get("surfmap"));
-  if (meta.value("format", "") != kTextureGltfFormat) return fail("extras.surfmap.format is not a surfmap texture glTF");
+  if (!meta.is_object()) return fail("extras.surfmap is not an object");
+  if (!meta.contains("format") || !meta["format"].is_string() || meta["format"].get<std::string>() != kTextureGltfFormat) {
+    return fail("extras.surfmap.format is not a surfmap texture glTF");
+  }
+  // The metadata's numbers, type- and range-checked (json::value would throw
+  // on a string where a number belongs). Absent keys keep the default.
+  auto meta_int = [&](const char* key, std::int64_t lo, std::int64_t hi, auto* out) -> absl::Status {
+    if (!meta.contains(key)) return absl::OkStatus();
+    const nlohmann::json& j = meta[key];
+    if (!j.is_number_integer()) return fail(absl::StrCat("extras.surfmap.", key, " is not an integer"));
+    // An unsigned above int64's range would wrap in get<int64_t>().
+    const bool too_big = j.is_number_unsigned() && j.get<std::uint64_t>() > static_cast<std::uint64_t>(hi);
+    if (too_big || j.get<std::int64_t>() < lo || j.get<std::int64_t>() > hi) {
+      return fail(absl::StrCat("extras.surfmap.", key, " = ", j.dump(), " is outside ", lo, "..", hi));
+    }
+    const std::int64_t value = j.get<std::int64_t>();
+    *out = static_cast<std::remove_pointer_t<decltype(out)>>(value);
+    return absl::OkStatus();
+  };
 
-  // Reads a tightly packed accessor of `components` floats (or uint32 indices).
-  auto read = [&](int index, int components, auto* out) -> absl::Status {
-    using T = typename std::remove_pointer_t<decltype(out)>::value_type;
-    if (index < 0 || index >= static_cast<int>(model.accessors.size())) return fail("bad accessor index");
+  // The bytes of accessor `index`: its element type must be `type` with a
+  // component type in `components`, and every element (with the view's
+  // stride) must lie inside its buffer view and buffer. The file's counts
+  // are checked against the bytes present before anything is sized from them.
+  struct Span {
+    const unsigned char* data = nullptr;
+    size_t count = 0, stride = 0;
+    int component_type = 0;
+  };
+  auto locate = [&](int index, const std::string& name, int type, std::initializer_list<int> components,
+                    Span* span) -> absl::Status {
+    if (index < 0 || index >= static_cast<int>(model.accessors.size())) {
+      return fail(absl::StrCat(name, ": accessor ", index, " does not exist"));
+    }
     const tinygltf::Accessor& acc = model.accessors[index];
+    const std::string what = absl::StrCat(name, " (accessor ", index, ")");
+    if (acc.sparse.isSparse) return fail(absl::StrCat(what, ": sparse accessors are not read"));
+    if (acc.type != type) return fail(absl::StrCat(what, ": type ", acc.type, ", expected ", type));
+    if (std::find(components.begin(), components.end(), acc.componentType) == components.end()) {
+      return fail(absl::StrCat(what, ": componentType ", acc.componentType, " is not one this reader takes"));
+    }
+    if (acc.bufferView < 0 || acc.bufferView >= static_cast<int>(model.bufferViews.size())) {
+      return fail(absl::StrCat(what, ": bufferView ", acc.bufferView, " does not exist"));
+    }
     const tinygltf::BufferView& view = model.bufferViews[acc.bufferView];
-    const tinygltf::Buffer& buffer = model.buffers[view.buffer];
-    const size_t size = acc.count * components * sizeof(T);
-    const size_t offset = view.byteOffset + acc.byteOffset;
-    if (offset + size > buffer.data.size()) return fail("accessor runs past its buffer");
-    out->resize(acc.count * components);
-    std::memcpy(out->data(), buffer.data.data() + offset, size);
+    if (view.buffer < 0 || view.buffer >= static_cast<int>(model.buffers.size())) {
+      return fail(absl::StrCat(what, ": buffer ", view.buffer, " does not exist"));
+    }
+    const std::vector<unsigned char>& buffer = model.buffers[view.buffer].data;
+    const size_t element = static_cast<size_t>(tinygltf::GetComponentSizeInBytes(acc.componentType)) *
+                           static_cast<size_t>(tinygltf::GetNumComponentsInType(acc.type));
+    const size_t stride = view.byteStride == 0 ? element : view.byteStride;
+    // glTF strides are 4..252 bytes; a smaller one would overlap elements.
+    if (stride < element || stride > 252) return fail(absl::StrCat(what, ": byteStride ", view.byteStride, " for ", element, "-byte elements"));
+    if (view.byteOffset > buffer.size() || view.byteLength > buffer.size() - view.byteOffset) {
+      return fail(absl::StrCat(what, ": buffer view runs past its buffer"));
+    }
+    if (acc.byteOffset > view.byteLength) return fail(absl::StrCat(what, ": byteOffset past its buffer view"));
+    const size_t room = view.byteLength - acc.byteOffset;
+    // count <= room / stride + 1 keeps (count - 1) * stride + element <= room without overflow.
+    if (acc.count > 0 && (acc.count - 1 > room / stride || (acc.count - 1) * stride + element > room)) {
+      return fail(absl::StrCat(what, ": ", acc.count, " elements run past its buffer view"));
+    }
+    *span = Span{buffer.data() + view.byteOffset + acc.byteOffset, acc.count, stride, acc.componentType};
+    return absl::OkStatus();
+  };
+  // A float accessor of `components` per element (SCALAR or VEC3).
+  auto read = [&](int index, const std::string& name, int components, std::vector<float>* out) -> absl::Status {
+    Span span;
+    const int type = components == 3 ? TINYGLTF_TYPE_VEC3 : TINYGLTF_TYPE_SCALAR;
+    if (absl::Status s = locate(index, name, type, {TINYGLTF_COMPONENT_TYPE_FLOAT}, &span); !s.ok()) return s;
+    out->resize(span.count * components);
+    for (size_t e = 0; e < span.count; ++e) {
+      std::memcpy(out->data() + e * components, span.data + e * span.stride, components * sizeof(float));
+    }
+    return absl::OkStatus();
+  };
+  // Triangle indices: unsigned 8-, 16- or 32-bit, as glTF allows.
+  auto read_indices = [&](int index, std::vector<std::uint32_t>* out) -> absl::Status {
+    Span span;
+    if (absl::Status s = locate(index, "indices", TINYGLTF_TYPE_SCALAR,
+                                {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                                 TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT},
+                                &span);
+        !s.ok()) {
+      return s;
+    }
+    out->resize(span.count);
+    for (size_t e = 0; e < span.count; ++e) {
+      const unsigned char* p = span.data + e * span.stride;
+      if (span.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+        (*out)[e] = *p;
+      } else if (span.component_type == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+        std::uint16_t i16;
+        std::memcpy(&i16, p, sizeof(i16));
+        (*out)[e] = i16;
+      } else {
+        std::memcpy(&(*out)[e], p, sizeof(std::uint32_t));
+      }
+    }
     return absl::OkStatus();
   };
   auto attribute = [&](const std::string& name) { auto it = prim.attributes.find(name); return it == prim.attributes.end() ? -1 : it->second; };
 
   TextureMap map;
-  map.job_id = meta.value("job_id", std::int64_t{0});
-  map.level = meta.value("level", 0);
-  map.grid_step_mm = meta.value("grid_step_mm", 0.1);
+  constexpr std::int64_t kIntMax = std::numeric_limits<int>::max();
+  if (absl::Status s = meta_int("job_id", std::numeric_limits<std::int64_t>::min(),
+                                std::numeric_limits<std::int64_t>::max(), &map.job_id);
+      !s.ok()) {
+    return s;
+  }
+  if (absl::Status s = meta_int("level", 0, kIntMax, &map.level); !s.ok()) return s;
+  map.grid_step_mm = 0.1;
+  if (meta.contains("grid_step_mm")) {
+    if (!meta["grid_step_mm"].is_number()) return fail("extras.surfmap.grid_step_mm is not a number");
+    map.grid_step_mm = meta["grid_step_mm"].get<double>();
+  }
   std::vector<float> f;
-  if (absl::Status s = read(attribute("POSITION"), 3, &f); !s.ok()) return s;
+  if (absl::Status s = read(attribute("POSITION"), "POSITION", 3, &f); !s.ok()) return s;
   const size_t n = f.size() / 3;
   map.positions.resize(n);
   for (size_t v = 0; v < n; ++v) map.positions[v] = Eigen::Vector3d(f[3 * v], f[3 * v + 1], f[3 * v + 2]) / kMetresPerMm;
   if (attribute("NORMAL") >= 0) {
-    if (absl::Status s = read(attribute("NORMAL"), 3, &f); !s.ok()) return s;
+    if (absl::Status s = read(attribute("NORMAL"), "NORMAL", 3, &f); !s.ok()) return s;
+    if (f.size() != 3 * n) return fail(absl::StrCat("NORMAL: ", f.size() / 3, " normals for ", n, " vertices"));
     map.normals.resize(n);
     for (size_t v = 0; v < n; ++v) map.normals[v] = Eigen::Vector3d(f[3 * v], f[3 * v + 1], f[3 * v + 2]);
   }
   auto scalar = [&](const std::string& name, std::vector<double>* out, bool negative_unknown) -> absl::Status {
     if (attribute(name) < 0) return absl::OkStatus();
-    if (absl::Status s = read(attribute(name), 1, &f); !s.ok()) return s;
+    if (absl::Status s = read(attribute(name), name, 1, &f); !s.ok()) return s;
     if (f.size() != n) return fail(absl::StrCat(name, ": ", f.size(), " values for ", n, " vertices"));
     out->resize(n);
     for (size_t v = 0; v < n; ++v) (*out)[v] = negative_unknown && f[v] < 0 ? std::nan("") : f[v];
@@ -255,12 +354,17 @@ absl::StatusOr<TextureMap> ReadTextureGltf(std::string_view bytes, std::string_v
                                     std::tuple{"_BOUNDARY_PROBABILITY", &map.boundary_probability, true}}) {
     if (absl::Status s = scalar(name, out, unknown); !s.ok()) return s;
   }
-  map.ar_order = meta.value("ar_order", 0);
+  // Same bound as ValidateTextureMap, checked here because the order sizes
+  // the reflection array; every _Kj must be present before it is allocated.
+  if (absl::Status s = meta_int("ar_order", 0, 20, &map.ar_order); !s.ok()) return s;
+  for (int j = 0; j < map.ar_order; ++j) {
+    const std::string name = absl::StrCat("_K", j + 1);
+    if (attribute(name) < 0) return fail(absl::StrCat("no attribute ", name));
+  }
   map.reflection.assign(n * map.ar_order, 0.0);
   std::vector<double> k;
   for (int j = 0; j < map.ar_order; ++j) {
     const std::string name = absl::StrCat("_K", j + 1);
-    if (attribute(name) < 0) return fail(absl::StrCat("no attribute ", name));
     if (absl::Status s = scalar(name, &k, false); !s.ok()) return s;
     for (size_t v = 0; v < n; ++v) map.reflection[v * map.ar_order + j] = k[v];
   }
@@ -268,10 +372,16 @@ absl::StatusOr<TextureMap> ReadTextureGltf(std::string_view bytes, std::string_v
     std::vector<double> region;
     if (absl::Status s = scalar("_REGION", &region, false); !s.ok()) return s;
     map.region.resize(n);
-    for (size_t v = 0; v < n; ++v) map.region[v] = static_cast<int>(std::lround(region[v]));
+    for (size_t v = 0; v < n; ++v) {
+      // -1 is unassigned; the range check keeps lround's result an int.
+      if (!(region[v] >= -1 && region[v] < static_cast<double>(n))) {
+        return fail(absl::StrCat("_REGION of vertex ", v, " = ", region[v], " is outside -1..", n - 1));
+      }
+      map.region[v] = static_cast<int>(std::lround(region[v]));
+    }
   }
   std::vector<std::uint32_t> indices;
-  if (absl::Status s = read(prim.indices, 1, &indices); !s.ok()) return s;
+  if (absl::Status s = read_indices(prim.indices, &indices); !s.ok()) return s;
   if (indices.size() % 3 != 0) return fail("index count is not a multiple of 3");
   map.triangles.resize(indices.size() / 3);
   for (size_t t = 0; t < map.triangles.size(); ++t) {

@@ -171,6 +171,13 @@ absl::StatusOr<TextureMap> ReadTexturePly(std::string_view text, std::string_vie
     return fail(absl::StrCat("unexpected header line '", std::string(w[0]), "'"));
   }
   if (face_count > 0 && !face_list) return fail("faces without a vertex_indices list");
+  // The counts come from the file: bound them by the lines it actually has
+  // (one per vertex, one per face) before anything is sized from them.
+  const size_t lines_left = lines.size() - line_no;
+  if (vertex_count > lines_left || face_count > lines_left - vertex_count) {
+    return fail(absl::StrCat("header declares ", vertex_count, " vertices and ", face_count, " faces but only ",
+                             lines_left, " lines follow it"));
+  }
   std::map<std::string, int> column;
   for (size_t i = 0; i < vertex_props.size(); ++i) column[vertex_props[i]] = static_cast<int>(i);
   auto has = [&](const char* name) { return column.count(name) > 0; };
@@ -222,6 +229,11 @@ absl::StatusOr<TextureMap> ReadTexturePly(std::string_view text, std::string_vie
     if (!map.region.empty()) {
       const double r = col("region");
       if (r != std::floor(r)) return fail("region is not an integer");
+      // -1 is unassigned; a vertex cannot be in more regions than there are
+      // vertices, and the cast below is only defined for values an int holds.
+      if (!(r >= -1 && r < static_cast<double>(vertex_count))) {
+        return fail(absl::StrCat("region ", std::string(w[column.at("region")]), " is outside -1..", vertex_count - 1));
+      }
       map.region[v] = static_cast<int>(r);
       max_region = std::max(max_region, map.region[v]);
     }

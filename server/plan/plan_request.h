@@ -14,17 +14,27 @@
 
 namespace surfmap {
 
+// SamplingPlanOptions' defaults: the one set PlanRequest's are read from.
+inline const SamplingPlanOptions& DefaultPlanOptions() {
+  static const SamplingPlanOptions defaults;
+  return defaults;
+}
+
+// A request that names nothing plans as SamplingPlanOptions{} does: every
+// default is read from it (it once had its own, which disagreed in mode,
+// finest level and property; plan_request_test checks every field).
 struct PlanRequest {
-  PlanMode mode = PlanMode::kBoundary;
-  int coarsest_level = 0;
-  int finest_level = 3;          // the plan's max level
-  double threshold = 1.0;        // kAdaptive, in TextureDistance units
-  TextureProperty property = TextureProperty::kFriction;  // what the texture distance compares
-  int budget = 0;                // max samples; 0 = the mode's default
-  int max_retries = 2;
-  ProbeParameters probe;         // the paper's drag by default
-  std::uint64_t seed = 1;
-  Reachability reach;            // sites outside are not planned
+  PlanMode mode = DefaultPlanOptions().mode;
+  int coarsest_level = DefaultPlanOptions().coarsest_level;
+  int finest_level = DefaultPlanOptions().max_level;  // the plan's max level
+  double threshold = DefaultPlanOptions().threshold;  // kAdaptive, in TextureDistance units
+  // What the texture distance compares.
+  TextureProperty property = DefaultPlanOptions().distance.property;
+  int budget = DefaultPlanOptions().sample_budget;  // max samples; 0 = the mode's default
+  int max_retries = DefaultPlanOptions().max_retries;
+  ProbeParameters probe = DefaultPlanOptions().probe;  // the paper's drag
+  std::uint64_t seed = DefaultPlanOptions().seed;
+  Reachability reach = DefaultPlanOptions().reach;  // sites outside are not planned
 };
 
 // Everything the request does not name keeps SamplingPlanOptions' default.

@@ -132,6 +132,11 @@ grpc::ServerUnaryReactor* MapServiceImpl::SimulateDrag(grpc::CallbackServerConte
                                                        pb::SimulateDragResponse* response) {
   // Builds the map level with its mesh (as GetMap) and a renderer over it: on the pool.
   return HandleUnaryOnPool(context, s_, Role::kRead, "SimulateDrag", [this, request, response]() -> absl::Status {
+    // The request's own fields first: a bad one costs no map build.
+    if (absl::StatusOr<haptics::SimulateDragSettings> settings = haptics::ValidateSimulateDragRequest(*request);
+        !settings.ok()) {
+      return settings.status();
+    }
     absl::StatusOr<MapSnapshot> snapshot = s_.coordinator->Map(request->job_id());
     if (!snapshot.ok()) return snapshot.status();
     const int finest = snapshot->surface->max_level();

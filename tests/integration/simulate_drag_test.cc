@@ -2,7 +2,8 @@
 // a drag played over the map's model. The rendered drag must read back (with
 // the same estimator a measured drag goes through) as the map's friction
 // where it ran, be the same for the same request, and bad requests must be
-// refused naming what is wrong.
+// refused naming what is wrong (the request's own fields before the map is
+// built).
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -147,6 +148,15 @@ TEST_F(SimulateDragTest, BadRequestsAreRefusedNamingWhatIsWrong) {
   request.mutable_direction()->set_x(1.0);
   absl::StatusOr<pb::SimulateDragResponse> no_data = SimulateDrag(*setup_.stubs, request);
   EXPECT_THAT(no_data.status(), StatusIs(absl::StatusCode::kFailedPrecondition, HasSubstr("no measured sample")));
+  // The request's own fields are checked before the job and its map are
+  // looked at: a bad field is named for a job with no data and for no job.
+  request.set_length_mm(800.0);
+  EXPECT_THAT(SimulateDrag(*setup_.stubs, request).status(),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("length_mm")));
+  request.set_job_id(987654);
+  EXPECT_THAT(SimulateDrag(*setup_.stubs, request).status(),
+              StatusIs(absl::StatusCode::kInvalidArgument, HasSubstr("length_mm")));
+  request.set_length_mm(0.0);
 
   const std::int64_t job_id = MapThePlate();
   ASSERT_GT(job_id, 0);

@@ -29,11 +29,12 @@ constexpr int64_t kMaxSimulatedSamples = 500'000;  // ~37 MB of answer
 
 }  // namespace
 
-absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapResponse& map,
-                                                           const pb::SimulateDragRequest& request) {
+absl::StatusOr<SimulateDragSettings> ValidateSimulateDragRequest(const pb::SimulateDragRequest& request) {
+  SimulateDragSettings settings;
   absl::StatusOr<double> length = InRange("length_mm", request.length_mm(), 20.0, 500.0);
   if (!length.ok()) return length.status();
-  ModelDragOptions options;
+  settings.length_mm = *length;
+  ModelDragOptions& options = settings.options;
   for (auto [name, value, fallback, max, out] :
        {std::tuple{"speed_mm_s", request.speed_mm_s(), 10.0, 1000.0, &options.speed_mm_s},
         std::tuple{"normal_force_n", request.normal_force_n(), 5.0, 100.0, &options.normal_force_n},
@@ -50,18 +51,26 @@ absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapRespo
   // trace columns, phase, mu, roughness, region), and an answer must fit the
   // server's 64 MB message limit with room to spare.
   const double samples =
-      (2.0 * *length / options.speed_mm_s + options.pause_s) * options.sample_rate_hz;
+      (2.0 * settings.length_mm / options.speed_mm_s + options.pause_s) * options.sample_rate_hz;
   if (samples > kMaxSimulatedSamples) {
     return absl::InvalidArgumentError(absl::StrCat(
         "the drag would have ", static_cast<int64_t>(samples), " samples ((2 length_mm / speed_mm_s + pause_s) * "
         "sample_rate_hz); the limit is ", kMaxSimulatedSamples, ": shorten it, drag faster or sample slower"));
   }
-  const Eigen::Vector3d start = FromVec3(request.position());
-  const Eigen::Vector3d direction = FromVec3(request.direction());
-  if (!start.allFinite()) return absl::InvalidArgumentError("position is not finite");
-  if (!direction.allFinite() || direction.norm() == 0) {
+  settings.start = FromVec3(request.position());
+  settings.direction = FromVec3(request.direction());
+  if (!settings.start.allFinite()) return absl::InvalidArgumentError("position is not finite");
+  if (!settings.direction.allFinite() || settings.direction.norm() == 0) {
     return absl::InvalidArgumentError("direction must be finite and non-zero");
   }
+  settings.seed = request.seed() == 0 ? 1 : request.seed();
+  return settings;
+}
+
+absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapResponse& map,
+                                                           const pb::SimulateDragRequest& request) {
+  absl::StatusOr<SimulateDragSettings> settings = ValidateSimulateDragRequest(request);
+  if (!settings.ok()) return settings.status();
   if (map.map().mu_size() == 0) {
     return absl::FailedPreconditionError(absl::StrCat("job ", map.map().job_id(), " has no measured sample yet"));
   }
@@ -69,13 +78,14 @@ absl::StatusOr<pb::SimulateDragResponse> SimulateDragOnMap(const pb::GetMapRespo
   if (!model.ok()) return model.status();
   const double grid_step = model->grid_step_mm;
   TextureRendererOptions renderer_options;
-  renderer_options.seed = request.seed() == 0 ? 1 : request.seed();
+  renderer_options.seed = settings->seed;
   absl::StatusOr<std::unique_ptr<TextureRenderer>> renderer =
       TextureRenderer::Create(*std::move(model), renderer_options);
   if (!renderer.ok()) return renderer.status();
-  absl::StatusOr<std::vector<Eigen::Vector3d>> path = TraceModelPath(**renderer, start, direction, *length);
+  absl::StatusOr<std::vector<Eigen::Vector3d>> path =
+      TraceModelPath(**renderer, settings->start, settings->direction, settings->length_mm);
   if (!path.ok()) return path.status();
-  absl::StatusOr<ModelDrag> drag = RenderDragAlongPath(**renderer, *path, options);
+  absl::StatusOr<ModelDrag> drag = RenderDragAlongPath(**renderer, *path, settings->options);
   if (!drag.ok()) return drag.status();
   pb::SimulateDragResponse response;
   *response.mutable_samples() = DragTraceToProto(drag->trace);

@@ -1,5 +1,9 @@
 #include "server/haptics/export/simulate_drag_proto.h"
 
+#include <cmath>
+#include <string>
+
+#include <gmock/gmock.h>
 #include <gtest/gtest.h>
 #include "server/haptics/export/texture_map_proto.h"
 #include "server/codec/trace_samples_proto.h"
@@ -9,6 +13,7 @@ namespace surfmap::haptics {
 namespace {
 
 namespace pb = ::surfmap::v1;
+using ::testing::HasSubstr;
 
 // A 60 x 60 mm plate of 1 mm cells as GetMap would send it: rubber left of
 // x = 30, masonite right, a sample fitted on a 0.1 mm grid.
@@ -106,6 +111,53 @@ TEST(SimulateDragOnMapTest, RejectsBadRequests) {
   pb::GetMapResponse no_mesh = map;
   no_mesh.clear_mesh();
   EXPECT_EQ(SimulateDragOnMap(no_mesh, good).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
+// The request's own checks, with no map: defaults filled in as surfmap.proto
+// states them, and each bad field named.
+TEST(ValidateSimulateDragRequestTest, FillsTheDefaultsAndNamesTheBadField) {
+  pb::SimulateDragRequest request;
+  request.mutable_position()->set_x(5);
+  request.mutable_direction()->set_y(2);
+  absl::StatusOr<SimulateDragSettings> settings = ValidateSimulateDragRequest(request);
+  ASSERT_TRUE(settings.ok()) << settings.status();
+  EXPECT_EQ(settings->length_mm, 20.0);
+  EXPECT_EQ(settings->options.speed_mm_s, 10.0);
+  EXPECT_EQ(settings->options.normal_force_n, 5.0);
+  EXPECT_EQ(settings->options.sample_rate_hz, 100.0);
+  EXPECT_EQ(settings->options.pause_s, 0.5);
+  EXPECT_EQ(settings->seed, 1u);
+  EXPECT_EQ(settings->start, Eigen::Vector3d(5, 0, 0));
+  EXPECT_EQ(settings->direction, Eigen::Vector3d(0, 2, 0));
+  request.set_length_mm(16);
+  request.set_speed_mm_s(4);
+  request.set_normal_force_n(2);
+  request.set_sample_rate_hz(500);
+  request.set_pause_s(0);
+  request.set_seed(9);
+  settings = ValidateSimulateDragRequest(request);
+  ASSERT_TRUE(settings.ok()) << settings.status();
+  EXPECT_EQ(settings->length_mm, 16.0);
+  EXPECT_EQ(settings->options.speed_mm_s, 4.0);
+  EXPECT_EQ(settings->options.normal_force_n, 2.0);
+  EXPECT_EQ(settings->options.sample_rate_hz, 500.0);
+  EXPECT_EQ(settings->options.pause_s, 0.0);
+  EXPECT_EQ(settings->seed, 9u);
+
+  auto message = [&](auto edit) {
+    pb::SimulateDragRequest r = request;
+    edit(r);
+    absl::StatusOr<SimulateDragSettings> s = ValidateSimulateDragRequest(r);
+    EXPECT_EQ(s.status().code(), absl::StatusCode::kInvalidArgument);
+    return std::string(s.status().message());
+  };
+  EXPECT_THAT(message([](auto& r) { r.set_length_mm(501); }), HasSubstr("length_mm"));
+  EXPECT_THAT(message([](auto& r) { r.set_speed_mm_s(-1); }), HasSubstr("speed_mm_s"));
+  EXPECT_THAT(message([](auto& r) { r.set_normal_force_n(std::nan("")); }), HasSubstr("normal_force_n"));
+  EXPECT_THAT(message([](auto& r) { r.set_sample_rate_hz(20000); }), HasSubstr("sample_rate_hz"));
+  EXPECT_THAT(message([](auto& r) { r.set_pause_s(11); }), HasSubstr("pause_s"));
+  EXPECT_THAT(message([](auto& r) { r.mutable_position()->set_y(INFINITY); }), HasSubstr("position"));
+  EXPECT_THAT(message([](auto& r) { r.clear_direction(); }), HasSubstr("direction"));
 }
 
 }  // namespace
