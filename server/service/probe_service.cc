@@ -118,7 +118,6 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
       return;
     }
     AppendSamples(chunk_.samples(), &samples_);
-    ++chunks_;
     StartRead(&chunk_);
   }
 
@@ -130,7 +129,6 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   pb::SubmitTraceResponse* response_;
   pb::SubmitTraceChunk chunk_;
   int64_t command_id_ = 0;
-  int64_t chunks_ = 0;
   std::string rig_id_;
   bool lease_next_ = false;
   pb::Provenance provenance_;
