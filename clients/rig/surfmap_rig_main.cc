@@ -109,7 +109,12 @@ absl::StatusOr<surfmap::RigRegistration> FetchRegistration(const surfmap::cli::R
   grpc::ClientContext context;
   surfmap::cli::PrepareContext(remote, &context);
   grpc::Status status = objects->GetRigRegistration(&context, request, &response);
-  if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetRigRegistration: ", status.error_message()));
+  if (!status.ok()) {
+    // The server's code, so RigFrameDriver tells "unreachable" (retry) from
+    // "no such registration" (stop).
+    return absl::Status(static_cast<absl::StatusCode>(status.error_code()),
+                        absl::StrCat("GetRigRegistration: ", status.error_message()));
+  }
   return surfmap::RigRegistrationFromProto(response.registration());
 }
 
