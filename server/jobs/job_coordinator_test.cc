@@ -231,6 +231,53 @@ TEST_F(JobCoordinatorTest, OnlyRunningAndPausedJobsAreLoadedAtStart) {
   EXPECT_EQ(done->progress.measured, 2);
 }
 
+// A registered rig's lease answer traces the command's path on the surface
+// (for its rig-frame command): that runs on a pool, not on the completions
+// thread every store completion waits behind in commit order.
+TEST_F(JobCoordinatorTest, ARigFrameLeaseIsComputedOffTheCompletionsThread) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  RigRegistration registration;
+  registration.object_translation_mm = {400.0, 0.0, 0.0};
+  registration.tip_radius_mm = 2.0;
+  absl::StatusOr<RegisteredRig> rig = coordinator_->rigs().Register(object, "arm", registration);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  std::thread::id completions_thread;
+  completions_->Post([&] { completions_thread = std::this_thread::get_id(); });
+  completions_->Drain();
+
+  using Answered = std::pair<std::thread::id, absl::StatusOr<LeaseOutcome>>;
+  Awaited<Answered> leased;
+  coordinator_->probes().LeaseCommand("arm", job.record.id,
+                                      [done = leased.Callback()](absl::StatusOr<LeaseOutcome> o) {
+                                        done(Answered{std::this_thread::get_id(), std::move(o)});
+                                      });
+  std::optional<Answered> lease = leased.Get("LeaseCommand");
+  ASSERT_TRUE(lease && lease->second.ok() && lease->second->record);
+  EXPECT_NE(lease->first, completions_thread);
+  ASSERT_TRUE(lease->second->rig_frame);
+  ASSERT_TRUE(lease->second->rig_registration);
+  EXPECT_EQ(lease->second->rig_registration->record.id, rig->record.id);
+  EXPECT_GE(lease->second->rig_frame->tool_centre_path.size(), 2u);
+
+  // The next lease that comes with an accepted trace, likewise.
+  using Submitted = std::pair<std::thread::id, absl::StatusOr<SubmitOutcome>>;
+  Awaited<Submitted> submitted;
+  const DragTrace trace = TraceFor(*lease->second);
+  coordinator_->probes().SubmitTrace(
+      lease->second->record->id, "arm", [trace]() -> absl::StatusOr<DragTrace> { return trace; },
+      /*lease_next=*/true, [done = submitted.Callback()](absl::StatusOr<SubmitOutcome> o) {
+        done(Submitted{std::this_thread::get_id(), std::move(o)});
+      });
+  std::optional<Submitted> answer = submitted.Get("SubmitTrace");
+  ASSERT_TRUE(answer && answer->second.ok()) << (answer ? answer->second.status() : absl::OkStatus());
+  EXPECT_NE(answer->first, completions_thread);
+  ASSERT_TRUE(answer->second->next && answer->second->next->record && answer->second->next->rig_frame);
+  EXPECT_GE(answer->second->next->rig_frame->tool_centre_path.size(), 2u);
+  ASSERT_TRUE(answer->second->next->rig_registration);
+  EXPECT_EQ(answer->second->next->rig_registration->record.id, rig->record.id);
+}
+
 TEST_F(JobCoordinatorTest, ACancelledJobStillAcknowledgesTheIdenticalRetry) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);
