@@ -6,6 +6,8 @@
 #include <atomic>
 #include <thread>
 
+#include <sqlite3.h>
+
 #include "gtest/gtest.h"
 #include "server/jobs/coordinator_fixture_for_test.h"
 #include "server/jobs/job_refit.h"
@@ -303,13 +305,48 @@ TEST_F(JobCoordinatorTest, RefitsReadTracesPageByPage) {
   ASSERT_EQ(MeasureUntilDone(job.record.id, "rig"), 5);
   FitOptions options;
   options.ar_order = 3;
-  absl::StatusOr<RefitOutcome> refit = RefitJobTraces(*faults_, job.record.id, options, /*page_traces=*/2);
+  absl::StatusOr<RefitOutcome> refit = RefitJobTraces(*faults_, coordinator_->rigs(), job.record.id, options,
+                                                      /*page_traces=*/2);
   ASSERT_TRUE(refit.ok()) << refit.status();
   EXPECT_EQ(refit->refitted, 5) << "three pages of 2, 2 and 1 traces";
   EXPECT_EQ(refit->version, 2);
   absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 2);
   ASSERT_TRUE(samples.ok());
   EXPECT_EQ(samples->size(), 5u);
+}
+
+// A refit converts a rig-frame trace with its registration from memory,
+// decoded once: the stored row is not read again. Shown by damaging the
+// stored JSON after registering (a re-read would answer DATA_LOSS).
+TEST_F(JobCoordinatorTest, ARefitConvertsRigFrameTracesWithTheRegistrationInMemory) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/1);
+  RigRegistration registration;
+  registration.object_translation_mm = {400.0, -50.0, 20.0};
+  registration.tip_radius_mm = 1.0;
+  absl::StatusOr<RegisteredRig> rig = coordinator_->rigs().Register(object, "arm", registration);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "arm");
+  ASSERT_TRUE(lease.ok() && lease->record);
+  const DragTrace in_base = TraceFromObjectFrame(TraceFor(*lease), TraceFrame::kRigBase, registration);
+  Awaited<absl::StatusOr<SubmitOutcome>> submitted;
+  coordinator_->probes().SubmitTrace(
+      lease->record->id, "arm", [in_base]() -> absl::StatusOr<DragTrace> { return in_base; }, /*lease_next=*/false,
+      ProbeProtocol::TraceFrameChoice{TraceFrame::kRigBase, 0}, submitted.Callback());
+  std::optional<absl::StatusOr<SubmitOutcome>> accepted = submitted.Get("SubmitTrace");
+  ASSERT_TRUE(accepted && accepted->ok()) << (accepted ? accepted->status() : absl::OkStatus());
+
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(dir_.Path("surfmap.db").c_str(), &db), SQLITE_OK);
+  const char* damage = "UPDATE rig_registrations SET registration_json = '{\"damaged\": 1}'";
+  ASSERT_EQ(sqlite3_exec(db, damage, nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  ASSERT_FALSE(DecodeRegistration(*faults_->GetRigRegistration(rig->record.id)).ok());
+
+  absl::StatusOr<RefitOutcome> refit = coordinator_->RefitJob(job.record.id, FitOptions{});
+  ASSERT_TRUE(refit.ok()) << refit.status();
+  EXPECT_EQ(refit->refitted, 1);
+  EXPECT_EQ(refit->failed, 0);
 }
 
 }  // namespace

@@ -110,14 +110,15 @@ absl::StatusOr<std::shared_ptr<const RegisteredRig>> ProbeProtocol::TraceRegistr
                                         "(TRACE_FRAME_OBJECT): a registration is only read for a rig frame");
     }
     if (rigs_ == nullptr) return absl::FailedPreconditionError("this server keeps no rig registrations");
-    absl::StatusOr<RegisteredRig> rig = rigs_->Get(frame.registration_id);
+    absl::StatusOr<std::shared_ptr<const RegisteredRig>> rig = rigs_->Get(frame.registration_id);
     if (!rig.ok()) return rig.status();
-    if (rig->record.object_id != object_id || rig->record.rig_name != rig_id) {
+    const RigRegistrationRecord& record = (*rig)->record;
+    if (record.object_id != object_id || record.rig_name != rig_id) {
       return absl::InvalidArgumentError(absl::StrCat(
-          "registration ", frame.registration_id, " is rig '", rig->record.rig_name, "' on object ",
-          rig->record.object_id, ", not rig '", rig_id, "' on object ", object_id, " (the command's job's object)"));
+          "registration ", frame.registration_id, " is rig '", record.rig_name, "' on object ", record.object_id,
+          ", not rig '", rig_id, "' on object ", object_id, " (the command's job's object)"));
     }
-    return std::make_shared<const RegisteredRig>(std::move(*rig));
+    return *std::move(rig);
   }
   std::shared_ptr<const RegisteredRig> latest = rigs_ ? rigs_->Latest(object_id, rig_id) : nullptr;
   if (!latest && frame.frame != TraceFrame::kObject) {
