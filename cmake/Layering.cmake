@@ -28,7 +28,7 @@ set(SURFMAP_ROOM_MAY_LINK_server/mesh server/base server/estimate server/geometr
 set(SURFMAP_ROOM_MAY_LINK_server/frames server/base server/estimate)
 set(SURFMAP_ROOM_MAY_LINK_server/map server/base server/estimate server/mesh)
 set(SURFMAP_ROOM_MAY_LINK_server/plan server/base server/estimate server/geometry server/mesh server/map)
-set(SURFMAP_ROOM_MAY_LINK_server/codec server/base server/estimate proto)
+set(SURFMAP_ROOM_MAY_LINK_server/codec server/base server/estimate server/frames proto)
 set(SURFMAP_ROOM_MAY_LINK_server/haptics server/base server/estimate server/geometry server/codec proto)
 set(SURFMAP_ROOM_MAY_LINK_storage server/base)
 set(SURFMAP_ROOM_MAY_LINK_server/jobs

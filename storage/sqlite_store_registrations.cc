@@ -76,17 +76,17 @@ absl::StatusOr<std::vector<RigRegistrationRecord>> SqliteStore::ListRigRegistrat
 }
 
 absl::StatusOr<TraceFrameRecord> SqliteStore::GetTraceFrame(int64_t trace_id) {
+  // One query: the trace's row says it exists, the joined frame row (none for
+  // a trace sent in the object's frame) what it was sent in.
   SURFMAP_ASSIGN_OR_RETURN(ReadConnectionPool::Loan db, readers_.Borrow());
-  SURFMAP_ASSIGN_OR_RETURN(SqliteStatement exists, db->Prepare("SELECT 1 FROM traces WHERE id = ?1"));
-  exists.BindInt(1, trace_id);
-  SURFMAP_ASSIGN_OR_RETURN(bool found, exists.Step());
-  if (!found) return absl::NotFoundError(absl::StrCat("trace ", trace_id, " does not exist"));
   SURFMAP_ASSIGN_OR_RETURN(SqliteStatement stmt,
-                           db->Prepare("SELECT frame, registration_id FROM trace_frames WHERE trace_id = ?1"));
+                           db->Prepare("SELECT f.frame, f.registration_id FROM traces t "
+                                       "LEFT JOIN trace_frames f ON f.trace_id = t.id WHERE t.id = ?1"));
   stmt.BindInt(1, trace_id);
-  SURFMAP_ASSIGN_OR_RETURN(bool framed, stmt.Step());
+  SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
+  if (!found) return absl::NotFoundError(absl::StrCat("trace ", trace_id, " does not exist"));
   TraceFrameRecord record;
-  if (framed) {
+  if (!stmt.ColumnIsNull(0)) {
     record.frame = std::string(stmt.ColumnText(0));
     record.registration_id = stmt.ColumnInt(1);
   }

@@ -88,11 +88,17 @@ void AddRegistrationCommands(CLI::App& object, std::shared_ptr<RemoteCli> cli) {
   reg->add_option("object", args->object_id, "Object id")->required();
   reg->add_option("--rig", args->rig, "Rig name: the rig_id it leases with")->required();
   auto* pose = reg->add_option("--pose", args->pose, "W,X,Y,Z,TX,TY,TZ: p_base = R(w,x,y,z) p_object + t (mm)");
-  reg->add_option("--tip-radius-mm", args->tip_radius_mm, "Tool-tip radius, mm (0..50)");
-  reg->add_option("--sensor", args->sensor, "W,X,Y,Z: f_base = S f_sensor (default: aligned with the base)");
+  auto* tip = reg->add_option("--tip-radius-mm", args->tip_radius_mm, "Tool-tip radius, mm (0..50; with --pose)");
+  auto* sensor = reg->add_option("--sensor", args->sensor,
+                                 "W,X,Y,Z: f_base = S f_sensor (with --pose; default: aligned with the base)");
   auto* json = reg->add_option("--json", args->json_file, "A RigRegistration in JSON (instead of --pose ...)")
                    ->check(CLI::ExistingFile);
+  // A pose without a tip radius would register a 0 mm tip, and --json would
+  // silently drop --tip-radius-mm/--sensor: both are usage errors.
   pose->excludes(json);
+  pose->needs(tip);
+  tip->excludes(json);
+  sensor->excludes(json);
   reg->callback([cli, args, pose, json] {
     if (pose->count() == 0 && json->count() == 0) return FailUsage(*cli, "give --pose (with --tip-radius-mm) or --json");
     RunRegister(*cli, *args);

@@ -148,17 +148,17 @@ std::string FormatCommandMessage(const ProbeRequest& r) {
                   {"lease_deadline_unix_ms", r.lease_deadline_unix_ms}};
   if (r.rig_frame) {
     // The same command in the rig's base frame (the rig is registered to the object).
-    const RigFrameRequest& f = *r.rig_frame;
+    const RigFrameCommand& f = r.rig_frame->command;
     json path = json::array();
     for (const Eigen::Vector3d& p : f.tool_centre_path) path.push_back(Vector(p));
-    message["rig_frame"] = {{"registration_id", f.registration_id},
+    message["rig_frame"] = {{"registration_id", r.rig_frame->registration_id},
                             {"position_mm", Vector(f.position)},
                             {"normal", Vector(f.normal)},
                             {"drag_direction", Vector(f.drag_direction)},
                             {"start_mm", Vector(f.start)},
                             {"end_mm", Vector(f.end)},
                             {"tool_centre_path_mm", path},
-                            {"tip_radius_mm", f.tip_radius_mm}};
+                            {"tip_radius_mm", r.rig_frame->tip_radius_mm}};
   }
   return message.dump();
 }

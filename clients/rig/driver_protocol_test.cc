@@ -51,11 +51,11 @@ TEST(DriverProtocolTest, TheRigFrameCommandIsPassedWhenRegistered) {
   ProbeRequest r = Request();
   RigFrameRequest frame;
   frame.registration_id = 4;
-  frame.position = {400.5, 20, 1.0 / 7.0};
-  frame.normal = {0, 1, 0};
-  frame.start = {390.5, 20, 0};
-  frame.end = {410.5, 20, 0};
-  frame.tool_centre_path = {{390.5, 23, 0}, {410.5, 23, 0}};
+  frame.command.position = {400.5, 20, 1.0 / 7.0};
+  frame.command.normal = {0, 1, 0};
+  frame.command.start = {390.5, 20, 0};
+  frame.command.end = {410.5, 20, 0};
+  frame.command.tool_centre_path = {{390.5, 23, 0}, {410.5, 23, 0}};
   frame.tip_radius_mm = 3;
   r.rig_frame = frame;
   auto json = nlohmann::json::parse(FormatCommandMessage(r));

@@ -32,12 +32,12 @@ absl::StatusOr<ProbeRequest> ProbeRequestFromCommand(const pb::ProbeCommand& com
     const pb::RigFrameCommand& f = command.rig_frame();
     RigFrameRequest frame;
     frame.registration_id = f.registration_id();
-    frame.position = FromProto(f.position());
-    frame.normal = FromProto(f.normal());
-    frame.drag_direction = FromProto(f.drag_direction());
-    frame.start = FromProto(f.start());
-    frame.end = FromProto(f.end());
-    for (const pb::Vec3& p : f.tool_centre_path()) frame.tool_centre_path.push_back(FromProto(p));
+    frame.command.position = FromProto(f.position());
+    frame.command.normal = FromProto(f.normal());
+    frame.command.drag_direction = FromProto(f.drag_direction());
+    frame.command.start = FromProto(f.start());
+    frame.command.end = FromProto(f.end());
+    for (const pb::Vec3& p : f.tool_centre_path()) frame.command.tool_centre_path.push_back(FromProto(p));
     frame.tip_radius_mm = f.tip_radius_mm();
     request.rig_frame = std::move(frame);
   }

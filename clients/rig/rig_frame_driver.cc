@@ -16,7 +16,16 @@ absl::StatusOr<DragTrace> RigFrameDriver::Execute(const ProbeRequest& request) {
   if (it == registrations_.end()) {
     absl::StatusOr<RigRegistration> fetched = fetch_(id);
     if (!fetched.ok()) {
-      return absl::UnavailableError(absl::StrCat("registration ", id, ": ", fetched.status().message()));
+      const absl::StatusCode code = fetched.status().code();
+      const std::string why = absl::StrCat("registration ", id, ": ", fetched.status().message());
+      // The server unreachable or slow: this command fails TRANSIENT and the
+      // next one fetches again. Anything else (NOT_FOUND, PERMISSION_DENIED,
+      // a registration that does not validate) is the same for every
+      // command: stop rather than burn each command's retries on it.
+      if (code == absl::StatusCode::kUnavailable || code == absl::StatusCode::kDeadlineExceeded) {
+        return absl::Status(code, why);
+      }
+      return absl::InternalError(absl::StrCat(why, " (", absl::StatusCodeToString(code), ")"));
     }
     it = registrations_.emplace(id, *fetched).first;
   }

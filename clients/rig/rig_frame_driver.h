@@ -26,7 +26,9 @@ class RigFrameDriver final : public RigDriver {
       : inner_(inner), frame_(frame), fetch_(std::move(fetch)) {}
 
   // INTERNAL (the loop stops) for a command without a rig frame: the rig is
-  // not registered to the object, and every trace it sent would be refused.
+  // not registered to the object, and every trace it sent would be refused;
+  // and when `fetch` fails other than UNAVAILABLE / DEADLINE_EXCEEDED (those
+  // pass through: the command fails TRANSIENT and is retried).
   absl::StatusOr<DragTrace> Execute(const ProbeRequest& request) override;
 
  private:

@@ -58,7 +58,25 @@ TEST(RigFrameDriver, SendsTheTraceInTheRigFrameOfTheCommandsRegistration) {
   EXPECT_EQ(fetches, 1) << "a registration is fetched once";
 
   request.rig_frame->registration_id = 10;
+  const absl::Status missing = driver.Execute(request).status();
+  EXPECT_EQ(missing.code(), absl::StatusCode::kInternal) << "the same for every command: the loop stops";
+  EXPECT_THAT(std::string(missing.message()), HasSubstr("registration 10: rig registration does not exist (NOT_FOUND)"));
+}
+
+TEST(RigFrameDriver, AnUnreachableServerIsPassedOnForARetry) {
+  ObjectFrameDriver inner;
+  bool reachable = false;
+  RigFrameDriver driver(inner, TraceFrame::kRigBase, [&](std::int64_t) -> absl::StatusOr<RigRegistration> {
+    if (!reachable) return absl::UnavailableError("connection refused");
+    return Registration();
+  });
+  ProbeRequest request;
+  request.command_id = 4;
+  request.rig_frame = RigFrameRequest{};
+  request.rig_frame->registration_id = 9;
   EXPECT_EQ(driver.Execute(request).status().code(), absl::StatusCode::kUnavailable);
+  reachable = true;
+  EXPECT_TRUE(driver.Execute(request).ok()) << "a later command fetches again";
 }
 
 TEST(RigFrameDriver, ACommandWithoutItsRigFrameStopsTheRig) {

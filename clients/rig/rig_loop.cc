@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "clients/rig/probe_conversion.h"
+#include "server/codec/rig_registration_proto.h"
 #include "server/codec/trace_samples_proto.h"
 
 namespace surfmap::rig {
@@ -65,6 +66,7 @@ bool RigLoopOptions::IsValid(std::string* why) const {
   }
   if (!IsFinitePositive(default_retry_after_s)) return fail("default_retry_after_s must be > 0");
   if (!IsFinitePositive(max_retry_after_s)) return fail("max_retry_after_s must be > 0");
+  if (!TraceFrameFromProto(frame).ok()) return fail("frame must be a TraceFrame value");
   return true;
 }
 
@@ -219,7 +221,11 @@ RigLoop::Delivery RigLoop::Deliver(const fs::path& file, const SpooledTrace& spo
   submit.set_command_id(spooled.header.command_id);
   submit.set_rig_id(spooled.header.rig_id);  // the rig that held the lease (this one, unless --spool was shared)
   submit.set_lease_next(lease_next);
-  submit.set_frame(options_.frame);
+  // The frame the trace was measured in, not this run's: a trace spooled by
+  // a --frame rig_base run and resubmitted by a default run is still in the
+  // rig's frame.
+  submit.set_frame(TraceFrameToProto(spooled.header.frame));
+  submit.set_registration_id(spooled.header.registration_id);
   *submit.mutable_samples() = DragTraceToProto(spooled.trace);
   pb::SubmitTraceResponse response;
   grpc::Status status = WithRetries("SubmitTrace", [&] {
@@ -319,6 +325,10 @@ RigLoop::Step RigLoop::RunCommand(const pb::ProbeCommand& command) {
   header.attempt = command.attempt();
   header.rig_id = options_.rig_id;
   header.measured_unix_ms = hooks_.unix_ms();
+  header.frame = TraceFrameFromProto(options_.frame).value_or(TraceFrame::kObject);  // IsValid checked it
+  if (header.frame != TraceFrame::kObject && command.has_rig_frame()) {
+    header.registration_id = command.rig_frame().registration_id();  // what the command was computed with
+  }
   absl::StatusOr<fs::path> file = spool_.Add(header, *trace);
   if (!file.ok()) {
     if (file.status().code() == absl::StatusCode::kInvalidArgument) {

@@ -47,7 +47,8 @@ struct RigLoopOptions {
   double default_retry_after_s = 1.0;  // when the server sends no retry_after
   double max_retry_after_s = 10.0;     // cap on the server's retry_after
   // The frame of the driver's traces (SubmitTraceRequest.frame): unset = the
-  // object's. Spooled traces are resubmitted in the frame of the run.
+  // object's. A spooled trace keeps its frame and the command's registration
+  // (spool_file.h) and is resubmitted with them, whatever this run's frame.
   surfmap::v1::TraceFrame frame = surfmap::v1::TRACE_FRAME_UNSPECIFIED;
 
   // False (and *why) for an empty, over-long or multi-line rig id, negative

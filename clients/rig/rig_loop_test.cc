@@ -363,6 +363,33 @@ TEST(RigLoopTest, ResubmitsWithTheRigIdThatHeldTheLease) {
   EXPECT_EQ(h.events[0].rfind("test-rig: resubmitting 1 spooled trace from ", 0), 0u) << h.events[0];
 }
 
+TEST(RigLoopTest, ASpooledTraceIsResubmittedInItsOwnFrameWithItsRegistration) {
+  Harness h;
+  SpoolHeader header;
+  header.command_id = 3;
+  header.job_id = 9;
+  header.rig_id = "test-rig";
+  header.measured_unix_ms = 5;
+  header.frame = TraceFrame::kRigBase;
+  header.registration_id = 6;
+  FakeDriver maker;
+  ASSERT_TRUE(h.spool->Add(header, *maker.Execute(ProbeRequest{})).ok());
+  header.command_id = 4;
+  header.measured_unix_ms = 6;
+  header.frame = TraceFrame::kObject;
+  header.registration_id = 0;
+  ASSERT_TRUE(h.spool->Add(header, *maker.Execute(ProbeRequest{})).ok());
+  std::vector<std::string> sent;
+  h.endpoint.on_submit = [&](const pb::SubmitTraceRequest& r) {
+    sent.push_back(absl::StrCat(r.command_id(), " ", pb::TraceFrame_Name(r.frame()), " ", r.registration_id()));
+  };
+  h.options.frame = pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES;  // this run's frame is neither
+  RigLoopSummary s = h.Run();
+  EXPECT_TRUE(s.error.ok()) << s.error.error_message();
+  EXPECT_EQ(s.resubmitted, 2);
+  EXPECT_EQ(sent, (std::vector<std::string>{"3 TRACE_FRAME_RIG_BASE 6", "4 TRACE_FRAME_OBJECT 0"}));
+}
+
 TEST(RigLoopTest, AnUnreadableSpoolFileIsMovedToRejected) {
   Harness h;
   { std::ofstream(h.spool->dir() / "0000000000001-command-4.trace.csv") << "t,x\n1,2\n"; }

@@ -39,6 +39,13 @@ absl::Status ValidateSpoolHeader(const SpoolHeader& header) {
   if (HasControlCharacter(header.rig_id)) {
     return absl::InvalidArgumentError("rig_id must not contain control characters (newline, tab, ...)");
   }
+  if (header.registration_id < 0) {
+    return absl::InvalidArgumentError(absl::StrCat("registration_id ", header.registration_id, " is < 0"));
+  }
+  if (header.frame == TraceFrame::kObject && header.registration_id != 0) {
+    return absl::InvalidArgumentError(absl::StrCat("registration_id ", header.registration_id,
+                                                   " with the object's frame (a registration is for a rig frame)"));
+  }
   return absl::OkStatus();
 }
 
@@ -48,6 +55,11 @@ absl::StatusOr<std::string> FormatSpoolFile(const SpoolHeader& header, const Dra
   absl::StrAppend(&text, "\n# command_id: ", header.command_id, "\n# job_id: ", header.job_id,
                   "\n# attempt: ", header.attempt, "\n# rig_id: ", A(header.rig_id),
                   "\n# measured_unix_ms: ", header.measured_unix_ms, "\n");
+  // Object-frame files stay as before frames existed (older rigs read them).
+  if (header.frame != TraceFrame::kObject) {
+    absl::StrAppend(&text, "# frame: ", A(TraceFrameName(header.frame)), "\n# registration_id: ",
+                    header.registration_id, "\n");
+  }
   text += FormatTraceCsv(trace);
   return text;
 }
@@ -92,6 +104,25 @@ absl::StatusOr<SpooledTrace> ParseSpoolFile(std::string_view text, std::string_v
     if (key == "attempt") {
       if (number < 0 || number > 1'000'000) return error(line_number, absl::StrCat("attempt ", number, " is out of range"));
       out.header.attempt = static_cast<int>(number);
+    }
+  }
+  // The optional frame keys: both or neither.
+  constexpr std::string_view kFramePrefix = "# frame: ";
+  constexpr std::string_view kRegistrationPrefix = "# registration_id: ";
+  const int frame_line = static_cast<int>(kKeys.size()) + 2;
+  if (rest.substr(0, kFramePrefix.size()) == kFramePrefix) {
+    const std::string_view line = next_line();
+    absl::StatusOr<TraceFrame> frame = ParseTraceFrame(line.substr(kFramePrefix.size()));
+    if (!frame.ok()) return error(frame_line, absl::StrCat("frame: ", frame.status().message()));
+    out.header.frame = *frame;
+    const std::string_view registration = next_line();
+    if (registration.substr(0, kRegistrationPrefix.size()) != kRegistrationPrefix) {
+      return error(frame_line + 1, absl::StrCat("expected '", A(kRegistrationPrefix), "<value>' after the frame, found '",
+                                                A(registration.substr(0, 60)), "'"));
+    }
+    const std::string_view value = registration.substr(kRegistrationPrefix.size());
+    if (!absl::SimpleAtoi(A(value), &out.header.registration_id)) {
+      return error(frame_line + 1, absl::StrCat("registration_id '", A(value), "' is not an integer"));
     }
   }
   if (absl::Status valid = ValidateSpoolHeader(out.header); !valid.ok()) {

@@ -9,12 +9,18 @@
 //   # attempt: 1
 //   # rig_id: lab-arm-1
 //   # measured_unix_ms: 1795000000123
+//   # frame: rig_base                      only for a trace in a rig's frame
+//   # registration_id: 7                   (both, or neither)
 //   t,x,y,z,fx,fy,fz,phase
 //   0,9.9899,-5.0072,2.9973,-0.64094,-0.03418,6.09862,fwd
 //   ...
 //
 // The first line is exactly the version line; then every key once, in this
-// order; then the CSV. Numbers are written with the shortest text that reads
+// order (frame and registration_id optional: a file without them, as every
+// file written before frames existed, holds a trace in the object's frame);
+// then the CSV. The trace is resubmitted in the frame and with the
+// registration it was measured in, whatever the frame of the run that
+// resubmits it. Numbers are written with the shortest text that reads
 // back to the same double, so a resubmitted trace is bit-identical to the
 // first submission (the server answers `already_accepted` only to identical
 // samples). The Python client writes and reads the same format
@@ -28,6 +34,7 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "server/estimate/drag_trace.h"
+#include "server/frames/rig_frames.h"
 
 namespace surfmap::rig {
 
@@ -40,11 +47,14 @@ struct SpoolHeader {
   int attempt = 0;
   std::string rig_id;
   std::int64_t measured_unix_ms = 0;  // when the rig spooled it (informational)
+  TraceFrame frame = TraceFrame::kObject;  // the frame the trace's samples are in
+  std::int64_t registration_id = 0;        // a rig frame's registration (0 = the latest)
 };
 
 // INVALID_ARGUMENT naming the field: command_id <= 0, job_id <= 0, attempt
 // < 0, a rig id of 0 or more than 100 characters or with a control character
-// (it is one line of the header).
+// (it is one line of the header), registration_id < 0, or a registration
+// with the object's frame.
 absl::Status ValidateSpoolHeader(const SpoolHeader& header);
 
 struct SpooledTrace {

@@ -69,6 +69,44 @@ TEST(SpoolFileTest, RoundTripsBitForBit) {
   }
 }
 
+TEST(SpoolFileTest, KeepsTheFrameAndRegistrationOfARigFrameTrace) {
+  SpoolHeader h = Header();
+  h.frame = TraceFrame::kRigBaseSensorForces;
+  h.registration_id = 7;
+  auto text = FormatSpoolFile(h, AwkwardTrace());
+  ASSERT_TRUE(text.ok()) << text.status();
+  EXPECT_NE(text->find("# measured_unix_ms: 1795000000123\n# frame: rig_base_sensor_forces\n# registration_id: 7\n"
+                       "t,x,y,z"),
+            std::string::npos)
+      << *text;
+  auto parsed = ParseSpoolFile(*text, "f.csv");
+  ASSERT_TRUE(parsed.ok()) << parsed.status();
+  EXPECT_EQ(parsed->header.frame, TraceFrame::kRigBaseSensorForces);
+  EXPECT_EQ(parsed->header.registration_id, 7);
+  EXPECT_EQ(parsed->trace.samples.size(), 6u);
+
+  // A file from before frames (no keys) is in the object's frame.
+  auto old = ParseSpoolFile(*FormatSpoolFile(Header(), AwkwardTrace()), "old.csv");
+  ASSERT_TRUE(old.ok()) << old.status();
+  EXPECT_EQ(old->header.frame, TraceFrame::kObject);
+  EXPECT_EQ(old->header.registration_id, 0);
+
+  auto replace = [&](const std::string& from, const std::string& to) {
+    std::string t = *text;
+    t.replace(t.find(from), from.size(), to);
+    return t;
+  };
+  EXPECT_EQ(ParseSpoolFile(replace("rig_base_sensor_forces", "tool"), "f").status().message(),
+            "f:7: frame: unknown trace frame \"tool\"; expected object, rig_base or rig_base_sensor_forces");
+  EXPECT_EQ(ParseSpoolFile(replace("# registration_id: 7\n", ""), "f").status().message(),
+            "f:8: expected '# registration_id: <value>' after the frame, found 't,x,y,z,fx,fy,fz,phase'");
+  EXPECT_EQ(ParseSpoolFile(replace("# registration_id: 7", "# registration_id: x"), "f").status().message(),
+            "f:8: registration_id 'x' is not an integer");
+  h.frame = TraceFrame::kObject;
+  EXPECT_EQ(FormatSpoolFile(h, AwkwardTrace()).status().message(),
+            "registration_id 7 with the object's frame (a registration is for a rig frame)");
+}
+
 TEST(SpoolFileTest, BadHeadersAreNamed) {
   SpoolHeader h = Header();
   h.rig_id = "two\nlines";

@@ -44,6 +44,7 @@
 #include "clients/rig/scene_guard.h"
 #include "clients/rig/simulated_driver.h"
 #include "clients/rig/trace_spool.h"
+#include "server/codec/rig_registration_proto.h"
 #include "surfmap_version.h"
 
 namespace {
@@ -108,13 +109,13 @@ absl::StatusOr<surfmap::RigRegistration> FetchRegistration(const surfmap::cli::R
   grpc::ClientContext context;
   surfmap::cli::PrepareContext(remote, &context);
   grpc::Status status = objects->GetRigRegistration(&context, request, &response);
-  if (!status.ok()) return absl::UnavailableError(absl::StrCat("GetRigRegistration: ", status.error_message()));
-  const pb::RigRegistration& r = response.registration();
-  const pb::Quaternion& q = r.object_pose().rotation();
-  const pb::Vec3& t = r.object_pose().translation_mm();
-  const pb::Quaternion& s = r.sensor_rotation();
-  return surfmap::MakeRigRegistration({q.w(), q.x(), q.y(), q.z()}, Eigen::Vector3d(t.x(), t.y(), t.z()),
-                                      r.tip_radius_mm(), {s.w(), s.x(), s.y(), s.z()});
+  if (!status.ok()) {
+    // The server's code, so RigFrameDriver tells "unreachable" (retry) from
+    // "no such registration" (stop).
+    return absl::Status(static_cast<absl::StatusCode>(status.error_code()),
+                        absl::StrCat("GetRigRegistration: ", status.error_message()));
+  }
+  return surfmap::RigRegistrationFromProto(response.registration());
 }
 
 // The job's object as the server has it, for the simulated rig's scene check.
@@ -220,11 +221,9 @@ int RunRig(const RunArgs& args) {
                                         : absl::StrCat("sim-", args.sim, "-", ::getpid());
   options.job_id = args.job_id;
   options.max_commands = args.max_commands;
-  if (args.frame == "rig_base") {
-    options.frame = pb::TRACE_FRAME_RIG_BASE;
-  } else if (args.frame == "rig_base_sensor_forces") {
-    options.frame = pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES;
-  } else if (args.frame != "object") {
+  if (absl::StatusOr<surfmap::TraceFrame> frame = surfmap::ParseTraceFrame(args.frame); frame.ok()) {
+    options.frame = surfmap::TraceFrameToProto(*frame);
+  } else {
     std::cerr << "surfmap-rig: --frame must be object, rig_base or rig_base_sensor_forces, got '" << args.frame
               << "'\n";
     return 2;

@@ -21,7 +21,7 @@ JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, Coordinator
       steering_(store, &registry_, executors),
       probes_(store, &registry_, &rigs_, executors, options.default_lease_ms),
       imports_(store, &registry_, executors),
-      reads_(store) {}
+      reads_(store, &rigs_) {}
 
 absl::StatusOr<ObjectRecord> JobCoordinator::UploadObject(const std::string& name, MeshFormat format,
                                                           std::string bytes) {

@@ -141,7 +141,7 @@ class JobCoordinator {
   // ---- The map and refits (pool threads) ----
   absl::StatusOr<MapSnapshot> Map(int64_t job_id);
   absl::StatusOr<RefitOutcome> RefitJob(int64_t job_id, const FitOptions& options) {
-    return RefitJobTraces(*store_, job_id, options);
+    return RefitJobTraces(*store_, rigs_, job_id, options);
   }
 
   // ---- Watchers ----

@@ -6,6 +6,8 @@
 #include <atomic>
 #include <thread>
 
+#include <sqlite3.h>
+
 #include "gtest/gtest.h"
 #include "server/jobs/coordinator_fixture_for_test.h"
 #include "server/jobs/job_refit.h"
@@ -231,6 +233,53 @@ TEST_F(JobCoordinatorTest, OnlyRunningAndPausedJobsAreLoadedAtStart) {
   EXPECT_EQ(done->progress.measured, 2);
 }
 
+// A registered rig's lease answer traces the command's path on the surface
+// (for its rig-frame command): that runs on a pool, not on the completions
+// thread every store completion waits behind in commit order.
+TEST_F(JobCoordinatorTest, ARigFrameLeaseIsComputedOffTheCompletionsThread) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  RigRegistration registration;
+  registration.object_translation_mm = {400.0, 0.0, 0.0};
+  registration.tip_radius_mm = 2.0;
+  absl::StatusOr<RegisteredRig> rig = coordinator_->rigs().Register(object, "arm", registration);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  std::thread::id completions_thread;
+  completions_->Post([&] { completions_thread = std::this_thread::get_id(); });
+  completions_->Drain();
+
+  using Answered = std::pair<std::thread::id, absl::StatusOr<LeaseOutcome>>;
+  Awaited<Answered> leased;
+  coordinator_->probes().LeaseCommand("arm", job.record.id,
+                                      [done = leased.Callback()](absl::StatusOr<LeaseOutcome> o) {
+                                        done(Answered{std::this_thread::get_id(), std::move(o)});
+                                      });
+  std::optional<Answered> lease = leased.Get("LeaseCommand");
+  ASSERT_TRUE(lease && lease->second.ok() && lease->second->record);
+  EXPECT_NE(lease->first, completions_thread);
+  ASSERT_TRUE(lease->second->rig_frame);
+  ASSERT_TRUE(lease->second->rig_registration);
+  EXPECT_EQ(lease->second->rig_registration->record.id, rig->record.id);
+  EXPECT_GE(lease->second->rig_frame->tool_centre_path.size(), 2u);
+
+  // The next lease that comes with an accepted trace, likewise.
+  using Submitted = std::pair<std::thread::id, absl::StatusOr<SubmitOutcome>>;
+  Awaited<Submitted> submitted;
+  const DragTrace trace = TraceFor(*lease->second);
+  coordinator_->probes().SubmitTrace(
+      lease->second->record->id, "arm", [trace]() -> absl::StatusOr<DragTrace> { return trace; },
+      /*lease_next=*/true, [done = submitted.Callback()](absl::StatusOr<SubmitOutcome> o) {
+        done(Submitted{std::this_thread::get_id(), std::move(o)});
+      });
+  std::optional<Submitted> answer = submitted.Get("SubmitTrace");
+  ASSERT_TRUE(answer && answer->second.ok()) << (answer ? answer->second.status() : absl::OkStatus());
+  EXPECT_NE(answer->first, completions_thread);
+  ASSERT_TRUE(answer->second->next && answer->second->next->record && answer->second->next->rig_frame);
+  EXPECT_GE(answer->second->next->rig_frame->tool_centre_path.size(), 2u);
+  ASSERT_TRUE(answer->second->next->rig_registration);
+  EXPECT_EQ(answer->second->next->rig_registration->record.id, rig->record.id);
+}
+
 TEST_F(JobCoordinatorTest, ACancelledJobStillAcknowledgesTheIdenticalRetry) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);
@@ -256,13 +305,48 @@ TEST_F(JobCoordinatorTest, RefitsReadTracesPageByPage) {
   ASSERT_EQ(MeasureUntilDone(job.record.id, "rig"), 5);
   FitOptions options;
   options.ar_order = 3;
-  absl::StatusOr<RefitOutcome> refit = RefitJobTraces(*faults_, job.record.id, options, /*page_traces=*/2);
+  absl::StatusOr<RefitOutcome> refit = RefitJobTraces(*faults_, coordinator_->rigs(), job.record.id, options,
+                                                      /*page_traces=*/2);
   ASSERT_TRUE(refit.ok()) << refit.status();
   EXPECT_EQ(refit->refitted, 5) << "three pages of 2, 2 and 1 traces";
   EXPECT_EQ(refit->version, 2);
   absl::StatusOr<std::vector<SampleRecord>> samples = coordinator_->reads().ListSamples(job.record.id, 2);
   ASSERT_TRUE(samples.ok());
   EXPECT_EQ(samples->size(), 5u);
+}
+
+// A refit converts a rig-frame trace with its registration from memory,
+// decoded once: the stored row is not read again. Shown by damaging the
+// stored JSON after registering (a re-read would answer DATA_LOSS).
+TEST_F(JobCoordinatorTest, ARefitConvertsRigFrameTracesWithTheRegistrationInMemory) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object, /*budget=*/1);
+  RigRegistration registration;
+  registration.object_translation_mm = {400.0, -50.0, 20.0};
+  registration.tip_radius_mm = 1.0;
+  absl::StatusOr<RegisteredRig> rig = coordinator_->rigs().Register(object, "arm", registration);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "arm");
+  ASSERT_TRUE(lease.ok() && lease->record);
+  const DragTrace in_base = TraceFromObjectFrame(TraceFor(*lease), TraceFrame::kRigBase, registration);
+  Awaited<absl::StatusOr<SubmitOutcome>> submitted;
+  coordinator_->probes().SubmitTrace(
+      lease->record->id, "arm", [in_base]() -> absl::StatusOr<DragTrace> { return in_base; }, /*lease_next=*/false,
+      ProbeProtocol::TraceFrameChoice{TraceFrame::kRigBase, 0}, submitted.Callback());
+  std::optional<absl::StatusOr<SubmitOutcome>> accepted = submitted.Get("SubmitTrace");
+  ASSERT_TRUE(accepted && accepted->ok()) << (accepted ? accepted->status() : absl::OkStatus());
+
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(dir_.Path("surfmap.db").c_str(), &db), SQLITE_OK);
+  const char* damage = "UPDATE rig_registrations SET registration_json = '{\"damaged\": 1}'";
+  ASSERT_EQ(sqlite3_exec(db, damage, nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(db);
+  ASSERT_FALSE(DecodeRegistration(*faults_->GetRigRegistration(rig->record.id)).ok());
+
+  absl::StatusOr<RefitOutcome> refit = coordinator_->RefitJob(job.record.id, FitOptions{});
+  ASSERT_TRUE(refit.ok()) << refit.status();
+  EXPECT_EQ(refit->refitted, 1);
+  EXPECT_EQ(refit->failed, 0);
 }
 
 }  // namespace

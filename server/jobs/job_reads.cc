@@ -21,8 +21,8 @@ absl::StatusOr<TraceFit> JobReads::RecomputeFit(const SampleRecord& sample, FitO
   }
   // The fit was made in the object's frame: a trace sent in a rig's frame is
   // converted with the registration it was stored with.
-  absl::StatusOr<DragTrace> trace = StoredTraceInObjectFrame(*store_, sample.trace.id,
-                                                             FromStoredSamples(sample.trace.samples));
+  absl::StatusOr<DragTrace> trace =
+      rigs_->StoredTraceInObjectFrame(sample.trace.id, FromStoredSamples(sample.trace.samples));
   if (!trace.ok()) return trace.status();
   absl::StatusOr<TraceFit> fit = FitTrace(*trace, *parsed);
   if (!fit.ok()) {

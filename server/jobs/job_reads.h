@@ -9,13 +9,15 @@
 
 #include "absl/status/statusor.h"
 #include "server/estimate/fit_trace.h"
+#include "server/jobs/rig_registrations.h"
 #include "storage/store.h"
 
 namespace surfmap {
 
 class JobReads {
  public:
-  explicit JobReads(Store* store) : store_(store) {}
+  // `rigs`: converts traces sent in a rig's frame (RecomputeFit).
+  JobReads(Store* store, const RigRegistrations* rigs) : store_(store), rigs_(rigs) {}
 
   absl::StatusOr<ObjectRecord> GetObject(int64_t object_id) { return store_->GetObject(object_id, false); }
   absl::StatusOr<std::vector<ObjectRecord>> ListObjects() { return store_->ListObjects(); }
@@ -51,6 +53,7 @@ class JobReads {
 
  private:
   Store* const store_;
+  const RigRegistrations* const rigs_;
 };
 
 }  // namespace surfmap

@@ -10,8 +10,8 @@
 
 namespace surfmap {
 
-absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, int64_t job_id, const FitOptions& options,
-                                            int page_traces) {
+absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, const RigRegistrations& rigs, int64_t job_id,
+                                            const FitOptions& options, int page_traces) {
   std::string why;
   if (!options.IsValid(&why)) return absl::InvalidArgumentError("estimator settings: " + why);
   RefitOutcome outcome;
@@ -28,7 +28,7 @@ absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, int64_t job_id, const 
       // Fits are made in the object's frame (a trace sent in a rig's frame
       // is converted with the registration it was stored with).
       SURFMAP_ASSIGN_OR_RETURN(DragTrace samples,
-                               StoredTraceInObjectFrame(store, trace.id, FromStoredSamples(trace.samples)));
+                               rigs.StoredTraceInObjectFrame(trace.id, FromStoredSamples(trace.samples)));
       absl::StatusOr<TraceFit> fit = FitTrace(samples, options);
       if (!fit.ok()) {
         ++outcome.failed;

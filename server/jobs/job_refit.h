@@ -10,6 +10,7 @@
 
 #include "absl/status/statusor.h"
 #include "server/estimate/fit_trace.h"
+#include "server/jobs/rig_registrations.h"
 #include "storage/store.h"
 
 namespace surfmap {
@@ -23,7 +24,8 @@ struct RefitOutcome {
 // Traces read per page (a page of 1,000-sample traces is ~15 MB decoded).
 inline constexpr int kRefitPageTraces = 256;
 
-absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, int64_t job_id, const FitOptions& options,
-                                            int page_traces = kRefitPageTraces);
+// `rigs`: converts traces sent in a rig's frame (their registrations from memory).
+absl::StatusOr<RefitOutcome> RefitJobTraces(Store& store, const RigRegistrations& rigs, int64_t job_id,
+                                            const FitOptions& options, int page_traces = kRefitPageTraces);
 
 }  // namespace surfmap

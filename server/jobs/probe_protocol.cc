@@ -82,17 +82,23 @@ void CommandContactPath(const LoopSurface& surface, const ProbeCommand& command,
 
 }  // namespace
 
-void ProbeProtocol::AttachRigFrame(LeaseOutcome& outcome, const std::string& rig_id) const {
-  if (!outcome.command || !outcome.record || rigs_ == nullptr) return;
+std::optional<ProbeProtocol::RigFrameSource> ProbeProtocol::RigFrameSourceOf(const LeaseOutcome& outcome,
+                                                                             const std::string& rig_id) const {
+  if (!outcome.command || !outcome.record || rigs_ == nullptr) return std::nullopt;
   std::shared_ptr<JobRuntime> runtime = registry_->Find(outcome.record->job_id);
-  if (!runtime) return;
+  if (!runtime) return std::nullopt;
   std::shared_ptr<const RegisteredRig> rig = rigs_->Latest(runtime->object_id, rig_id);
-  if (!rig) return;
+  if (!rig) return std::nullopt;
+  return RigFrameSource{runtime->surface, std::move(rig)};
+}
+
+void ProbeProtocol::AttachRigFrame(LeaseOutcome& outcome, const RigFrameSource& source) {
   const ProbeCommand& c = *outcome.command;
   std::vector<Eigen::Vector3d> points, normals;
-  if (runtime->surface) CommandContactPath(*runtime->surface, c, &points, &normals);
-  outcome.rig_frame = CommandInRigFrame(rig->registration, c.position, c.normal, c.drag_direction, points, normals);
-  outcome.rig_registration = std::move(rig);
+  if (source.surface) CommandContactPath(*source.surface, c, &points, &normals);
+  outcome.rig_frame =
+      CommandInRigFrame(source.rig->registration, c.position, c.normal, c.drag_direction, points, normals);
+  outcome.rig_registration = source.rig;
 }
 
 absl::StatusOr<std::shared_ptr<const RegisteredRig>> ProbeProtocol::TraceRegistration(
@@ -104,14 +110,15 @@ absl::StatusOr<std::shared_ptr<const RegisteredRig>> ProbeProtocol::TraceRegistr
                                         "(TRACE_FRAME_OBJECT): a registration is only read for a rig frame");
     }
     if (rigs_ == nullptr) return absl::FailedPreconditionError("this server keeps no rig registrations");
-    absl::StatusOr<RegisteredRig> rig = rigs_->Get(frame.registration_id);
+    absl::StatusOr<std::shared_ptr<const RegisteredRig>> rig = rigs_->Get(frame.registration_id);
     if (!rig.ok()) return rig.status();
-    if (rig->record.object_id != object_id || rig->record.rig_name != rig_id) {
+    const RigRegistrationRecord& record = (*rig)->record;
+    if (record.object_id != object_id || record.rig_name != rig_id) {
       return absl::InvalidArgumentError(absl::StrCat(
-          "registration ", frame.registration_id, " is rig '", rig->record.rig_name, "' on object ",
-          rig->record.object_id, ", not rig '", rig_id, "' on object ", object_id, " (the command's job's object)"));
+          "registration ", frame.registration_id, " is rig '", record.rig_name, "' on object ", record.object_id,
+          ", not rig '", rig_id, "' on object ", object_id, " (the command's job's object)"));
     }
-    return std::make_shared<const RegisteredRig>(std::move(*rig));
+    return *std::move(rig);
   }
   std::shared_ptr<const RegisteredRig> latest = rigs_ ? rigs_->Latest(object_id, rig_id) : nullptr;
   if (!latest && frame.frame != TraceFrame::kObject) {
@@ -153,8 +160,15 @@ void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, Leas
     executors_.completions->Post([this, rig_id, leased = std::move(leased), done = std::move(done)]() mutable {
       if (!leased.ok()) return done(leased.status());
       absl::StatusOr<LeaseOutcome> outcome = LeaseOutcomeOf(std::move(*leased));
-      if (outcome.ok()) AttachRigFrame(*outcome, rig_id);
-      done(std::move(outcome));
+      if (!outcome.ok()) return done(outcome.status());
+      std::optional<RigFrameSource> source = RigFrameSourceOf(*outcome, rig_id);
+      if (!source) return done(std::move(outcome));
+      // Tracing the surface path is off the completions thread (see AttachRigFrame).
+      executors_.probes->Post([outcome = std::move(*outcome), source = std::move(*source),
+                               done = std::move(done)]() mutable {
+        AttachRigFrame(outcome, source);
+        done(std::move(outcome));
+      });
     });
   });
 }
@@ -367,17 +381,25 @@ void ProbeProtocol::ApplyAcceptedTrace(const TraceWrite& pending, absl::StatusOr
     }
     finished = IsFinalJobState(runtime.durable_state);
   }
+  std::optional<RigFrameSource> next_frame;
   if (pending.lease_next) {
     absl::StatusOr<LeaseOutcome> next = LeaseOutcomeOf(std::move(result->next_command));
     if (!next.ok()) return done(next.status());
     if (!next->record) next->job_finished = finished;
-    AttachRigFrame(*next, pending.rig_id);
+    next_frame = RigFrameSourceOf(*next, pending.rig_id);
     outcome.next = std::move(*next);
   }
   if (finished) registry_->NoteFinished(runtime.job_id);
   if (completed_now) LogJobCompleted(runtime.job_id, outcome.progress);
   if (pending.plan_changed) NotifyListeners(runtime);
-  done(std::move(outcome));
+  if (!next_frame) return done(std::move(outcome));
+  // The memory is up to date (above, in commit order); only the answer waits
+  // for the next command's rig frame, traced off the completions thread.
+  executors_.probes->Post([outcome = std::move(outcome), source = std::move(*next_frame),
+                           done = std::move(done)]() mutable {
+    AttachRigFrame(*outcome.next, source);
+    done(std::move(outcome));
+  });
 }
 
 // ---------------------------------------------------------------- failures

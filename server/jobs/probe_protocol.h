@@ -100,11 +100,21 @@ class ProbeProtocol {
   absl::StatusOr<std::shared_ptr<const RegisteredRig>> TraceRegistration(const CommandContext& context,
                                                                          const std::string& rig_id,
                                                                          TraceFrameChoice frame) const;
-  // Adds the command in the rig's frame to a lease, when the rig is registered
-  // to the job's object: traces the commanded drag on the job's surface
-  // (centred on the site where the surface allows, 1 mm steps) for the
-  // tool-centre path. In memory only (no store read); ~0.1 ms.
-  void AttachRigFrame(LeaseOutcome& outcome, const std::string& rig_id) const;
+  // What a lease's command in the rig's frame is computed from: the rig's
+  // latest registration to the job's object, and the job's surface.
+  struct RigFrameSource {
+    std::shared_ptr<const LoopSurface> surface;  // null: the site alone
+    std::shared_ptr<const RegisteredRig> rig;
+  };
+  // Nullopt when the lease has no command or the rig is not registered to
+  // the job's object (then the answer needs no rig frame). In-memory lookups.
+  std::optional<RigFrameSource> RigFrameSourceOf(const LeaseOutcome& outcome, const std::string& rig_id) const;
+  // Adds the command in the rig's frame to a lease: traces the commanded drag
+  // on the job's surface (centred on the site where the surface allows, 1 mm
+  // steps; two or three TraceDragPath calls) for the tool-centre path. Runs
+  // on the probes pool, never on the completions thread (which runs every
+  // store completion in commit order): a lease answer has no order to keep.
+  static void AttachRigFrame(LeaseOutcome& outcome, const RigFrameSource& source);
   // Keeps a trace refused as implausible (out of the map, with an event) and
   // answers the refusal. `trace` is as sent, in `frame` (stored with it).
   void KeepRejected(const CommandContext& context, const std::string& rig_id, const DragTrace& trace,

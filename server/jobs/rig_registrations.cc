@@ -26,8 +26,9 @@ absl::Status RigRegistrations::Load() {
   return absl::OkStatus();
 }
 
-void RigRegistrations::Remember(std::shared_ptr<const RegisteredRig> rig) {
+void RigRegistrations::Remember(std::shared_ptr<const RegisteredRig> rig) const {
   MutexLock lock(&mu_);
+  by_id_.emplace(rig->record.id, rig);
   std::shared_ptr<const RegisteredRig>& slot = latest_[Key{rig->record.object_id, rig->record.rig_name}];
   // Two registrations stored concurrently may arrive here out of order.
   if (!slot || slot->record.version < rig->record.version) slot = std::move(rig);
@@ -50,16 +51,18 @@ std::shared_ptr<const RegisteredRig> RigRegistrations::Latest(int64_t object_id,
   return it == latest_.end() ? nullptr : it->second;
 }
 
-absl::StatusOr<RegisteredRig> RigRegistrations::Get(int64_t registration_id) const {
+absl::StatusOr<std::shared_ptr<const RegisteredRig>> RigRegistrations::Get(int64_t registration_id) const {
   if (registration_id <= 0) return absl::InvalidArgumentError("registration_id must be a positive id");
   {
     MutexLock lock(&mu_);
-    for (const auto& [key, rig] : latest_) {
-      if (rig->record.id == registration_id) return *rig;
-    }
+    auto it = by_id_.find(registration_id);
+    if (it != by_id_.end()) return it->second;
   }
   SURFMAP_ASSIGN_OR_RETURN(RigRegistrationRecord record, store_->GetRigRegistration(registration_id));
-  return DecodeRegistration(std::move(record));
+  SURFMAP_ASSIGN_OR_RETURN(RegisteredRig rig, DecodeRegistration(std::move(record)));
+  auto shared = std::make_shared<const RegisteredRig>(std::move(rig));
+  Remember(shared);
+  return shared;
 }
 
 absl::StatusOr<std::vector<RegisteredRig>> RigRegistrations::List(int64_t object_id, bool include_history) const {
@@ -80,16 +83,16 @@ absl::StatusOr<std::vector<RegisteredRig>> RigRegistrations::List(int64_t object
   return out;
 }
 
-absl::StatusOr<DragTrace> StoredTraceInObjectFrame(Store& store, int64_t trace_id, const DragTrace& as_stored) {
-  SURFMAP_ASSIGN_OR_RETURN(TraceFrameRecord frame_record, store.GetTraceFrame(trace_id));
+absl::StatusOr<DragTrace> RigRegistrations::StoredTraceInObjectFrame(int64_t trace_id,
+                                                                      const DragTrace& as_stored) const {
+  SURFMAP_ASSIGN_OR_RETURN(TraceFrameRecord frame_record, store_->GetTraceFrame(trace_id));
   absl::StatusOr<TraceFrame> frame = ParseTraceFrame(frame_record.frame);
   if (!frame.ok()) {
     return absl::DataLossError(absl::StrCat("trace ", trace_id, ": stored frame: ", frame.status().message()));
   }
   if (*frame == TraceFrame::kObject) return as_stored;
-  SURFMAP_ASSIGN_OR_RETURN(RigRegistrationRecord record, store.GetRigRegistration(frame_record.registration_id));
-  SURFMAP_ASSIGN_OR_RETURN(RegisteredRig rig, DecodeRegistration(std::move(record)));
-  return TraceToObjectFrame(as_stored, *frame, rig.registration);
+  SURFMAP_ASSIGN_OR_RETURN(std::shared_ptr<const RegisteredRig> rig, Get(frame_record.registration_id));
+  return TraceToObjectFrame(as_stored, *frame, rig->registration);
 }
 
 }  // namespace surfmap

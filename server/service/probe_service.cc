@@ -118,7 +118,6 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
       return;
     }
     AppendSamples(chunk_.samples(), &samples_);
-    ++chunks_;
     StartRead(&chunk_);
   }
 
@@ -130,7 +129,6 @@ class SubmitStreamReactor final : public grpc::ServerReadReactor<pb::SubmitTrace
   pb::SubmitTraceResponse* response_;
   pb::SubmitTraceChunk chunk_;
   int64_t command_id_ = 0;
-  int64_t chunks_ = 0;
   std::string rig_id_;
   bool lease_next_ = false;
   pb::Provenance provenance_;
@@ -170,13 +168,9 @@ void ProbeServiceImpl::Submit(int64_t command_id, const std::string& rig_id, con
   if (!provenance.ok()) return finish(provenance.status());
   std::string metadata_json = MetadataJsonOf(*provenance);
   ProbeProtocol::TraceFrameChoice choice;
-  switch (frame) {
-    case pb::TRACE_FRAME_UNSPECIFIED:  // rigs from before frames existed
-    case pb::TRACE_FRAME_OBJECT: choice.frame = TraceFrame::kObject; break;
-    case pb::TRACE_FRAME_RIG_BASE: choice.frame = TraceFrame::kRigBase; break;
-    case pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES: choice.frame = TraceFrame::kRigBaseSensorForces; break;
-    default: return finish(absl::InvalidArgumentError(absl::StrCat("frame: unknown value ", frame)));
-  }
+  absl::StatusOr<TraceFrame> parsed_frame = TraceFrameFromProto(frame);
+  if (!parsed_frame.ok()) return finish(parsed_frame.status());
+  choice.frame = *parsed_frame;
   if (registration_id < 0) return finish(absl::InvalidArgumentError("registration_id must be >= 0 (0 = the latest)"));
   choice.registration_id = registration_id;
   const int max_samples = s_.config->max_trace_samples;

@@ -43,9 +43,9 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::GetRigRegistration(grpc::CallbackSe
   return HandleUnary(context, s_, Role::kRead, "GetRigRegistration", [&]() -> absl::Status {
     RigRegistrations& rigs = s_.coordinator->rigs();
     if (request->registration_id() != 0) {
-      absl::StatusOr<RegisteredRig> rig = rigs.Get(request->registration_id());
+      absl::StatusOr<std::shared_ptr<const RegisteredRig>> rig = rigs.Get(request->registration_id());
       if (!rig.ok()) return rig.status();
-      *response->mutable_registration() = RegisteredRigToProto(*rig);
+      *response->mutable_registration() = RegisteredRigToProto(**rig);
       return absl::OkStatus();
     }
     if (request->object_id() <= 0 || request->rig_name().empty()) {

@@ -1,4 +1,5 @@
 #include "absl/strings/str_cat.h"
+#include "server/codec/rig_registration_proto.h"
 #include "server/jobs/stored_trace.h"
 #include "server/service/provenance_proto.h"
 #include "server/service/grpc_services.h"
@@ -22,9 +23,14 @@ grpc::ServerUnaryReactor* TraceServiceImpl::GetTrace(grpc::CallbackServerContext
     if (response->import().source().empty()) response->clear_import();  // a leased trace
     absl::StatusOr<TraceFrameRecord> frame = s_.coordinator->reads().GetTraceFrame(trace->id);
     if (!frame.ok()) return frame.status();
-    response->set_frame(frame->frame == "rig_base"                 ? pb::TRACE_FRAME_RIG_BASE
-                        : frame->frame == "rig_base_sensor_forces" ? pb::TRACE_FRAME_RIG_BASE_SENSOR_FORCES
-                                                                   : pb::TRACE_FRAME_OBJECT);
+    // A frame this build does not know is a damaged row, as the refit
+    // (StoredTraceInObjectFrame) says for it, never silently the object's.
+    absl::StatusOr<TraceFrame> parsed = ParseTraceFrame(frame->frame);
+    if (!parsed.ok()) {
+      return absl::DataLossError(
+          absl::StrCat("trace ", trace->id, ": stored frame: ", parsed.status().message()));
+    }
+    response->set_frame(TraceFrameToProto(*parsed));
     response->set_registration_id(frame->registration_id);
     return absl::OkStatus();
   });

@@ -13,6 +13,7 @@
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
+#include <sqlite3.h>
 
 #include "absl/strings/match.h"
 #include "gtest/gtest.h"
@@ -304,6 +305,23 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   ASSERT_THAT(after, IsOk());
   ASSERT_TRUE(after->has_rig_frame());
   EXPECT_EQ(after->rig_frame().registration_id(), registration_id);
+
+  // A stored frame this build does not know (written by a newer server, or
+  // damaged) is DATA_LOSS, as a refit says for it, never the object's frame.
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open_v2(setup->server->db_path().c_str(), &db, SQLITE_OPEN_READWRITE, nullptr), SQLITE_OK);
+    sqlite3_busy_timeout(db, 10000);
+    const std::string sql = "PRAGMA ignore_check_constraints = ON; UPDATE trace_frames SET frame = 'rig_tool' "
+                            "WHERE trace_id = " + std::to_string(rig_answer.sample().trace_id());
+    char* error = nullptr;
+    EXPECT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error), SQLITE_OK) << (error ? error : "");
+    sqlite3_free(error);
+    sqlite3_close_v2(db);
+  }
+  get_trace.set_trace_id(rig_answer.sample().trace_id());
+  EXPECT_THAT(FromGrpc(restarted.traces->GetTrace(Context().get(), get_trace, &stored), "GetTrace"),
+              StatusIs(absl::StatusCode::kDataLoss, HasSubstr("stored frame")));
 }
 
 }  // namespace

@@ -315,8 +315,13 @@ class Rig:
         also lease this rig's next command of the job in the same write
         (``result.next``).
         """
+        # The frame and registration go with the trace: a later run resubmits it
+        # in them, whatever its own frame.
+        registration_id = 0
+        if self.frame != "object" and command.rig_frame is not None:
+            registration_id = command.rig_frame.registration_id
         header = SpoolHeader(command.command_id, command.job_id, command.attempt, self.rig_id,
-                             int(time.time() * 1000))
+                             int(time.time() * 1000), self.frame, registration_id)
         try:
             path = self.spool.add(header, trace)
         except SurfmapError as invalid:
@@ -428,7 +433,8 @@ class Rig:
     def _deliver(self, path: Path, header: SpoolHeader, trace: r.Trace, lease_next: bool) -> SubmitResult:
         request = pb.SubmitTraceRequest(command_id=header.command_id, rig_id=header.rig_id,
                                         samples=probe.trace_samples(trace), lease_next=lease_next,
-                                        frame=TRACE_FRAMES[self.frame])
+                                        frame=TRACE_FRAMES[header.frame],
+                                        registration_id=header.registration_id)
         try:
             result = probe.submit_result(self._call("SubmitTrace", request))
         except SurfmapError as error:
@@ -537,7 +543,7 @@ def run_rig(client: SurfmapClient, measure: Measure, rig_id: str, job_id: int = 
     "rig_base" or "rig_base_sensor_forces" (positions in the rig's base
     frame, forces in its F/T sensor's). A rig frame needs the rig registered
     to the object (``client.set_rig_registration``); ``command.rig_frame``
-    then has the command in the base frame. Spooled traces are resubmitted
-    in the frame of the run that resubmits them."""
+    then has the command in the base frame. A spooled trace is resubmitted
+    in the frame (and with the registration) it was measured in."""
     with Rig(client, rig_id, spool_dir, retry_for_s, on_event=on_event, frame=frame) as rig:
         return rig.run(measure, job_id, max_commands, stop, on_progress)

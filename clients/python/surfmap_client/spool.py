@@ -16,9 +16,15 @@ header::
     # attempt: 1
     # rig_id: lab-arm-1
     # measured_unix_ms: 1795000000123
+    # frame: rig_base                      only for a trace in a rig's frame
+    # registration_id: 7                   (both, or neither)
     t,x,y,z,fx,fy,fz,phase
     0.0,9.9899,-5.0072,2.9973,-0.64094,-0.03418,6.09862,fwd
 
+A file without ``frame`` (every file written before frames existed) holds a
+trace in the object's frame. A spooled trace is resubmitted in the frame and
+with the registration it was measured in, whatever the frame of the run that
+resubmits it.
 Numbers are written with ``repr`` (the shortest text that reads back to the
 same double), so a resubmission is bit-identical to the first submission.
 Files are written atomically (temp file, fsync, rename, fsync of the
@@ -44,6 +50,8 @@ from .errors import SurfmapError, invalid_argument
 
 VERSION_LINE = "# surfmap spooled trace v1"
 HEADER_KEYS = ("command_id", "job_id", "attempt", "rig_id", "measured_unix_ms")
+# The frames a spooled trace may be in (names as surfmap-rig's --frame).
+SPOOL_FRAMES = ("object", "rig_base", "rig_base_sensor_forces")
 CSV_HEADER = "t,x,y,z,fx,fy,fz,phase"
 TRACE_SUFFIX = ".trace.csv"
 REASON_SUFFIX = ".reason"
@@ -61,6 +69,8 @@ class SpoolHeader:
     attempt: int
     rig_id: str
     measured_unix_ms: int
+    frame: str = "object"         # the frame the trace's samples are in (SPOOL_FRAMES)
+    registration_id: int = 0      # a rig frame's registration (0 = the latest)
 
 
 @dataclass(frozen=True)
@@ -111,6 +121,14 @@ def check_header(header: SpoolHeader, method: str = "spool") -> None:
         raise invalid_argument(method, f"rig_id must have 1..100 characters, has {len(header.rig_id)}")
     if any(ord(c) < 0x20 or ord(c) == 0x7F for c in header.rig_id):
         raise invalid_argument(method, "rig_id must not contain control characters (newline, tab, ...)")
+    if header.frame not in SPOOL_FRAMES:
+        raise invalid_argument(method, f"unknown trace frame \"{header.frame}\"; expected object, rig_base or "
+                                       "rig_base_sensor_forces")
+    if header.registration_id < 0:
+        raise invalid_argument(method, f"registration_id {header.registration_id} is < 0")
+    if header.frame == "object" and header.registration_id != 0:
+        raise invalid_argument(method, f"registration_id {header.registration_id} with the object's frame "
+                                       "(a registration is for a rig frame)")
 
 
 def format_spool_file(header: SpoolHeader, trace: r.Trace) -> str:
@@ -118,7 +136,11 @@ def format_spool_file(header: SpoolHeader, trace: r.Trace) -> str:
     check_header(header)
     lines = [VERSION_LINE, f"# command_id: {header.command_id}", f"# job_id: {header.job_id}",
              f"# attempt: {header.attempt}", f"# rig_id: {header.rig_id}",
-             f"# measured_unix_ms: {header.measured_unix_ms}", CSV_HEADER]
+             f"# measured_unix_ms: {header.measured_unix_ms}"]
+    # Object-frame files stay as before frames existed (older rigs read them).
+    if header.frame != "object":
+        lines += [f"# frame: {header.frame}", f"# registration_id: {header.registration_id}"]
+    lines.append(CSV_HEADER)
     xyz = np.asarray(trace.xyz, dtype=float)
     f = np.asarray(trace.f, dtype=float)
     names = {int(p): n for p, n in probe.PHASE_NAMES.items()}
@@ -156,13 +178,29 @@ def parse_spool_file(text: str, source: str) -> tuple[SpoolHeader, r.Trace]:
             numbers[key] = int(value)
         except ValueError:
             raise error(number, f"{key} '{value}' is not an integer") from None
+    # The optional frame keys: both or neither.
+    frame, registration_id = "object", 0
+    first = len(HEADER_KEYS) + 2
+    if first <= len(lines) and lines[first - 1].startswith("# frame: "):
+        frame = lines[first - 1].rstrip("\r")[len("# frame: "):]
+        if frame not in SPOOL_FRAMES:
+            raise error(first, f"frame: unknown trace frame \"{frame}\"; expected object, rig_base or "
+                               "rig_base_sensor_forces")
+        line = lines[first].rstrip("\r") if first < len(lines) else ""
+        prefix = "# registration_id: "
+        if not line.startswith(prefix):
+            raise error(first + 1, f"expected '{prefix}<value>' after the frame, found '{line[:60]}'")
+        try:
+            registration_id = int(line[len(prefix):])
+        except ValueError:
+            raise error(first + 1, f"registration_id '{line[len(prefix):]}' is not an integer") from None
+        first += 2
     header = SpoolHeader(numbers["command_id"], numbers["job_id"], numbers["attempt"], rig_id,
-                         numbers["measured_unix_ms"])
+                         numbers["measured_unix_ms"], frame, registration_id)
     try:
         check_header(header)
     except SurfmapError as bad:
         raise error(2, f"header: {bad.message}") from None
-    first = len(HEADER_KEYS) + 2
     while first <= len(lines) and (not lines[first - 1].strip() or lines[first - 1].lstrip().startswith("#")):
         first += 1
     if first > len(lines) or lines[first - 1].strip().replace(" ", "") != CSV_HEADER:

@@ -16,6 +16,7 @@ import pytest
 
 import surfmap_client as sc
 from surfmap_client.driver_protocol import DriverProcess
+from surfmap_client._stubs import pb
 from surfmap_client.local_processes import LocalServer
 
 from conftest import SCENE
@@ -351,3 +352,42 @@ def test_run_rig_in_the_rig_frame(client, plate, simulator, tmp_path):
             rig.submit(command, to_rig_frame(simulator.measure(command), sensor_forces=False))
     assert refused.value.code == grpc.StatusCode.INVALID_ARGUMENT
     assert "implausible trace: frame: the trace looks like it is in the rig's base frame" in str(refused.value)
+
+
+def test_a_spooled_rig_frame_trace_is_resubmitted_in_its_frame(client, plate, simulator, lab, tmp_path):
+    """A trace spooled by a rig-frame run keeps its frame and registration: a
+    later object-frame run (Python, then surfmap-rig) resubmits it as it was measured."""
+    rig_id = "py-rig-frame-spool"
+    reg = client.set_rig_registration(plate.object_id, rig_id, POSE_WXYZ, POSE_T, tip_radius_mm=2.0,
+                                      sensor_rotation_wxyz=SENSOR_WXYZ)
+    job = uniform_job(client, plate, budget=2)
+    spool_dir = tmp_path / "spool"
+    traces = {}
+
+    def spool_one(measured_ms: int) -> None:
+        """Leases and measures in the rig's frame, as if the rig crashed before submitting."""
+        with sc.Rig(client, rig_id, spool_dir, on_event=lambda line: None, frame="rig_base_sensor_forces") as rig:
+            command = lease_command(rig, job.job_id)
+            assert command.rig_frame is not None
+            traces[command.command_id] = to_rig_frame(simulator.measure(command))
+            header = sc.spool.SpoolHeader(command.command_id, command.job_id, command.attempt, rig_id, measured_ms,
+                                          "rig_base_sensor_forces", command.rig_frame.registration_id)
+            rig.spool.add(header, traces[command.command_id])
+
+    spool_one(1000)
+    with sc.Rig(client, rig_id, spool_dir, on_event=lambda line: None) as rig:  # this run's frame: the object's
+        summary = rig.resubmit_spool()
+    assert (summary.resubmitted, summary.rejected, summary.error) == (1, 0, None)
+    spool_one(2000)
+    result = subprocess.run([lab.rig, "--server", client.address, "--sim", SCENE, "--job", str(job.job_id),
+                             "--rig-id", rig_id, "--spool", str(spool_dir), "--quiet"],  # no --frame: the object's
+                            capture_output=True, text=True, timeout=60)
+    assert result.returncode == 0, result.stdout + result.stderr
+    assert "1 spooled trace resubmitted" in result.stdout
+    samples = {s.command_id: s for s in client.list_samples(job.job_id)}
+    assert set(samples) == set(traces)
+    for command_id, trace in traces.items():
+        stored = client._traces.GetTrace(pb.GetTraceRequest(trace_id=samples[command_id].trace_id))
+        assert (stored.frame, stored.registration_id) == (pb.TRACE_FRAME_RIG_BASE_SENSOR_FORCES,
+                                                          reg["registration_id"])
+        assert bits(stored.samples.fx) == bits(np.asarray(trace.f)[:, 0])

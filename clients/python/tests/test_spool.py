@@ -65,6 +65,36 @@ def test_a_file_as_surfmap_rig_writes_it_is_read():
     assert np.signbit(trace.xyz[2, 2])
 
 
+def test_a_rig_frame_trace_keeps_its_frame_and_registration():
+    rig_header = SpoolHeader(17, 3, 2, "lab arm #1", 1795000000123, "rig_base_sensor_forces", 7)
+    text = format_spool_file(rig_header, awkward_trace())
+    assert ("# measured_unix_ms: 1795000000123\n# frame: rig_base_sensor_forces\n# registration_id: 7\n"
+            "t,x,y,z") in text
+    assert parse_spool_file(text, "f.csv")[0] == rig_header
+    # A file from before frames (no keys): the object's frame.
+    old_header, _ = parse_spool_file(format_spool_file(header(), awkward_trace()), "old.csv")
+    assert (old_header.frame, old_header.registration_id) == ("object", 0)
+    # The file surfmap-rig writes for the same header reads the same.
+    cpp = ("# surfmap spooled trace v1\n# command_id: 5\n# job_id: 1\n# attempt: 1\n# rig_id: r\n"
+           "# measured_unix_ms: 1000\n# frame: rig_base\n# registration_id: 4\nt,x,y,z,fx,fy,fz,phase\n"
+           "0,0,0,0,-1.5,0,5,fwd\n0.01,1e-05,0,0,0,0,5,pause\n0.02,0,0,-0,1.5,0,5,rev\n")
+    assert parse_spool_file(cpp, "cpp.csv")[0] == SpoolHeader(5, 1, 1, "r", 1000, "rig_base", 4)
+    for edit, message in [
+            (lambda s: s.replace("rig_base_sensor_forces", "tool"),
+             'f:7: frame: unknown trace frame "tool"; expected object, rig_base or rig_base_sensor_forces'),
+            (lambda s: s.replace("# registration_id: 7\n", ""),
+             "f:8: expected '# registration_id: <value>' after the frame, found 't,x,y,z,fx,fy,fz,phase'"),
+            (lambda s: s.replace("# registration_id: 7", "# registration_id: x"),
+             "f:8: registration_id 'x' is not an integer"),
+            (lambda s: s.replace("rig_base_sensor_forces", "object"),
+             "f:2: header: registration_id 7 with the object's frame (a registration is for a rig frame)")]:
+        with pytest.raises(sc.SurfmapError) as error:
+            parse_spool_file(edit(text), "f")
+        assert error.value.message == message
+    with pytest.raises(sc.SurfmapError, match="registration_id 7 with the object's frame"):
+        format_spool_file(SpoolHeader(17, 3, 2, "r", 1, "object", 7), awkward_trace())
+
+
 @pytest.mark.parametrize("edit, message", [
     (lambda s: "t,x\n", "f:1: not a spool file: the first line must be '# surfmap spooled trace v1'"),
     (lambda s: s.replace("# job_id: 3\n", ""), "f:3: expected '# job_id: <value>', found '# attempt: 2'"),

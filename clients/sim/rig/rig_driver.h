@@ -13,19 +13,17 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "server/estimate/drag_trace.h"
+#include "server/frames/rig_frames.h"
 
 namespace surfmap {
 
 // The command in the rig's base frame (frames and calibration; the server
-// sends it when the rig is registered to the object): contact points, mm.
+// sends it when the rig is registered to the object): the server's
+// RigFrameCommand (contact points, mm; tool_centre_path ~1 mm apart), with
+// the registration it was computed with and that registration's tip.
 struct RigFrameRequest {
   std::int64_t registration_id = 0;
-  Eigen::Vector3d position = Eigen::Vector3d::Zero();
-  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
-  Eigen::Vector3d drag_direction = Eigen::Vector3d::UnitX();
-  Eigen::Vector3d start = Eigen::Vector3d::Zero();
-  Eigen::Vector3d end = Eigen::Vector3d::Zero();
-  std::vector<Eigen::Vector3d> tool_centre_path;  // contact + tip radius x outward normal, ~1 mm apart
+  RigFrameCommand command;
   double tip_radius_mm = 0.0;
 };
 
