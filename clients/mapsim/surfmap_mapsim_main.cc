@@ -65,6 +65,7 @@ int Main(int argc, char** argv) {
   int rig_level = 3;
   bool details = false;
   bool follow = false;
+  double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -85,6 +86,10 @@ int Main(int argc, char** argv) {
   app.add_option("--rig-level", rig_level, "Loop level of the simulated rig's surface")->capture_default_str();
   app.add_flag("--follow-boundaries", follow,
                "boundary plans follow every boundary a drag crossed before choosing by uncertainty (an experiment)");
+  app.add_option("--coverage-skip-share", coverage_skip_share,
+                 "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
+                 "length of (0: drag every one, the build before)")
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -99,6 +104,7 @@ int Main(int argc, char** argv) {
   base.sample_budget = budget;
   base.seed = seed;
   base.follow_boundaries = follow;
+  base.coverage_skip_share = coverage_skip_share;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

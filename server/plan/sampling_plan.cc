@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "absl/strings/str_cat.h"
+#include "server/geometry/segment_distance.h"
 #include "server/plan/boundary_tracing.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/site_order.h"
@@ -213,6 +214,29 @@ void SamplingPlan::SkipAllPending(std::string_view reason) {
   pending_.clear();
 }
 
+void SamplingPlan::SkipCoveredBy(int measured_vertex) {
+  const LineSample& line = *sites_.at(measured_vertex).line;
+  const SurfaceLevel& finest = *levels_.back();
+  const double skip_mm = options_.coverage_skip_share * options_.probe.segment_length_mm;
+  for (auto it = pending_.begin(); it != pending_.end();) {
+    SiteRecord& r = sites_.at(std::get<3>(*it));
+    bool covered = false;
+    for (size_t i = 0; !covered && i + 1 < line.path_points.size(); ++i) {
+      covered = DistanceToSegment(finest.limit_positions[r.site.vertex], line.path_points[i],
+                                  line.path_points[i + 1]) <= skip_mm;
+    }
+    if (r.origin != SiteOrigin::kInitial || r.failures > 0 || !covered) {
+      ++it;
+      continue;
+    }
+    CountSite(r, -1);
+    r.state = SiteState::kSkipped;
+    CountSite(r, +1);
+    r.reason = absl::StrCat("covered by the drag at vertex ", measured_vertex);
+    it = pending_.erase(it);
+  }
+}
+
 std::optional<ProbeCommand> SamplingPlan::NextCommand() {
   if (pending_.empty()) return std::nullopt;
   if (budget_ > 0 && measured_count_ + static_cast<int>(outstanding_.size()) >= budget_) {
@@ -297,6 +321,7 @@ absl::Status SamplingPlan::RecordMeasurement(std::uint64_t sequence, const Textu
   map_stale_ = true;
   region_map_stale_ = true;
   if (BudgetUsedUpByMeasured()) SkipAllPending(kBudgetUsedUp);
+  if (options_.mode == PlanMode::kBoundary && options_.coverage_skip_share > 0.0) SkipCoveredBy(*vertex);
   if (options_.mode == PlanMode::kAdaptive) CompareEdgesOf(*vertex);
   if (auto status = RefreshSelection(); !status.ok()) return status;
   return RefreshBoundarySelection();

@@ -159,6 +159,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
         {"change_location_mm", o.regions.change_location_mm}}},
       {"lookahead", o.lookahead},
       {"follow_boundaries", o.follow_boundaries},
+      {"coverage_skip_share", o.coverage_skip_share},
   };
 }
 
@@ -234,6 +235,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
   // Added later: a plan saved before goes on choosing as it did.
   o.follow_boundaries = j.contains("follow_boundaries") && in.Bool(j, "options", "follow_boundaries");
+  // Added later: a plan saved before goes on dragging every coarsest-level site.
+  o.coverage_skip_share = j.contains("coverage_skip_share") ? in.Double(j, "options", "coverage_skip_share") : 0.0;
   return o;
 }
 

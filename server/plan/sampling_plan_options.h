@@ -75,6 +75,14 @@ struct SamplingPlanOptions {
   // measured over six seeds it keeps narrow bands whole but starves
   // drag-sized patches of the follow-up budget (docs/method.md section 4).
   bool follow_boundaries = false;
+  // kBoundary: a coarsest-level site not yet issued is skipped when a
+  // measured drag's data window passed within this share of the drag length
+  // of it: within a quarter of the length either side of its path the map
+  // is that drag's data (the selector's corridor, boundary_selection.h), so
+  // dragging there again measures what is known, and the budget goes to
+  // the follow-ups instead. 0 = every coarsest-level site is dragged (plans
+  // saved before it existed).
+  double coverage_skip_share = 0.25;
 
   bool IsValid(std::string* why) const;
 };

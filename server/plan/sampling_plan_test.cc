@@ -6,6 +6,7 @@
 #include <set>
 
 #include <gtest/gtest.h>
+#include "absl/strings/str_cat.h"
 #include "server/plan/plan_test_support.h"
 
 namespace surfmap {
@@ -374,6 +375,83 @@ TEST_P(ProgressCountTest, KeptCountsEqualARecountAtEveryStep) {
 INSTANTIATE_TEST_SUITE_P(Modes, ProgressCountTest,
                          ::testing::Values(PlanMode::kAdaptive, PlanMode::kUncertainty, PlanMode::kUniform),
                          [](const auto& info) { return std::string(PlanModeName(info.param)); });
+
+}  // namespace
+}  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+// A measured drag along `direction`: a straight 16 mm data window (the
+// middle 80 % of a 20 mm drag) through the site, one piece.
+LineSample StraightDrag(const ProbeCommand& c, const Eigen::Vector3d& direction, const TextureParams& fit) {
+  LineSample line;
+  for (int k = 0; k <= 16; ++k) {
+    line.path_s_mm.push_back(k);
+    line.path_points.push_back(c.position + (k - 8.0) * direction);
+  }
+  LinePiece piece;
+  piece.start_mm = 0.0;
+  piece.end_mm = 16.0;
+  piece.texture = fit;
+  piece.effective_pairs = 100.0;
+  piece.mu_se = fit.mu_std / 10.0;
+  line.pieces.push_back(piece);
+  return line;
+}
+
+// The coarsest-level sites still pending after the first drag is measured,
+// and those skipped as covered by it.
+void FirstDragSkips(double share, std::set<int>* skipped, std::set<int>* expected) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o;
+  o.mode = PlanMode::kBoundary;
+  o.max_level = 1;
+  o.coverage_skip_share = share;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  const std::optional<ProbeCommand> c = plan->NextCommand();
+  ASSERT_TRUE(c.has_value());
+  // Dragged towards the nearest other coarse site (11.1 mm on the plate), so
+  // its window ends 3.1 mm short of it.
+  int nearest = -1;
+  for (const SiteRecord& r : plan->Sites()) {
+    if (r.site.vertex == c->site.vertex) continue;
+    const double d = (levels[1].limit_positions[r.site.vertex] - c->position).norm();
+    if (nearest < 0 || d < (levels[1].limit_positions[nearest] - c->position).norm()) nearest = r.site.vertex;
+  }
+  ASSERT_GE(nearest, 0);
+  const Eigen::Vector3d direction = (levels[1].limit_positions[nearest] - c->position).normalized();
+  const LineSample line = StraightDrag(*c, direction, SynthesiseFit(c->position, c->site.vertex));
+  // Expected from the geometry: within share x 20 mm of the 16 mm window.
+  const Eigen::Vector3d a = line.path_points.front(), b = line.path_points.back();
+  for (const SiteRecord& r : plan->Sites()) {
+    if (r.state != SiteState::kPending) continue;
+    const Eigen::Vector3d p = levels[1].limit_positions[r.site.vertex];
+    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    if ((p - (a + t * (b - a))).norm() <= share * o.probe.segment_length_mm) expected->insert(r.site.vertex);
+  }
+  ASSERT_TRUE(plan->RecordLineSample(c->sequence, line).ok());
+  for (const SiteRecord& r : plan->Sites()) {
+    if (r.state != SiteState::kSkipped) continue;
+    skipped->insert(r.site.vertex);
+    EXPECT_EQ(r.reason, absl::StrCat("covered by the drag at vertex ", c->site.vertex));
+  }
+}
+
+TEST(CoverageSkip, ACoarseSiteAMeasuredDragPassedNearIsSkippedAsCovered) {
+  std::set<int> skipped, expected;
+  FirstDragSkips(0.25, &skipped, &expected);
+  // The drag's window ends 3.1 mm from the nearest site: within 5 mm.
+  EXPECT_FALSE(expected.empty());
+  EXPECT_EQ(skipped, expected);
+}
+
+TEST(CoverageSkip, ShareZeroDragsEveryCoarseSite) {
+  std::set<int> skipped, expected;
+  FirstDragSkips(0.0, &skipped, &expected);
+  EXPECT_TRUE(skipped.empty());
+}
 
 }  // namespace
 }  // namespace surfmap

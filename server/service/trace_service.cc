@@ -55,7 +55,7 @@ grpc::ServerUnaryReactor* TraceServiceImpl::RefitJob(grpc::CallbackServerContext
 
 namespace {
 
-pb::RejectedTrace RejectedTraceToProto(const RejectedTraceRecord& r) {
+absl::StatusOr<pb::RejectedTrace> RejectedTraceToProto(const RejectedTraceRecord& r) {
   pb::RejectedTrace out;
   out.set_rejected_trace_id(r.id);
   out.set_command_id(r.command_id);
@@ -65,6 +65,12 @@ pb::RejectedTrace RejectedTraceToProto(const RejectedTraceRecord& r) {
   out.set_message(r.message);
   out.set_sample_count(r.n_samples);
   *out.mutable_received() = TimestampFromUnixMs(r.received_unix_ms);
+  absl::StatusOr<TraceFrame> frame = ParseTraceFrame(r.frame);
+  if (!frame.ok()) {
+    return absl::DataLossError(absl::StrCat("rejected trace ", r.id, ": stored frame: ", frame.status().message()));
+  }
+  out.set_frame(TraceFrameToProto(*frame));
+  out.set_registration_id(r.registration_id);
   return out;
 }
 
@@ -77,7 +83,11 @@ grpc::ServerUnaryReactor* TraceServiceImpl::ListRejectedTraces(grpc::CallbackSer
     absl::StatusOr<std::vector<RejectedTraceRecord>> rejected =
         s_.coordinator->reads().ListRejectedTraces(request->job_id());
     if (!rejected.ok()) return rejected.status();
-    for (const RejectedTraceRecord& r : *rejected) *response->add_rejected_traces() = RejectedTraceToProto(r);
+    for (const RejectedTraceRecord& r : *rejected) {
+      absl::StatusOr<pb::RejectedTrace> proto = RejectedTraceToProto(r);
+      if (!proto.ok()) return proto.status();
+      *response->add_rejected_traces() = *std::move(proto);
+    }
     return absl::OkStatus();
   });
 }
@@ -89,7 +99,9 @@ grpc::ServerUnaryReactor* TraceServiceImpl::GetRejectedTrace(grpc::CallbackServe
     absl::StatusOr<RejectedTraceRecord> rejected =
         s_.coordinator->reads().GetRejectedTrace(request->rejected_trace_id());
     if (!rejected.ok()) return rejected.status();
-    *response->mutable_rejected_trace() = RejectedTraceToProto(*rejected);
+    absl::StatusOr<pb::RejectedTrace> proto = RejectedTraceToProto(*rejected);
+    if (!proto.ok()) return proto.status();
+    *response->mutable_rejected_trace() = *std::move(proto);
     *response->mutable_rejected_trace()->mutable_samples() = DragTraceToProto(FromStoredSamples(rejected->samples));
     return absl::OkStatus();
   });

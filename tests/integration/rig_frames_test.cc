@@ -278,6 +278,14 @@ TEST(RigFramesTest, RegisterLeaseInBothFramesSubmitInRigFrameAndRefuseTheWrongFr
   const std::vector<std::pair<std::string, int64_t>> sent_in = {
       {"object", 0}, {"rig_base", registration_id}, {"rig_base", registration_id}};
   EXPECT_EQ(rejected_frames, sent_in);
+  const std::vector<std::pair<pb::TraceFrame, int64_t>> listed_frames = {
+      {rejected.rejected_traces(0).frame(), rejected.rejected_traces(0).registration_id()},
+      {rejected.rejected_traces(1).frame(), rejected.rejected_traces(1).registration_id()},
+      {rejected.rejected_traces(2).frame(), rejected.rejected_traces(2).registration_id()}};
+  const std::vector<std::pair<pb::TraceFrame, int64_t>> listed_sent_in = {
+      {pb::TRACE_FRAME_OBJECT, 0}, {pb::TRACE_FRAME_RIG_BASE, registration_id},
+      {pb::TRACE_FRAME_RIG_BASE, registration_id}};
+  EXPECT_EQ(listed_frames, listed_sent_in);
 
   // A rig-frame trace from a rig without a registration is refused as such.
   absl::StatusOr<pb::SubmitTraceRequest> other = ExecuteOnRig(*setup->rig, *unregistered, "arm-2");

@@ -70,7 +70,7 @@ def test_import_trace_adds_a_sample_once_with_its_provenance(client, completed_j
     out = lines[:header + 1]
     for line in lines[header + 1:]:
         fields = line.split(",")
-        fields[z] = repr(float(fields[z]) + 15.0)   # the plate lies in z = 0: 15 mm above it (within the command checks)
+        fields[z] = repr(float(fields[z]) + 15.0)   # 15 mm above the plate (z = 0), within the command checks
         out.append(",".join(fields))
     lifted.write_text("\n".join(out) + "\n")
     with pytest.raises(sc.SurfmapError) as refused:
