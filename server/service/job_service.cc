@@ -163,7 +163,7 @@ grpc::ServerUnaryReactor* JobServiceImpl::GetPlan(grpc::CallbackServerContext* c
 grpc::ServerUnaryReactor* JobServiceImpl::ListJobEvents(grpc::CallbackServerContext* context,
                                                         const pb::ListJobEventsRequest* request,
                                                         pb::ListJobEventsResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListJobEvents", [this, request, response]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListJobEvents", [this, request, response]() -> absl::Status {
     if (request->job_id() <= 0) return absl::InvalidArgumentError("job_id must be a positive job id");
     if (request->after_event_id() < 0) return absl::InvalidArgumentError("after_event_id must be >= 0");
     if (request->limit() < 0 || request->limit() > 10'000) {

@@ -69,7 +69,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
 grpc::ServerUnaryReactor* ObjectServiceImpl::GetObject(grpc::CallbackServerContext* context,
                                                        const pb::GetObjectRequest* request,
                                                        pb::GetObjectResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetObject", [&]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "GetObject", [this, request, response]() -> absl::Status {
     absl::StatusOr<ObjectRecord> object = s_.coordinator->reads().GetObject(request->object_id());
     if (!object.ok()) return object.status();
     *response->mutable_object() = ObjectInfoToProto(*object);
@@ -80,7 +80,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::GetObject(grpc::CallbackServerConte
 grpc::ServerUnaryReactor* ObjectServiceImpl::ListObjects(grpc::CallbackServerContext* context,
                                                          const pb::ListObjectsRequest*,
                                                          pb::ListObjectsResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListObjects", [&]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListObjects", [this, response]() -> absl::Status {
     absl::StatusOr<std::vector<ObjectRecord>> objects = s_.coordinator->reads().ListObjects();
     if (!objects.ok()) return objects.status();
     for (const ObjectRecord& o : *objects) *response->add_objects() = ObjectInfoToProto(o);

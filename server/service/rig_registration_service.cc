@@ -40,7 +40,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::SetRigRegistration(grpc::CallbackSe
 grpc::ServerUnaryReactor* ObjectServiceImpl::GetRigRegistration(grpc::CallbackServerContext* context,
                                                                 const pb::GetRigRegistrationRequest* request,
                                                                 pb::GetRigRegistrationResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "GetRigRegistration", [&]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "GetRigRegistration", [this, request, response]() -> absl::Status {
     RigRegistrations& rigs = s_.coordinator->rigs();
     if (request->registration_id() != 0) {
       absl::StatusOr<std::shared_ptr<const RegisteredRig>> rig = rigs.Get(request->registration_id());
@@ -64,7 +64,7 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::GetRigRegistration(grpc::CallbackSe
 grpc::ServerUnaryReactor* ObjectServiceImpl::ListRigRegistrations(grpc::CallbackServerContext* context,
                                                                   const pb::ListRigRegistrationsRequest* request,
                                                                   pb::ListRigRegistrationsResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListRigRegistrations", [&]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListRigRegistrations", [this, request, response]() -> absl::Status {
     absl::StatusOr<std::vector<RegisteredRig>> rigs =
         s_.coordinator->rigs().List(request->object_id(), request->include_history());
     if (!rigs.ok()) return rigs.status();

@@ -79,7 +79,7 @@ absl::StatusOr<pb::RejectedTrace> RejectedTraceToProto(const RejectedTraceRecord
 grpc::ServerUnaryReactor* TraceServiceImpl::ListRejectedTraces(grpc::CallbackServerContext* context,
                                                                const pb::ListRejectedTracesRequest* request,
                                                                pb::ListRejectedTracesResponse* response) {
-  return HandleUnary(context, s_, Role::kRead, "ListRejectedTraces", [&]() -> absl::Status {
+  return HandleUnaryOnPool(context, s_, Role::kRead, "ListRejectedTraces", [this, request, response]() -> absl::Status {
     absl::StatusOr<std::vector<RejectedTraceRecord>> rejected =
         s_.coordinator->reads().ListRejectedTraces(request->job_id());
     if (!rejected.ok()) return rejected.status();
