@@ -271,19 +271,6 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
               // reloaded. The answer is the stored import, from the result
               // (no read on this queue).
               (void)registry_->MarkWriteFailed(runtime, absl::OkStatus());
-              if (!result->fit.has_value()) {
-                return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
-              }
-              TraceImportOutcome repeat;
-              repeat.command = command;
-              repeat.command.id = result->command_id;
-              repeat.probe = implied;
-              repeat.trace_id = result->trace_id;
-              repeat.fit = *result->fit;
-              repeat.received_unix_ms = result->accepted_unix_ms;
-              repeat.metadata_json = std::move(result->metadata_json);
-              repeat.already_imported = true;
-              return done(std::move(repeat));
             }
             if (!result->fit.has_value()) {
               return done(absl::DataLossError(absl::StrCat("trace ", result->trace_id, " was stored without its fit")));
@@ -295,8 +282,12 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
             outcome.trace_id = result->trace_id;
             outcome.fit = *result->fit;
             outcome.received_unix_ms = result->accepted_unix_ms;
-            outcome.decoded_fit = decoded;
             outcome.metadata_json = std::move(result->metadata_json);
+            if (result->already_accepted) {
+              outcome.already_imported = true;
+              return done(std::move(outcome));
+            }
+            outcome.decoded_fit = decoded;
             bool finished = false;
             {
               MutexLock lock(&runtime.mu);
