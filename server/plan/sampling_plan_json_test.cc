@@ -154,11 +154,12 @@ TEST(SaveRestoreTest, APlanSavedBeforeCoverageSkipRestoresDraggingEverySite) {
   const auto levels = TwoMaterialPlate(1);
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
   o.max_level = 1;
+  o.coverage_skip_share = 0.25;
   auto plan = SamplingPlan::Create(Pointers(levels), o);
   ASSERT_TRUE(plan.ok()) << plan.status();
   auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
   ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_EQ(restored->options().coverage_skip_share, SamplingPlanOptions{}.coverage_skip_share);
+  EXPECT_EQ(restored->options().coverage_skip_share, 0.25);
   nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
   ASSERT_TRUE(saved["options"].contains("coverage_skip_share"));
   saved["options"].erase("coverage_skip_share");

@@ -79,10 +79,12 @@ struct SamplingPlanOptions {
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map
   // is that drag's data (the selector's corridor, boundary_selection.h), so
-  // dragging there again measures what is known, and the budget goes to
-  // the follow-ups instead. 0 = every coarsest-level site is dragged (plans
-  // saved before it existed).
-  double coverage_skip_share = 0.25;
+  // dragging there again measures what is known. 0 = every coarsest-level
+  // site is dragged. Off by default: the service issues the whole coarse
+  // pass to the store when a job starts (DrainCommands), so no coarse site
+  // is still pending when drags come in; measured in-process only
+  // (docs/method.md section 4).
+  double coverage_skip_share = 0.0;
 
   bool IsValid(std::string* why) const;
 };
