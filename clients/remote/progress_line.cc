@@ -16,10 +16,22 @@ namespace surfmap::cli {
 
 namespace pb = ::surfmap::v1;
 
+namespace {
+
+// Measured, issued, and the pending sites the budget still allows:
+// budget_left is what may still be issued (budget - measured - issued), so
+// issued sites are work to do whatever the budget says.
+long long KnownWork(const pb::JobProgress& progress) {
+  long long pending = progress.pending();
+  if (progress.budget_left() >= 0) pending = std::min<long long>(pending, progress.budget_left());
+  return static_cast<long long>(progress.measured()) + progress.issued() + pending;
+}
+
+}  // namespace
+
 double ProgressFraction(const pb::JobProgress& progress) {
   if (progress.complete()) return 1.0;
-  long long known = static_cast<long long>(progress.measured()) + progress.issued() + progress.pending();
-  if (progress.budget_left() >= 0) known = std::min<long long>(known, progress.measured() + progress.budget_left());
+  const long long known = KnownWork(progress);
   if (known <= 0) return 1.0;
   return std::clamp(static_cast<double>(progress.measured()) / static_cast<double>(known), 0.0, 1.0);
 }
@@ -31,7 +43,7 @@ std::string FormatProgressLine(const pb::JobProgress& progress, int bar_width) {
     const int filled = std::clamp(static_cast<int>(std::floor(fraction * bar_width + 1e-9)), 0, bar_width);
     line = absl::StrCat("[", std::string(filled, '#'), std::string(bar_width - filled, '-'), "] ");
   }
-  const long long known = static_cast<long long>(progress.measured()) + progress.issued() + progress.pending();
+  const long long known = KnownWork(progress);
   absl::StrAppendFormat(&line, "%3d%%  %d/%d measured, %d issued", static_cast<int>(std::floor(fraction * 100.0 + 1e-9)),
                         progress.measured(), known, progress.issued());
   // issued = queued for a rig or leased; leased = held by a rig right now.

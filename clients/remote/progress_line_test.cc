@@ -26,8 +26,17 @@ TEST(ProgressFractionTest, ShareOfKnownSitesWithoutBudget) {
 }
 
 TEST(ProgressFractionTest, BudgetCapsTheKnownWork) {
-  // 100 known sites but only 20 more samples allowed: 30 of 50.
-  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(30, 10, 60, 20)), 0.6);
+  // 100 known sites but only 20 more may be issued (budget_left = budget -
+  // measured - issued): 30 measured of 30 + 10 issued + 20 = 60.
+  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(30, 10, 60, 20)), 0.5);
+}
+
+TEST(ProgressFractionTest, IssuedSitesAreWorkLeftWhenTheBudgetIsHeld) {
+  // The budget is held by issued drags (none more may be issued) while sites
+  // wait: not done (was reported 100 %).
+  EXPECT_DOUBLE_EQ(ProgressFraction(Progress(160, 8, 20, 0)), 160.0 / 168.0);
+  EXPECT_NE(FormatProgressLine(Progress(160, 8, 20, 0), 0).find(" 95%  160/168 measured"), std::string::npos)
+      << FormatProgressLine(Progress(160, 8, 20, 0), 0);
 }
 
 TEST(ProgressFractionTest, CompleteOrEmptyIsFull) {
