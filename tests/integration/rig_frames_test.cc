@@ -16,6 +16,7 @@
 #include <sqlite3.h>
 
 #include "absl/strings/match.h"
+#include "server/codec/rig_registration_proto.h"
 #include "gtest/gtest.h"
 #include "server/codec/trace_samples_proto.h"
 #include "server/frames/rig_frames.h"
@@ -34,15 +35,6 @@ constexpr double kPi = 3.14159265358979323846;
 
 Eigen::Vector3d V(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
-pb::Quaternion Q(const Eigen::Quaterniond& q) {
-  pb::Quaternion out;
-  out.set_w(q.w());
-  out.set_x(q.x());
-  out.set_y(q.y());
-  out.set_z(q.z());
-  return out;
-}
-
 // The rig's calibration: the bottle stands 450 mm in front of the base,
 // turned 35 deg about a tilted axis; the sensor is turned 90 deg about z.
 RigRegistration TheRegistration() {
@@ -58,12 +50,12 @@ pb::RigRegistration ToRequest(int64_t object_id, const RigRegistration& r) {
   pb::RigRegistration out;
   out.set_object_id(object_id);
   out.set_rig_name(kRig);
-  *out.mutable_object_pose()->mutable_rotation() = Q(r.object_rotation);
+  *out.mutable_object_pose()->mutable_rotation() = QuaternionToProto(r.object_rotation);
   out.mutable_object_pose()->mutable_translation_mm()->set_x(r.object_translation_mm.x());
   out.mutable_object_pose()->mutable_translation_mm()->set_y(r.object_translation_mm.y());
   out.mutable_object_pose()->mutable_translation_mm()->set_z(r.object_translation_mm.z());
   out.set_tip_radius_mm(r.tip_radius_mm);
-  *out.mutable_sensor_rotation() = Q(r.sensor_rotation);
+  *out.mutable_sensor_rotation() = QuaternionToProto(r.sensor_rotation);
   return out;
 }
 
