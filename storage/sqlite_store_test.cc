@@ -1094,6 +1094,14 @@ TEST_F(SqliteStoreTest, AnImportsCommandIsWrittenOnceWithItsFinalState) {
     EXPECT_EQ(command->lease_owner, "hand-rig");
     EXPECT_EQ(command->attempt, 1);
   }
+  // A hash that is not one is refused before anything is queued.
+  const int64_t commands_before = *(*db)->QueryInt("SELECT COUNT(*) FROM commands");
+  request.import->sha256 = std::string(64, 'B');
+  absl::StatusOr<AcceptTraceResult> bad_hash = store_->AcceptTrace(request);
+  EXPECT_EQ(bad_hash.status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(bad_hash.status().message().find("import: sha256 must be 64 lower-case hex digits"), std::string::npos)
+      << bad_hash.status();
+  EXPECT_EQ(*(*db)->QueryInt("SELECT COUNT(*) FROM commands"), commands_before);
   // A cancelled job takes neither: nothing is written.
   ASSERT_TRUE(store_->UpdateJobState({job.job.id, JobState::kCancelled, {}}).ok());
   const int64_t commands = *(*db)->QueryInt("SELECT COUNT(*) FROM commands");

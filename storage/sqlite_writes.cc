@@ -450,10 +450,7 @@ absl::StatusOr<AcceptTraceResult> ImportTraceWrite(SqliteConnection& db, const E
 
 absl::Status ValidateImport(const AcceptTraceRequest& request) {
   const TraceImport& import = *request.import;
-  if (import.sha256.size() != 64 ||
-      import.sha256.find_first_not_of("0123456789abcdef") != std::string::npos) {
-    return absl::InvalidArgumentError("import: sha256 must be 64 lower-case hex digits");
-  }
+  SURFMAP_RETURN_IF_ERROR(ValidateSha256(import.sha256, "import: sha256"));
   if (import.source.empty()) return absl::InvalidArgumentError("import: source must not be empty");
   if (request.command_id != 0 || !request.lease_owner.empty() || request.lease_next.has_value()) {
     return absl::InvalidArgumentError("import: an imported trace answers no leased command (command_id 0, "
