@@ -17,6 +17,7 @@
 #include "absl/base/thread_annotations.h"
 #include "absl/status/statusor.h"
 #include "server/base/mutex.h"
+#include "server/jobs/command_lookahead.h"
 #include "server/jobs/job_executors.h"
 #include "server/jobs/job_runtime.h"
 #include "server/jobs/surface_cache.h"
@@ -26,7 +27,10 @@ namespace surfmap {
 
 class JobRegistry {
  public:
-  JobRegistry(Store* store, JobExecutors executors, size_t retained_finished = 8);
+  // `lookahead_window_ms`: how long a rig that asked for a command counts
+  // towards the commands issued ahead (command_lookahead.h): the lease time.
+  JobRegistry(Store* store, JobExecutors executors, size_t retained_finished = 8,
+              int64_t lookahead_window_ms = 60'000);
 
   // Loads every running or paused job (refines their surfaces: long).
   absl::Status LoadActiveJobs() ABSL_LOCKS_EXCLUDED(mu_);
@@ -57,6 +61,8 @@ class JobRegistry {
       ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
 
   SurfaceCache& surfaces() { return surfaces_; }
+  // How many commands every job keeps issued ahead of its answers.
+  CommandLookahead& lookahead() { return lookahead_; }
   size_t loaded_jobs() ABSL_LOCKS_EXCLUDED(mu_);
 
  private:
@@ -69,6 +75,7 @@ class JobRegistry {
   const JobExecutors executors_;
   const size_t retained_finished_;
   SurfaceCache surfaces_;
+  CommandLookahead lookahead_;
   Mutex mu_;
   std::map<int64_t, std::shared_ptr<JobRuntime>> jobs_ ABSL_GUARDED_BY(mu_);
   std::list<int64_t> finished_ ABSL_GUARDED_BY(mu_);  // loaded finished jobs, most recently used first

@@ -61,7 +61,7 @@ absl::StatusOr<JobSnapshot> JobSteering::CreateJob(const JobParams& requested, c
   job.object_id = params.object_id;
   job.params_json = JobParamsToJson(params).dump();
   job.metadata_json = metadata_json;
-  job.commands = DrainCommands(plan);
+  job.commands = DrainCommands(plan, registry_->lookahead().CommandsAhead(UnixMillisNow()));
   job.plan_json = plan.SaveJson();
   job.events.push_back(Event("job_created", {{"initial_commands", job.commands.size()}}));
   SURFMAP_ASSIGN_OR_RETURN(CreatedJob created, store_->CreateJob(job));

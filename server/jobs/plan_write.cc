@@ -5,9 +5,9 @@
 
 namespace surfmap {
 
-PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change) {
+PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change, int keep_issued) {
   PlanWrite write;
-  write.new_commands = DrainCommands(runtime.plan);
+  write.new_commands = DrainCommands(runtime.plan, keep_issued);
   // Writes of one job are queued in order under its lock and committed in
   // queue order, so this write's base is the revision the previous one made.
   write.expected_revision = runtime.plan_revision++;
@@ -16,7 +16,9 @@ PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& chan
     write.checkpoint_json = runtime.plan.SaveJson();
     runtime.journal_entries = 0;
   } else {
-    write.journal_entry = PlanJournalEntryToJson(change);
+    PlanJournalEntry entry = change;
+    entry.issued_after = static_cast<int>(write.new_commands.size());  // a replay issues as many
+    write.journal_entry = PlanJournalEntryToJson(entry);
     runtime.journal_entries++;
   }
   if (complete && !IsFinalJobState(runtime.state)) {

@@ -34,7 +34,9 @@ struct PlanWrite {
   }
 };
 
-PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change)
+// `keep_issued`: the commands to keep issued ahead
+// (CommandLookahead::CommandsAhead, read before the job's lock).
+PlanWrite TakePlanChangeLocked(JobRuntime& runtime, const PlanJournalEntry& change, int keep_issued)
     ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
 
 }  // namespace surfmap

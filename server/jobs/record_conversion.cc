@@ -1,6 +1,7 @@
 #include "server/jobs/record_conversion.h"
 
 #include <chrono>
+#include <limits>
 
 #include "absl/strings/str_cat.h"
 #include "server/codec/fit_json.h"
@@ -33,9 +34,12 @@ NewFit NewFitOf(const TraceFit& fit, const FitOptions& options) {
   return f;
 }
 
-std::vector<NewCommand> DrainCommands(SamplingPlan& plan) {
+std::vector<NewCommand> DrainCommands(SamplingPlan& plan, int keep_issued) {
   std::vector<NewCommand> out;
-  while (std::optional<ProbeCommand> c = plan.NextCommand()) {
+  if (!plan.DecidesAtIssue()) keep_issued = std::numeric_limits<int>::max();
+  while (plan.OutstandingCount() < keep_issued) {
+    std::optional<ProbeCommand> c = plan.NextCommand();
+    if (!c) break;
     out.push_back(NewCommand{c->site.level, c->site.vertex, ProbeCommandToJson(*c)});
   }
   return out;

@@ -24,8 +24,11 @@ int64_t UnixMillisNow();
 // as JSON, the estimator and its options for provenance).
 NewFit NewFitOf(const TraceFit& fit, const FitOptions& options);
 
-// Every command the plan can issue now, as new store commands.
-std::vector<NewCommand> DrainCommands(SamplingPlan& plan);
+// The commands the plan can issue now, as new store commands: all of them,
+// or, for a plan that decides at issue (SamplingPlan::DecidesAtIssue), until
+// `keep_issued` of its commands are issued and unanswered (the lookahead,
+// command_lookahead.h).
+std::vector<NewCommand> DrainCommands(SamplingPlan& plan, int keep_issued);
 
 NewEvent Event(const std::string& kind, const nlohmann::json& detail);
 

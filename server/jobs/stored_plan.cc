@@ -7,10 +7,24 @@
 
 namespace surfmap {
 
-void DrainIssuableCommands(SamplingPlan& plan) {
-  while (plan.NextCommand().has_value()) {
+namespace {
+
+absl::Status IssueAsStored(const PlanJournalEntry& entry, SamplingPlan& plan) {
+  if (!entry.issued_after) {
+    while (plan.NextCommand().has_value()) {
+    }
+    return absl::OkStatus();
   }
+  for (int i = 0; i < *entry.issued_after; ++i) {
+    if (!plan.NextCommand().has_value()) {
+      return absl::DataLossError(absl::StrCat("the service issued ", *entry.issued_after,
+                                              " commands after it, the replayed plan only ", i));
+    }
+  }
+  return absl::OkStatus();
 }
+
+}  // namespace
 
 absl::StatusOr<SamplingPlan> RestoreStoredPlan(const PlanRecord& record, std::vector<const SurfaceLevel*> levels) {
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Restore(record.plan_json, std::move(levels));
@@ -19,12 +33,12 @@ absl::StatusOr<SamplingPlan> RestoreStoredPlan(const PlanRecord& record, std::ve
   for (size_t i = 0; i < record.journal.size(); ++i) {
     absl::StatusOr<PlanJournalEntry> entry = PlanJournalEntryFromJson(record.journal[i]);
     absl::Status applied = entry.ok() ? ApplyPlanJournalEntry(*entry, *plan) : entry.status();
+    if (applied.ok()) applied = IssueAsStored(*entry, *plan);
     if (!applied.ok()) {
       return absl::DataLossError(absl::StrCat("plan of job ", record.job_id, ": journal entry at revision ",
                                               first_revision + static_cast<int64_t>(i),
                                               " cannot be replayed: ", applied.message()));
     }
-    DrainIssuableCommands(*plan);
   }
   return plan;
 }

@@ -14,13 +14,12 @@
 
 namespace surfmap {
 
-// Drains every command the plan can issue now. The service does this after
-// every change, so a replay must too.
-void DrainIssuableCommands(SamplingPlan& plan);
-
-// The checkpoint with the journal replayed (each entry applied, then the
-// plan drained). DATA_LOSS naming the job and revision if an entry does not
-// parse or does not apply.
+// The checkpoint with the journal replayed: each entry applied, then as many
+// commands issued as the service issued after it (the entry's issued_after;
+// every command the plan can issue for entries written before the
+// lookahead). DATA_LOSS naming the job and revision if an entry does not
+// parse, does not apply, or the plan cannot issue what the entry says was
+// issued.
 absl::StatusOr<SamplingPlan> RestoreStoredPlan(const PlanRecord& record, std::vector<const SurfaceLevel*> levels);
 
 // Journal entries allowed after a checkpoint before the service writes a new

@@ -226,6 +226,7 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
   command.lease_owner = request.source;
   command.attempt = 1;
   bool completes_job = false;
+  const int keep_issued = registry_->lookahead().CommandsAhead(UnixMillisNow());
   {
     MutexLock lock(&runtime.mu);
     SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "traces, imported or not"));
@@ -239,7 +240,7 @@ absl::Status TraceImporter::QueueImport(const TraceImportRequest& request, const
     entry.line = LineSampleOf(fit);
     entry.position = implied.position;
     SURFMAP_RETURN_IF_ERROR(ApplyPlanJournalEntry(entry, runtime.plan));
-    PlanWrite plan_write = TakePlanChangeLocked(runtime, entry);
+    PlanWrite plan_write = TakePlanChangeLocked(runtime, entry, keep_issued);
     completes_job = plan_write.new_job_state.has_value();
     std::move(plan_write).MoveInto(write);
     runtime.importing_sha256.insert(request.file_sha256);  // until the write's completion

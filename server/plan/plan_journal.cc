@@ -32,6 +32,7 @@ std::string PlanJournalEntryToJson(const PlanJournalEntry &entry) {
     j["reason"] = entry.reason;
     if (entry.failure != FailureKind::kTransient) j["kind"] = std::string(FailureKindName(entry.failure));
   }
+  if (entry.issued_after) j["issued"] = *entry.issued_after;
   return j.dump();
 }
 
@@ -46,6 +47,12 @@ absl::StatusOr<PlanJournalEntry> PlanJournalEntryFromJson(std::string_view text)
     return Malformed("\"sequence\" is missing or not an unsigned integer");
   }
   entry.sequence = sequence->get<std::uint64_t>();
+  if (auto issued = j.find("issued"); issued != j.end()) {
+    if (!issued->is_number_unsigned() || issued->get<std::uint64_t>() > 1'000'000'000) {
+      return Malformed("\"issued\" is not a count of commands");
+    }
+    entry.issued_after = static_cast<int>(issued->get<std::uint64_t>());
+  }
   if (*op == "fit") {
     auto fit = j.find("fit");
     if (fit == j.end() || !fit->is_object()) return Malformed("\"fit\" is missing or not an object");

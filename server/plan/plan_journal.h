@@ -34,13 +34,19 @@ struct PlanJournalEntry {
   // the surface (SamplingPlan::RecordImportedLineSample).
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   FailureKind failure = FailureKind::kTransient;  // kFailure
+  // How many commands the service issued right after applying this answer
+  // (it keeps only a few issued ahead of the rigs, command_lookahead.h). A
+  // replay issues exactly as many. Absent in entries written before the
+  // lookahead: those were followed by every command the plan could issue.
+  std::optional<int> issued_after;
 };
 
 // {"op":"fit","sequence":n,"fit":{"mu","mu_std","reflection","sigma"}} (the
 // summary texture) plus "line":{line_sample_json.h} when it has a line, or
 // {"op":"failure","sequence":n,"reason":"..."} plus "kind":"unreachable" for
 // an unreachable site, or {"op":"import","sequence":0,"line":{...},
-// "position":[x,y,z]} for an imported drag. A 20 mm drag's line is ~17 path points and a few
+// "position":[x,y,z]} for an imported drag; each with "issued":n when
+// issued_after is set. A 20 mm drag's line is ~17 path points and a few
 // pieces: ~1-2 KB.
 std::string PlanJournalEntryToJson(const PlanJournalEntry &entry);
 // INVALID_ARGUMENT naming the field for malformed text.

@@ -43,6 +43,12 @@ TEST(PlanJournalTest, EntriesRoundTripExactly) {
   ASSERT_TRUE(back.ok()) << back.status();
   EXPECT_EQ(back->kind, PlanJournalEntry::Kind::kFailure);
   EXPECT_EQ(back->reason, failure.reason);
+  EXPECT_FALSE(back->issued_after.has_value()) << "no count unless the service set one";
+
+  failure.issued_after = 3;
+  back = PlanJournalEntryFromJson(PlanJournalEntryToJson(failure));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->issued_after, 3);
 }
 
 TEST(PlanJournalTest, MalformedEntriesNameTheProblem) {
@@ -55,6 +61,8 @@ TEST(PlanJournalTest, MalformedEntriesNameTheProblem) {
       {R"({"op":"fit","sequence":1,"fit":{"mu":0.3,"mu_std":0,"sigma":0.1,"reflection":[0,"a"]}})", "fit.reflection"},
       {R"({"op":"failure","sequence":1})", "\"reason\""},
       {R"({"op":"teleport","sequence":1})", "teleport"},
+      {R"({"op":"failure","sequence":1,"reason":"x","issued":-2})", "\"issued\""},
+      {R"({"op":"failure","sequence":1,"reason":"x","issued":"2"})", "\"issued\""},
   };
   for (const auto &[text, expected] : cases) {
     absl::StatusOr<PlanJournalEntry> entry = PlanJournalEntryFromJson(text);

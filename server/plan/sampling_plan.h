@@ -143,6 +143,14 @@ class SamplingPlan {
 
   // The next probe command, or nothing when no site can be issued now.
   std::optional<ProbeCommand> NextCommand();
+  // Commands issued and not yet answered.
+  int OutstandingCount() const { return static_cast<int>(outstanding_.size()); }
+  // Whether a command depends on the drags measured before it is issued:
+  // kBoundary aims each drag across the map as it stands then and skips
+  // coarse sites that earlier drags covered (coverage_skip_share). The
+  // other modes' coarse passes are fixed in advance, so issuing them at
+  // once loses nothing.
+  bool DecidesAtIssue() const { return options_.mode == PlanMode::kBoundary; }
 
   // The drag measured for an issued command: its path and pieces
   // (LineSampleOf(fit)). The site's `fit` becomes SummaryTexture(line).

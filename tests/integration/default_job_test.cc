@@ -123,6 +123,49 @@ TEST(DefaultJob, UnreachableIsFinalAtOnceWhileTransientIsRetried) {
   EXPECT_NE(again->state(), pb::SITE_STATE_FAILED);
 }
 
+// The default job decides each drag from the map as it stands when the
+// command is issued (skipping coarse sites earlier drags covered), so the
+// server keeps only as many commands issued as rigs ask for, not the whole
+// coarse pass (server/jobs/command_lookahead.h); a restart restores exactly
+// what was issued.
+TEST(DefaultJob, CommandsAreIssuedAsRigsAskNotTheWholePassAtOnce) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, DefaultSpec(setup.object_id)));
+  EXPECT_EQ(job.progress().issued(), 1) << "no rig has asked yet: one command for the first";
+  EXPECT_GT(job.progress().pending(), 10);
+
+  ITEST_ASSERT_OK_AND_ASSIGN(a, LeaseOne(*setup.stubs, job.job_id(), "rig-a"));
+  // rig-b asks while rig-a holds the only command: nothing yet, come back.
+  pb::LeaseCommandRequest ask;
+  ask.set_rig_id("rig-b");
+  ask.set_job_id(job.job_id());
+  pb::LeaseCommandResponse none;
+  GRPC_ASSERT_OK(setup.stubs->probe->LeaseCommand(Context().get(), ask, &none));
+  EXPECT_FALSE(none.has_command() && none.command().command_id() != 0);
+  EXPECT_GT(none.retry_after().nanos() + none.retry_after().seconds(), 0);
+
+  // rig-a's answer issues a command for each rig that asked.
+  ITEST_ASSERT_OK_AND_ASSIGN(request, ExecuteOnRig(*setup.rig, a, "rig-a"));
+  pb::SubmitTraceResponse accepted;
+  GRPC_ASSERT_OK(setup.stubs->probe->SubmitTrace(Context().get(), request, &accepted));
+  ITEST_ASSERT_OK_AND_ASSIGN(after, GetJob(*setup.stubs, job.job_id()));
+  EXPECT_EQ(after.progress().issued(), 2);
+  EXPECT_EQ(after.progress().measured(), 1);
+  ITEST_ASSERT_OK_AND_ASSIGN(b, LeaseOne(*setup.stubs, job.job_id(), "rig-b", std::chrono::seconds(2)));
+  ITEST_ASSERT_OK_AND_ASSIGN(a2, LeaseOne(*setup.stubs, job.job_id(), "rig-a", std::chrono::seconds(2)));
+  EXPECT_NE(a2.command_id(), b.command_id());
+
+  // A restart replays the journal to the same plan: the same commands issued.
+  ITEST_ASSERT_OK_AND_ASSIGN(before, GetPlan(*setup.stubs, job.job_id()));
+  ITEST_ASSERT_OK(setup.server->Kill());
+  ITEST_ASSERT_OK(setup.server->Restart());
+  Stubs stubs(setup.server->channel());
+  ITEST_ASSERT_OK_AND_ASSIGN(restored, GetPlan(stubs, job.job_id()));
+  EXPECT_EQ(restored.progress().issued(), before.progress().issued());
+  EXPECT_EQ(restored.progress().pending(), before.progress().pending());
+  EXPECT_EQ(restored.progress().measured(), 1);
+}
+
 TEST(DefaultJob, ADragAcrossABoundaryComesBackAsPieces) {
   ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, DefaultSpec(setup.object_id)));
