@@ -4,8 +4,6 @@
 #include <cmath>
 #include <limits>
 #include <set>
-#include <cstdio>
-#include <cstdlib>
 
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
@@ -262,15 +260,6 @@ absl::Status RegionMap::Rebuild() {
     }
   }
 
-  if (getenv("DBG_REGIONS")) {
-    for (std::size_t r = 0; r < regions_.size(); ++r) {
-      const auto& st = regions_[r].statistics;
-      if (regions_[r].pieces.size() < 2 && st.mu < 0.2) continue;
-      fprintf(stderr, "region %zu: n=%zu mu=%.3f se=%.4f spread=%.3f pairs=%.0f |", r, regions_[r].pieces.size(), st.mu, st.mu_se, st.spread, st.effective_pairs);
-      for (int i : regions_[r].pieces) if (regions_[r].pieces.size() < 80) fprintf(stderr, " %.3f/%.3f/%.0f", statistics[i].mu, statistics[i].spread, statistics[i].effective_pairs);
-      fprintf(stderr, "\n");
-    }
-  }
   // The region diagram.
   seed_points_.clear();
   for (LabelledSeed& s : seeds) {
