@@ -80,11 +80,11 @@ struct SamplingPlanOptions {
   // of it: within a quarter of the length either side of its path the map
   // is that drag's data (the selector's corridor, boundary_selection.h), so
   // dragging there again measures what is known. 0 = every coarsest-level
-  // site is dragged. Off by default: the service issues the whole coarse
-  // pass to the store when a job starts (DrainCommands), so no coarse site
-  // is still pending when drags come in; measured in-process only
-  // (docs/method.md section 4).
-  double coverage_skip_share = 0.0;
+  // site is dragged. The service issues a kBoundary job's commands only as
+  // rigs ask (server/jobs/command_lookahead.h), so coarse sites are still
+  // pending when drags come in. Measured in docs/method.md section 4. Plans
+  // stored without the key restore with 0 (what they were made with).
+  double coverage_skip_share = 0.25;
 
   bool IsValid(std::string* why) const;
 };
