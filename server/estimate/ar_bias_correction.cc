@@ -31,6 +31,7 @@ ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const 
   const double noise_std = std::sqrt(options.noise_variance);
   const ArParams model{a, sigma};
   std::vector<double> sum(p, 0.0);
+  double sigma_sum = 0.0;
   std::vector<Eigen::VectorXd> segments(segment_lengths.size());
   for (int r = 0; r < options.bias_replicates; ++r) {
     std::mt19937_64 noise_rng(BiasReplicateSeed(options.bias_seed, r, 0));
@@ -46,10 +47,12 @@ ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const 
     const absl::StatusOr<ArFit> fit = FitAutoregressive(segments, replicate_options);
     if (!fit.ok()) continue;
     for (int j = 0; j < p; ++j) sum[j] += fit->a[j];
+    sigma_sum += fit->sigma;
     ++estimate.replicates_used;
   }
   if (estimate.replicates_used == 0) return estimate;
   for (int j = 0; j < p; ++j) estimate.bias[j] = sum[j] / estimate.replicates_used - a[j];
+  estimate.sigma_bias = sigma_sum / estimate.replicates_used - sigma;
   return estimate;
 }
 

@@ -41,11 +41,12 @@ Stats Summarise(std::vector<double> errors) {
 
 struct CaseResult {
   Stats mu_nominal, mu_realised, normal_deg, a1, a2;
+  Stats sigma_relative;  // |fit sigma / material sigma - 1|
   int failures = 0;
 };
 
 CaseResult RunCase(const DragGeometry& geometry, const Material& material, int seeds) {
-  std::vector<double> mu_nominal, mu_realised, normal_deg, a1, a2;
+  std::vector<double> mu_nominal, mu_realised, normal_deg, a1, a2, sigma_relative;
   CaseResult result;
   for (int seed = 1; seed <= seeds; ++seed) {
     DragSimOptions options;
@@ -81,12 +82,14 @@ CaseResult RunCase(const DragGeometry& geometry, const Material& material, int s
                          M_PI);
     a1.push_back(fit->roughness.a[0] - material.a1);
     a2.push_back(fit->roughness.a[1] - material.a2);
+    sigma_relative.push_back(fit->roughness.sigma / material.sigma - 1.0);
   }
   result.mu_nominal = Summarise(mu_nominal);
   result.mu_realised = Summarise(mu_realised);
   result.normal_deg = Summarise(normal_deg);
   result.a1 = Summarise(a1);
   result.a2 = Summarise(a2);
+  result.sigma_relative = Summarise(sigma_relative);
   return result;
 }
 
@@ -105,13 +108,14 @@ TEST(FitAccuracyTest, TwentySeedsPerShapeAndMaterial) {
   const Named materials[] = {{"glass", kGlass}, {"rubber", kRubber}, {"masonite", kMasonite}};
   std::printf(
       "| case | mu err vs nominal (median / worst) | mu err vs realised (median / worst) | normal "
-      "err deg (median / worst) | a1 err (median / worst) | a2 err (median / worst) |\n"
-      "|---|---|---|---|---|---|\n");
+      "err deg (median / worst) | a1 err (median / worst) | a2 err (median / worst) | sigma rel. err "
+      "(median / worst) |\n"
+      "|---|---|---|---|---|---|---|\n");
   for (const Shape& shape : shapes) {
     for (const Named& m : materials) {
       const CaseResult r = RunCase(shape.geometry, m.material, 20);
       const bool textured = m.material.sigma >= 0.1;
-      std::printf("| %s, %s | %.4f / %.4f | %.4f / %.4f | %.3f / %.3f | %s | %s |\n", shape.name,
+      std::printf("| %s, %s | %.4f / %.4f | %.4f / %.4f | %.3f / %.3f | %s | %s | %s |\n", shape.name,
                   m.name, r.mu_nominal.median, r.mu_nominal.worst, r.mu_realised.median,
                   r.mu_realised.worst, r.normal_deg.median, r.normal_deg.worst,
                   textured ? (std::to_string(r.a1.median).substr(0, 5) + " / " +
@@ -119,6 +123,9 @@ TEST(FitAccuracyTest, TwentySeedsPerShapeAndMaterial) {
                            : "-",
                   textured ? (std::to_string(r.a2.median).substr(0, 5) + " / " +
                               std::to_string(r.a2.worst).substr(0, 5)).c_str()
+                           : "-",
+                  textured ? (std::to_string(r.sigma_relative.median).substr(0, 5) + " / " +
+                              std::to_string(r.sigma_relative.worst).substr(0, 5)).c_str()
                            : "-");
       const std::string label = std::string(shape.name) + ", " + m.name;
       EXPECT_EQ(r.failures, 0) << label;
@@ -138,6 +145,11 @@ TEST(FitAccuracyTest, TwentySeedsPerShapeAndMaterial) {
         EXPECT_LE(r.a2.median, 0.15) << label;
         EXPECT_LE(r.a1.worst, 0.35) << label;
         EXPECT_LE(r.a2.worst, 0.35) << label;
+        // The texture's amplitude: the map goal's 15 % on the median (the
+        // simulator's speed jitter alone takes ~6 % off rubber's, measured
+        // with DragSimOptions::Ideal() plus jitter), 30 % on the worst of 20.
+        EXPECT_LE(r.sigma_relative.median, 0.15) << label;
+        EXPECT_LE(r.sigma_relative.worst, 0.30) << label;
       }
     }
   }

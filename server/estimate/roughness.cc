@@ -174,16 +174,13 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
     for (const auto& x : segments) lengths.push_back(static_cast<int>(x.size()));
     const ArBiasEstimate bias = EstimateArBias(fit.a, fit.sigma, lengths, options);
     if (bias.replicates_used > 0) {
-      // The correction reshapes the spectrum, not the amplitude the data
-      // showed: keep the process variance the fitted model implied,
-      // sigma^2 / prod(1 - k_i^2), so that sigma follows the new coefficients
-      // (a renderer plays sigma through the model's impulse response).
-      const double implied_variance = ArProcessVariance(fit.a, fit.sigma);
       fit.a = ApplyArBiasCorrection(fit.a, bias.bias);
       largest_root = ArLargestRootModulus(fit.a);
-      if (largest_root < 1.0 && std::isfinite(implied_variance)) {
-        fit.sigma = std::sqrt(implied_variance / ArProcessVariance(fit.a, 1.0));
-      }
+      // sigma has its own small-sample bias (low, like the process variance
+      // of a short detrended segment); corrected the same way. A correction
+      // that would leave nothing (impossible unless the replicates disagree
+      // wildly with the data) is not applied.
+      if (fit.sigma - bias.sigma_bias > 0.0) fit.sigma -= bias.sigma_bias;
     }
   }
   fit.stationary = largest_root < 1.0;
