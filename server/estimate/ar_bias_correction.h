@@ -4,7 +4,7 @@
 // mean / line removed from every segment before the fit adds to it: the bias
 // is O(1/n) per segment and pulls the coefficients towards a white process.
 // Measured on rubber (a1 0.60, a2 0.25), two detrended segments of n points,
-// Burg, mean of 400 seeds (zz experiment, see docs/method.md section 4):
+// Burg, mean of 400 seeds (zz experiment, see docs/method.md section 5):
 // n = 40: a2 0.140; 60: 0.181; 100: 0.213; 160: 0.228; 400: 0.241. A whole
 // 20 mm drag (two passes of ~160 points) loses ~0.02, a third of its standard
 // error; a 5 mm piece of a drag that crossed a change (two passes of ~45

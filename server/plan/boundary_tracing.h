@@ -27,7 +27,7 @@
 //
 // SamplingPlanOptions::follow_boundaries turns it on; it is off by default:
 // at the default budget it keeps a narrow band whole but takes the follow-up
-// drags that found drag-sized patches (docs/method.md section 4, measured
+// drags that found drag-sized patches (docs/method.md section 5, measured
 // over six seeds with `surfmap-mapsim --follow-boundaries`).
 #pragma once
 

@@ -73,7 +73,7 @@ struct SamplingPlanOptions {
   // kBoundary: follow every boundary a drag crossed, a drag at a time along
   // it, before choosing by uncertainty (boundary_tracing.h). Off by default:
   // measured over six seeds it keeps narrow bands whole but starves
-  // drag-sized patches of the follow-up budget (docs/method.md section 4).
+  // drag-sized patches of the follow-up budget (docs/method.md section 5).
   bool follow_boundaries = false;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
@@ -82,7 +82,7 @@ struct SamplingPlanOptions {
   // dragging there again measures what is known. 0 = every coarsest-level
   // site is dragged. The service issues a kBoundary job's commands only as
   // rigs ask (server/jobs/command_lookahead.h), so coarse sites are still
-  // pending when drags come in. Measured in docs/method.md section 4. Plans
+  // pending when drags come in. Measured in docs/method.md section 5. Plans
   // stored without the key restore with 0 (what they were made with).
   double coverage_skip_share = 0.25;
 
