@@ -39,12 +39,21 @@ constexpr double kSigmaMeanTolerance = 0.025;
 struct Means {
   double raw_a1 = 0.0, raw_a2 = 0.0, corrected_a1 = 0.0, corrected_a2 = 0.0, raw_sigma = 0.0, corrected_sigma = 0.0;
   int corrected_stationary = 0;
+  // Medians, not means, of the models' process variance sigma^2 / prod(1 - k^2):
+  // it is heavy-tailed near the unit circle.
+  double raw_variance_median = 0.0, corrected_variance_median = 0.0;
 };
+
+double Median(std::vector<double> values) {
+  std::sort(values.begin(), values.end());
+  return values.empty() ? 0.0 : values[values.size() / 2];
+}
 
 // Each segment has a least-squares line removed, and the options say so, as
 // FitPieceRoughness does.
 Means MeanFits(const ArParams& truth, double noise_std) {
   Means m;
+  std::vector<double> raw_variances, corrected_variances;
   std::mt19937_64 rng(99);
   std::normal_distribution<double> noise(0.0, 1.0);
   for (int seed = 1; seed <= kSeeds; ++seed) {
@@ -71,7 +80,11 @@ Means MeanFits(const ArParams& truth, double noise_std) {
     m.raw_sigma += raw->sigma / kSeeds;
     m.corrected_sigma += corrected->sigma / kSeeds;
     m.corrected_stationary += corrected->stationary ? 1 : 0;
+    raw_variances.push_back(ArProcessVariance(raw->a, raw->sigma));
+    corrected_variances.push_back(ArProcessVariance(corrected->a, corrected->sigma));
   }
+  m.raw_variance_median = Median(std::move(raw_variances));
+  m.corrected_variance_median = Median(std::move(corrected_variances));
   std::printf("AR(2) truth %.2f / %.2f, noise %.2f, 2 x %d points, mean of %d: raw %.3f / %.3f, corrected %.3f / %.3f\n",
               truth.a[0], truth.a[1], noise_std, kSegment, kSeeds, m.raw_a1, m.raw_a2, m.corrected_a1,
               m.corrected_a2);
@@ -166,37 +179,16 @@ TEST(ArBiasCorrectionTest, TheCorrectedModelImpliesTheTrueProcessVariance) {
   // must give the texture's amplitude, sigma^2 / prod(1 - k^2). A short
   // detrended piece shows about half of it (the raw fits' median below);
   // keeping that implied variance through the correction (the old rule) read
-  // sigma 27 % low (0.080 for 0.11). Medians over 200 seeds of 2 x 50 points
-  // (the variance is heavy-tailed near the unit circle, so not means);
-  // tolerance 7.5 %: ~35 % spread per seed / sqrt(200) x 3, rounded up.
+  // sigma 27 % low (0.080 for 0.11). Medians over the 200 seeds of 2 x 50
+  // points of MeanFits; tolerance 7.5 %: ~35 % spread per seed / sqrt(200)
+  // x 3, rounded up.
   const ArParams truth{{0.60, 0.25}, 0.11};
   const double true_variance = ArProcessVariance(truth.a, truth.sigma);
-  std::vector<double> variances, raw_variances;
-  for (int seed = 1; seed <= kSeeds; ++seed) {
-    std::vector<Eigen::VectorXd> segments;
-    for (int s = 0; s < 2; ++s) {
-      Eigen::VectorXd x = SimulateRoughness(truth, kSegment, 100 * seed + s);
-      RemoveLinearTrend(x.data(), kSegment);
-      segments.push_back(std::move(x));
-    }
-    ArFitOptions options;
-    options.segments_detrended = true;
-    const absl::StatusOr<ArFit> raw = FitAutoregressive(segments, options);
-    options.bias_replicates = 64;
-    options.bias_seed = seed;
-    const absl::StatusOr<ArFit> fit = FitAutoregressive(segments, options);
-    ASSERT_TRUE(raw.ok() && fit.ok()) << "seed " << seed;
-    raw_variances.push_back(ArProcessVariance(raw->a, raw->sigma));
-    variances.push_back(ArProcessVariance(fit->a, fit->sigma));
-  }
-  std::sort(variances.begin(), variances.end());
-  std::sort(raw_variances.begin(), raw_variances.end());
-  const double median = variances[variances.size() / 2];
-  const double raw_median = raw_variances[raw_variances.size() / 2];
+  const Means m = MeanFits(truth, 0.0);
   std::printf("process variance: truth %.5f, raw fits' median %.5f, corrected %.5f\n", true_variance,
-              raw_median, median);
-  EXPECT_LT(raw_median, (1.0 - 0.075) * true_variance);
-  EXPECT_NEAR(median, true_variance, 0.075 * true_variance);
+              m.raw_variance_median, m.corrected_variance_median);
+  EXPECT_LT(m.raw_variance_median, (1.0 - 0.075) * true_variance);
+  EXPECT_NEAR(m.corrected_variance_median, true_variance, 0.075 * true_variance);
 }
 
 TEST(ArBiasCorrectionTest, CorrectionIsShrunkToStayStationary) {

@@ -1,23 +1,30 @@
 #include "server/jobs/command_lookahead.h"
 
 #include <algorithm>
-#include <unordered_map>
 
 namespace surfmap {
 
-CommandLookahead::CommandLookahead(int64_t window_ms) : window_ms_(std::max<int64_t>(window_ms, 1)) {}
-
-void CommandLookahead::RigAsked(const std::string& rig_id, int64_t now_unix_ms) {
+void CommandLookahead::RigAsked(const std::string& rig_id, int64_t now_unix_ms, int64_t lease_ms) {
+  const int64_t until = now_unix_ms + std::max<int64_t>(lease_ms, 1);
   MutexLock lock(&mu_);
-  int64_t& last = last_asked_ms_[rig_id];
-  last = std::max(last, now_unix_ms);
+  auto it = counted_until_ms_.find(rig_id);
+  if (it != counted_until_ms_.end()) {
+    it->second = std::max(it->second, until);
+    return;
+  }
+  if (counted_until_ms_.size() >= kMaxCountedRigs) ForgetQuietRigsLocked(now_unix_ms);
+  if (counted_until_ms_.size() >= kMaxCountedRigs) return;  // still full of rigs that asked recently
+  counted_until_ms_.emplace(rig_id, until);
 }
 
 int CommandLookahead::CommandsAhead(int64_t now_unix_ms) {
   MutexLock lock(&mu_);
-  // Rigs gone quiet are forgotten, so the map holds only the recent ones.
-  std::erase_if(last_asked_ms_, [&](const auto& rig) { return rig.second < now_unix_ms - window_ms_; });
-  return std::max(1, static_cast<int>(last_asked_ms_.size()));
+  ForgetQuietRigsLocked(now_unix_ms);
+  return std::max(1, static_cast<int>(counted_until_ms_.size()));
+}
+
+void CommandLookahead::ForgetQuietRigsLocked(int64_t now_unix_ms) {
+  std::erase_if(counted_until_ms_, [&](const auto& rig) { return rig.second < now_unix_ms; });
 }
 
 }  // namespace surfmap

@@ -16,7 +16,7 @@ constexpr int kUploadCheckLevel = 1;
 
 JobCoordinator::JobCoordinator(Store* store, JobExecutors executors, CoordinatorOptions options)
     : store_(store),
-      registry_(store, executors, options.retained_finished_jobs, options.default_lease_ms),
+      registry_(store, executors, options.retained_finished_jobs),
       rigs_(store),
       steering_(store, &registry_, executors),
       probes_(store, &registry_, &rigs_, executors, options.default_lease_ms),

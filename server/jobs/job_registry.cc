@@ -33,12 +33,8 @@ absl::StatusOr<std::shared_ptr<const AcceptedSample>> LatestSample(Store& store,
 
 }  // namespace
 
-JobRegistry::JobRegistry(Store* store, JobExecutors executors, size_t retained_finished, int64_t lookahead_window_ms)
-    : store_(store),
-      executors_(executors),
-      retained_finished_(retained_finished),
-      surfaces_(store),
-      lookahead_(lookahead_window_ms) {}
+JobRegistry::JobRegistry(Store* store, JobExecutors executors, size_t retained_finished)
+    : store_(store), executors_(executors), retained_finished_(retained_finished), surfaces_(store) {}
 
 absl::Status JobRegistry::LoadActiveJobs() {
   SURFMAP_ASSIGN_OR_RETURN(std::vector<JobRecord> records, store_->ListActiveJobs());

@@ -27,10 +27,7 @@ namespace surfmap {
 
 class JobRegistry {
  public:
-  // `lookahead_window_ms`: how long a rig that asked for a command counts
-  // towards the commands issued ahead (command_lookahead.h): the lease time.
-  JobRegistry(Store* store, JobExecutors executors, size_t retained_finished = 8,
-              int64_t lookahead_window_ms = 60'000);
+  JobRegistry(Store* store, JobExecutors executors, size_t retained_finished = 8);
 
   // Loads every running or paused job (refines their surfaces: long).
   absl::Status LoadActiveJobs() ABSL_LOCKS_EXCLUDED(mu_);

@@ -135,7 +135,6 @@ absl::StatusOr<std::shared_ptr<const RegisteredRig>> ProbeProtocol::TraceRegistr
 void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, LeaseCallback done) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (job_id < 0) return done(absl::InvalidArgumentError("job_id must be >= 0 (0 = any)"));
-  registry_->lookahead().RigAsked(rig_id, UnixMillisNow());
   int64_t lease_ms = default_lease_ms_;
   if (job_id != 0) {
     bool finished = false;
@@ -155,6 +154,7 @@ void ProbeProtocol::LeaseCommand(const std::string& rig_id, int64_t job_id, Leas
       return done(outcome);
     }
   }
+  registry_->lookahead().RigAsked(rig_id, UnixMillisNow(), lease_ms);
   LeaseRequest request{job_id, rig_id, UnixMillisNow(), lease_ms};
   store_->LeaseNextCommandAsync(request, [this, rig_id, done = std::move(done)](
                                              absl::StatusOr<std::optional<CommandRecord>> leased) mutable {
@@ -191,7 +191,6 @@ void ProbeProtocol::SubmitTrace(int64_t command_id, const std::string& rig_id, T
                                 TraceFrameChoice frame, SubmitCallback done, std::string metadata_json) {
   if (absl::Status s = ValidateRigId(rig_id); !s.ok()) return done(s);
   if (command_id <= 0) return done(absl::InvalidArgumentError("command_id must be a positive command id"));
-  registry_->lookahead().RigAsked(rig_id, UnixMillisNow());
   auto shared_done = std::make_shared<SubmitCallback>(std::move(done));
   const bool queued = executors_.probes->Submit([this, command_id, rig_id, source = std::move(source), lease_next,
                                                frame, metadata_json = std::move(metadata_json), shared_done] {
@@ -307,6 +306,7 @@ absl::Status ProbeProtocol::QueueTrace(const CommandContext& context, const std:
     request.lease_next = LeaseRequest{context.record.job_id, rig_id, UnixMillisNow(), runtime.params.lease_ms};
   }
   TraceWrite pending{context, /*plan_changed=*/false, /*completes_job=*/false, lease_next, nullptr, rig_id};
+  registry_->lookahead().RigAsked(rig_id, UnixMillisNow(), runtime.params.lease_ms);
   const int keep_issued = registry_->lookahead().CommandsAhead(UnixMillisNow());
   MutexLock lock(&runtime.mu);
   if (!repeated) {
@@ -417,7 +417,6 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
         chars ? absl::StrCat("failure reason must have 1..1000 characters, got ", *chars)
               : std::string("failure reason is not valid UTF-8")));
   }
-  registry_->lookahead().RigAsked(rig_id, UnixMillisNow());
   auto shared_done = std::make_shared<FailureCallback>(std::move(done));
   const bool queued = executors_.probes->Submit([this, command_id, rig_id, reason, kind, shared_done] {
     FailureCallback done = std::move(*shared_done);
@@ -435,6 +434,7 @@ void ProbeProtocol::ReportFailure(int64_t command_id, const std::string& rig_id,
 absl::Status ProbeProtocol::QueueFailure(const CommandContext& context, const std::string& rig_id,
                                          const std::string& reason, FailureKind kind, FailureCallback& done) {
   JobRuntime& runtime = *context.runtime;
+  registry_->lookahead().RigAsked(rig_id, UnixMillisNow(), runtime.params.lease_ms);
   const int keep_issued = registry_->lookahead().CommandsAhead(UnixMillisNow());
   MutexLock lock(&runtime.mu);
   SURFMAP_RETURN_IF_ERROR(registry_->CheckTakesAnswersLocked(runtime, "failure reports"));

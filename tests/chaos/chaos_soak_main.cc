@@ -71,7 +71,11 @@ int Soak(const SoakOptions& options) {
   for (int round = 1; round <= options.rounds; ++round) {
     itest::Stubs stubs(itest::ConnectedChannel(address.Get()));
     itest::JobSpecOptions spec;
-    spec.mode = std::uniform_int_distribution<int>(0, 1)(random) ? pb::SAMPLING_MODE_UNIFORM : pb::SAMPLING_MODE_ADAPTIVE;
+    // BOUNDARY (the default job's mode) issues commands as rigs ask
+    // (command_lookahead.h); the others issue every site at once.
+    constexpr pb::SamplingMode kModes[] = {pb::SAMPLING_MODE_UNIFORM, pb::SAMPLING_MODE_ADAPTIVE,
+                                           pb::SAMPLING_MODE_BOUNDARY};
+    spec.mode = kModes[std::uniform_int_distribution<int>(0, 2)(random)];
     spec.coarsest_level = 0;
     spec.finest_level = 2;
     spec.threshold = 2.0;
