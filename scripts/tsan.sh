@@ -39,7 +39,7 @@ fi
 REPORTS="$ROOT/$BUILD_DIR/tsan-reports"
 rm -rf "$REPORTS"
 mkdir -p "$REPORTS"
-export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 history_size=4 suppressions=$ROOT/scripts/tsan.supp log_path=$REPORTS/report"
+export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 history_size=4 suppressions=$ROOT/scripts/tsan.supp log_path=$REPORTS/report log_exe_name=1"
 status=0
 ctest --test-dir "$BUILD_DIR" -R "$FILTER" -j2 --timeout 1200 --output-on-failure || status=$?
 reports=$(find "$REPORTS" -type f | wc -l)
