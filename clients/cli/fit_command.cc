@@ -22,6 +22,7 @@ namespace {
 struct FitArgs {
   std::vector<std::string> files;
   bool json = false;
+  bool series = false;
   double step_mm = 0.1;
   int order = 2;
   std::string method = "burg";
@@ -105,7 +106,7 @@ int RunFit(const FitArgs& args) {
   for (const std::string& path : args.files) {
     absl::StatusOr<TraceFit> fit = FitFile(path, options);
     if (args.json) {
-      nlohmann::json line = fit.ok() ? TraceFitToJson(*fit) : nlohmann::json::object();
+      nlohmann::json line = fit.ok() ? TraceFitToJson(*fit, args.series) : nlohmann::json::object();
       line["file"] = std::string(DisplayName(path));
       if (!fit.ok()) line["error"] = std::string(fit.status().message());
       std::cout << line.dump() << "\n";
@@ -132,6 +133,8 @@ void AddFitCommand(CLI::App& app, int* exit_code) {
   // empty default says nothing).
   fit->option_defaults()->always_capture_default();
   fit->add_flag("--json", args->json, "One JSON object per input per line (JSON Lines)");
+  fit->add_flag("--series", args->series,
+                "With --json: each pair's arc length and mu (pair_s_mm, pair_mu) and the roughness autocorrelation (acf)");
   fit->add_option("--step-mm", args->step_mm, "Roughness arc-length grid step L in mm")->check(CLI::PositiveNumber);
   fit->add_option("--order", args->order, "AR model order p")->check(CLI::Range(1, 20));
   fit->add_option("--method", args->method, "AR estimator")->check(CLI::IsMember({"burg", "ls"}));
