@@ -80,6 +80,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   request.reach = options.reach;
   SamplingPlanOptions plan_options = PlanOptionsFor(request);
   plan_options.follow_boundaries = options.follow_boundaries;
+  plan_options.continuation_prior = options.continuation_prior;
   plan_options.coverage_skip_share = options.coverage_skip_share;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's

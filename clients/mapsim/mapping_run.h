@@ -59,6 +59,7 @@ struct MappingRunOptions {
   std::uint64_t seed = 1;        // plan issue order, rig noise, kUniformSpread's first vertex
   Reachability reach;            // per job: sites outside are not planned
   bool follow_boundaries = false;  // kBoundary: SamplingPlanOptions::follow_boundaries
+  double continuation_prior = SamplingPlanOptions{}.continuation_prior;  // kBoundary
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;  // kBoundary
   FitOptions fit;
 

@@ -65,6 +65,7 @@ int Main(int argc, char** argv) {
   int rig_level = 3;
   bool details = false;
   bool follow = false;
+  double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -86,6 +87,10 @@ int Main(int argc, char** argv) {
   app.add_option("--rig-level", rig_level, "Loop level of the simulated rig's surface")->capture_default_str();
   app.add_flag("--follow-boundaries", follow,
                "boundary plans follow every boundary a drag crossed before choosing by uncertainty (an experiment)");
+  app.add_option("--continuation-prior", continuation_prior,
+                 "boundary plans: weight of a drag across where a crossed boundary would go on straight (0: off, the build before)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app.add_option("--coverage-skip-share", coverage_skip_share,
                  "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
                  "length of (0: drag every one, the build before)")
@@ -104,6 +109,7 @@ int Main(int argc, char** argv) {
   base.sample_budget = budget;
   base.seed = seed;
   base.follow_boundaries = follow;
+  base.continuation_prior = continuation_prior;
   base.coverage_skip_share = coverage_skip_share;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name

@@ -39,7 +39,8 @@
 //                                            mu_2 its mu
 //
 // so it rises near boundaries that no drag has pinned and far from data, and
-// falls to se_r at a piece.
+// falls to about se_r at a piece (the random walker leaves the other regions
+// a probability of ~1e-4 there).
 //
 // Not thread-safe for SetPieces / SetPendingPoints; the const methods may be
 // called concurrently. Copies share the factorisation workspace: rebuild

@@ -101,6 +101,19 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   return r;
 }
 
+std::pair<double, double> BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
+                                                     const Removable& removable) const {
+  const auto& x = level_->limit_positions;
+  const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
+  const double h2 = half_window_mm_ * half_window_mm_;
+  double far = 0.0, on_boundary = 0.0;
+  for (int w : near) {
+    if (DistanceToSegment(x[w], a, b) <= corridor_mm_) far += removable.far[w];
+    if ((x[w] - x[v]).squaredNorm() <= h2) on_boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
+  }
+  return {far, on_boundary};
+}
+
 BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& removable) const {
   BoundarySelection best;
   const auto& x = level_->limit_positions;
@@ -109,16 +122,10 @@ BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& remov
   const Eigen::Vector3d t2 = n.cross(t1);
   std::vector<int> near;
   ForEachWithin(x[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
-  const double h2 = half_window_mm_ * half_window_mm_;
   for (int k = 0; k < kDirections; ++k) {
     const double angle = std::numbers::pi * k / kDirections;
     const Eigen::Vector3d u = std::cos(angle) * t1 + std::sin(angle) * t2;
-    const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
-    double far = 0.0, on_boundary = 0.0;
-    for (int w : near) {
-      if (DistanceToSegment(x[w], a, b) <= corridor_mm_) far += removable.far[w];
-      if ((x[w] - x[v]).squaredNorm() <= h2) on_boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
-    }
+    const auto [far, on_boundary] = GainAlong(v, u, near, removable);
     const double gain = far + on_boundary;
     if (gain > best.gain) {
       best.vertex = v;
@@ -131,7 +138,8 @@ BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& remov
 }
 
 BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const char> candidate,
-                                           const std::vector<Eigen::Vector3d>& covered) const {
+                                           const std::vector<Eigen::Vector3d>& covered,
+                                           std::span<const DirectedCandidate> directed) const {
   BoundarySelection best;
   if (!map.has_pieces()) return best;
   const auto& x = level_->limit_positions;
@@ -153,6 +161,21 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
   for (const auto& [negative_sum, c] : scored) {
     const BoundarySelection here = ScanDirections(c, removable);
     if (here.gain > best.gain) best = here;
+  }
+  for (int i = 0; i < static_cast<int>(directed.size()); ++i) {
+    const DirectedCandidate& d = directed[i];
+    if (d.vertex < 0 || d.vertex >= nv) continue;
+    std::vector<int> near;
+    ForEachWithin(x[d.vertex], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
+    const auto [far, on_boundary] = GainAlong(d.vertex, d.direction, near, removable);
+    const double gain = far + on_boundary + d.extra_gain;
+    if (gain > best.gain) {
+      best.vertex = d.vertex;
+      best.gain = gain;
+      best.boundary_share = (on_boundary + d.extra_gain) / gain;
+      best.direction = d.direction;
+      best.directed = i;
+    }
   }
   return best;
 }

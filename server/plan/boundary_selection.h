@@ -40,6 +40,15 @@ struct BoundarySelection {
   double gain = 0.0;         // mu^2 mm^2, over the corridor
   double boundary_share = 0.0;  // of the gain
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit tangent
+  int directed = -1;         // Select: the directed candidate chosen, -1 when none
+};
+
+// A drag proposed with its direction fixed and a gain of its own on top of
+// the map's (e.g. following a boundary, boundary_tracing.h).
+struct DirectedCandidate {
+  int vertex = -1;
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // unit tangent
+  double extra_gain = 0.0;                              // mu^2 mm^2
 };
 
 class BoundarySelector {
@@ -52,8 +61,12 @@ class BoundarySelector {
   // candidate[v] != 0 (one entry per vertex of the level; vertices beyond its
   // size are not candidates). Ties go to the lower vertex and the first
   // direction. `covered` are the centres of drags issued and not yet measured.
+  // `directed` drags compete too, each with the map's gain along its own
+  // direction plus its extra gain (they need not be candidates); the result's
+  // `directed` says which one won (-1: none).
   BoundarySelection Select(const RegionMap& map, std::span<const char> candidate,
-                           const std::vector<Eigen::Vector3d>& covered) const;
+                           const std::vector<Eigen::Vector3d>& covered,
+                           std::span<const DirectedCandidate> directed = {}) const;
 
   // The best direction for a drag at v (e.g. a coverage site issued after
   // some data came in) with its gain and boundary share.
@@ -80,6 +93,10 @@ class BoundarySelector {
   };
   Removable RemovableVariance(const RegionMap& map, const std::vector<Eigen::Vector3d>& covered) const;
   BoundarySelection ScanDirections(int v, const Removable& removable) const;
+  // far + boundary gain of a drag at v along u (unit tangent), over `near`
+  // (the vertices within the window's reach of v).
+  std::pair<double, double> GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
+                                      const Removable& removable) const;
 
   const SurfaceLevel* level_;
   double drag_length_mm_;

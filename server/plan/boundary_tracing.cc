@@ -54,6 +54,23 @@ bool Explored(const TraceTarget& target, const std::vector<DragSegment>& drags, 
   return false;
 }
 
+double ContinuationError(const TraceTarget& target, const ChangeMark& mark, const RegionMap& map,
+                         double half_window_mm, double corridor_mm) {
+  const int regions = static_cast<int>(map.regions().size());
+  if (mark.before < 0 || mark.after < 0 || mark.before >= regions || mark.after >= regions) return 0.0;
+  const double jump = map.regions()[mark.after].statistics.mu - map.regions()[mark.before].statistics.mu;
+  const int steps = std::max(1, static_cast<int>(std::ceil(2.0 * half_window_mm)));
+  const double spacing = 2.0 * half_window_mm / steps;
+  double wrong_mm = 0.0;
+  for (int k = 0; k < steps; ++k) {
+    const double x = -half_window_mm + (k + 0.5) * spacing;  // midpoints: none falls on the target itself
+    const absl::StatusOr<MapValue> value = map.ValueAtPosition(target.point + x * target.direction);
+    if (!value.ok()) continue;
+    if (value->region != (x < 0.0 ? mark.before : mark.after)) wrong_mm += spacing;
+  }
+  return wrong_mm * 2.0 * corridor_mm * jump * jump;
+}
+
 std::vector<TraceTarget> OpenTraceTargets(const std::vector<ChangeMark>& marks, const std::vector<DragSegment>& drags,
                                           const BoundaryTraceOptions& o) {
   std::vector<TraceTarget> out;

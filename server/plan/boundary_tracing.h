@@ -35,6 +35,7 @@
 
 #include <Eigen/Core>
 #include "server/map/boundary_links.h"
+#include "server/map/region_map.h"
 
 namespace surfmap {
 
@@ -65,6 +66,19 @@ struct TraceTarget {
 // mark order (+t before -t), that no drag in `drags` has explored.
 std::vector<TraceTarget> OpenTraceTargets(const std::vector<ChangeMark>& marks, const std::vector<DragSegment>& drags,
                                           const BoundaryTraceOptions& options = {});
+
+// The squared error mass (mu^2 mm^2) the map holds along a drag across
+// `target` if the boundary of `mark` (the crossing the target continues)
+// goes on straight to it: over the drag's data window, target -/+
+// half_window_mm along target.direction, the length where the map's region
+// is not the one that continuation puts there (the crossing's `before`
+// region short of the target, `after` beyond it), times the corridor the
+// drag settles (2 x corridor_mm wide) and the squared jump between the two
+// regions' mu. Zero where the map already carries the boundary on (linked
+// crossings, other drags' data), large where data of one region on both
+// sides pinched a narrow feature off. Points are sampled every mm.
+double ContinuationError(const TraceTarget& target, const ChangeMark& mark, const RegionMap& map,
+                         double half_window_mm, double corridor_mm);
 
 // Whether some drag's segment passes within explored_mm of the target's point,
 // running within acos(min_crossing_cos) of its direction.

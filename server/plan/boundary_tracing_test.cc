@@ -1,6 +1,7 @@
 #include "server/plan/boundary_tracing.h"
 
 #include <gtest/gtest.h>
+#include "server/map/testing/map_pieces.h"
 
 namespace surfmap {
 namespace {
@@ -67,6 +68,62 @@ TEST(OpenTraceTargets, ADragAcrossATargetExploresItOneAlongTheBoundaryDoesNot) {
   // Across, but its window ends 2 mm short of the target.
   const DragSegment short_of{{-10.0, 12.0, 0.0}, {-2.0, 12.0, 0.0}};
   EXPECT_EQ(OpenTraceTargets(marks, {short_of}).size(), 2u);
+}
+
+// ContinuationError on a plate: glass (0.13) and sandpaper (0.5) met by
+// drags along +x. Window +/-8 mm sampled every mm, corridor 5 mm.
+constexpr double kHalfWindow = 8.0, kCorridor = 5.0, kJump = 0.5 - 0.13;
+
+// The error of the open target on side `side` of the crossing by `drag`.
+double ErrorOfTarget(const RegionMap& map, int drag, int side) {
+  const std::vector<ChangeMark>& marks = map.change_marks();
+  for (const TraceTarget& t : OpenTraceTargets(marks, {})) {
+    if (marks[t.mark].drag == drag && t.side == side) {
+      return ContinuationError(t, marks[t.mark], map, kHalfWindow, kCorridor);
+    }
+  }
+  ADD_FAILURE() << "no open target on side " << side << " of drag " << drag;
+  return -1.0;
+}
+
+TEST(ContinuationError, NoneWhereTheMapAlreadyCarriesTheBoundaryOn) {
+  // Glass left of x = 0, sandpaper right, crossed at y = -8 and y = 8.
+  const SurfaceLevel level = testing::Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  std::vector<MapPiece> pieces = {testing::StraightPiece(0, {-20, -20, 0}, {-20, 20, 0}, 0.13),
+                                  testing::StraightPiece(1, {20, -20, 0}, {20, 20, 0}, 0.5)};
+  for (double y : {-8.0, 8.0}) {
+    for (MapPiece& p : testing::CrossingDrag(y < 0 ? 2 : 3, {-8, y, 0}, {0, y, 0}, {8, y, 0}, 0.13, 0.5)) {
+      pieces.push_back(p);
+    }
+  }
+  ASSERT_TRUE(map->SetPieces(pieces).ok());
+  // The -8 crossing's +y side is closed by the other crossing; its -y side
+  // (y = -20) is open, and the map already has the boundary there.
+  EXPECT_EQ(ErrorOfTarget(*map, 2, -1), 0.0);
+}
+
+TEST(ContinuationError, TheWholeFarSideWhereDataOfOneRegionPinchedANarrowBandOff) {
+  // A sandpaper band x in [0, 6] crossed once at y = -15; glass drags along
+  // y at x = -4 and x = 10 from y = -5 on pinch it off further up.
+  const SurfaceLevel level = testing::Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  std::vector<MapPiece> pieces = {testing::StraightPiece(0, {-4, -5, 0}, {-4, 20, 0}, 0.13),
+                                  testing::StraightPiece(1, {10, -5, 0}, {10, 20, 0}, 0.13)};
+  MapPiece glass = testing::StraightPiece(2, {-8, -15, 0}, {0, -15, 0}, 0.13);
+  glass.piece.ends_at_change = true;
+  MapPiece band = testing::StraightPiece(2, {0, -15, 0}, {6, -15, 0}, 0.5, 8.0);
+  band.piece.starts_at_change = band.piece.ends_at_change = true;
+  MapPiece beyond = testing::StraightPiece(2, {6, -15, 0}, {10, -15, 0}, 0.13, 14.0);
+  beyond.piece.starts_at_change = true;
+  pieces.insert(pieces.end(), {glass, band, beyond});
+  ASSERT_TRUE(map->SetPieces(pieces).ok());
+  ASSERT_EQ(map->regions().size(), 2u);
+  // At the target (0, -3) the map is glass across the whole window, so the
+  // eight 1 mm samples beyond it, where the band would go on, are wrong.
+  EXPECT_NEAR(ErrorOfTarget(*map, 2, +1), 8.0 * 2.0 * kCorridor * kJump * kJump, 1e-9);
 }
 
 }  // namespace

@@ -629,8 +629,13 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
   // Stop when no drag could remove more than a resolution-sized error over
   // its whole corridor.
   const double min_gain = std::max(options_.min_uncertainty_score, selector_->MinGain(options_.regions.merge.mu_resolution));
+  std::vector<DragSegment> drags;
+  if (options_.continuation_prior > 0.0) drags = DragWindows();
+  const double h = selector_->half_window_mm();
   for (int k = 0; k < slots; ++k) {
-    const BoundarySelection choice = selector_->Select(*region_map_, candidate, covered);
+    std::vector<DirectedCandidate> directed;
+    if (options_.continuation_prior > 0.0) directed = ContinuationDrags(drags, candidate);
+    const BoundarySelection choice = selector_->Select(*region_map_, candidate, covered, directed);
     if (choice.vertex < 0 || !(choice.gain > min_gain)) break;
     SiteRecord r;
     r.site = {std::max(options_.coarsest_level, NaturalLevel(choice.vertex)), choice.vertex};
@@ -639,8 +644,78 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     selected_direction_[choice.vertex] = choice.direction;
     candidate[choice.vertex] = 0;
     covered.push_back(finest.limit_positions[choice.vertex]);
+    const Eigen::Vector3d& c = finest.limit_positions[choice.vertex];
+    drags.push_back({c - h * choice.direction, c + h * choice.direction});
   }
   return absl::OkStatus();
+}
+
+BoundaryTraceOptions SamplingPlan::TraceOptions() const {
+  BoundaryTraceOptions trace;
+  trace.link_mm = options_.regions.links.max_length_mm;
+  return trace;
+}
+
+DirectedCandidate SamplingPlan::DragForTarget(const std::vector<TraceTarget>& targets, std::size_t k,
+                                              const std::vector<DragSegment>& drags,
+                                              const std::vector<char>& candidate) const {
+  const SurfaceLevel& finest = *levels_.back();
+  const BoundaryTraceOptions trace = TraceOptions();
+  const double h = selector_->half_window_mm();
+  const std::vector<ChangeMark>& marks = region_map_->change_marks();
+  const TraceTarget& target = targets[k];
+  DirectedCandidate out;
+  if (Explored(target, drags, trace)) return out;  // by a drag placed since the targets were found
+  // A drag that crossed two edges of a narrow feature leaves two targets
+  // a feature's width apart along its direction; one drag centred between
+  // them crosses both when its window holds both with the margin.
+  Eigen::Vector3d centre = target.point;
+  for (std::size_t m = k + 1; m < targets.size(); ++m) {
+    const TraceTarget& other = targets[m];
+    if (marks[other.mark].drag != marks[target.mark].drag || other.side != target.side) continue;
+    if ((other.point - target.point).norm() <= 2.0 * (h - trace.explored_mm)) {
+      centre = 0.5 * (target.point + other.point);
+      break;
+    }
+  }
+  // The target is off the surface by the boundary's curvature over a step
+  // (12 mm on a 20 mm radius: 3.6 mm); half a step away is another place.
+  const int v = selector_->NearestVertex(centre, 0.5 * trace.step_share * trace.link_mm);
+  if (v < 0 || v >= static_cast<int>(candidate.size()) || !candidate[v]) return out;
+  const Eigen::Vector3d n = finest.limit_normals[v].norm() > 0 ? Eigen::Vector3d(finest.limit_normals[v].normalized())
+                                                                : Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d direction = target.direction - target.direction.dot(n) * n;
+  if (direction.norm() < 1e-6) return out;
+  out.vertex = v;
+  out.direction = direction.normalized();
+  return out;
+}
+
+std::vector<DirectedCandidate> SamplingPlan::ContinuationDrags(const std::vector<DragSegment>& drags,
+                                                               const std::vector<char>& candidate) const {
+  const BoundaryTraceOptions trace = TraceOptions();
+  const std::vector<ChangeMark>& marks = region_map_->change_marks();
+  const std::vector<TraceTarget> targets = OpenTraceTargets(marks, drags, trace);
+  const double corridor = 0.5 * selector_->reach_mm();  // a quarter of the drag length (boundary_selection.h)
+  std::vector<DirectedCandidate> out;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    DirectedCandidate drag = DragForTarget(targets, k, drags, candidate);
+    if (drag.vertex < 0) continue;
+    const double error = ContinuationError(targets[k], marks[targets[k].mark], *region_map_,
+                                           selector_->half_window_mm(), corridor);
+    drag.extra_gain = options_.continuation_prior * error;
+    if (drag.extra_gain <= 0.0) continue;
+    // Two targets of one narrow feature share a drag: their errors add up.
+    auto same = std::find_if(out.begin(), out.end(), [&](const DirectedCandidate& d) {
+      return d.vertex == drag.vertex && std::abs(d.direction.dot(drag.direction)) > 0.99;
+    });
+    if (same != out.end()) {
+      same->extra_gain += drag.extra_gain;
+    } else {
+      out.push_back(drag);
+    }
+  }
+  return out;
 }
 
 std::vector<DragSegment> SamplingPlan::DragWindows() const {
@@ -677,46 +752,23 @@ std::vector<DragSegment> SamplingPlan::DragWindows() const {
 int SamplingPlan::FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered) {
   if (slots <= 0) return 0;
   const SurfaceLevel& finest = *levels_.back();
-  BoundaryTraceOptions trace;
-  trace.link_mm = options_.regions.links.max_length_mm;
   const double h = selector_->half_window_mm();
-  const std::vector<ChangeMark>& marks = region_map_->change_marks();
   std::vector<DragSegment> drags = DragWindows();
-  const std::vector<TraceTarget> targets = OpenTraceTargets(marks, drags, trace);
+  const std::vector<TraceTarget> targets = OpenTraceTargets(region_map_->change_marks(), drags, TraceOptions());
   int added = 0;
   for (size_t k = 0; k < targets.size() && added < slots; ++k) {
-    const TraceTarget& target = targets[k];
-    if (Explored(target, drags, trace)) continue;  // by a drag placed in this loop
-    // A drag that crossed two edges of a narrow feature leaves two targets
-    // a feature's width apart along its direction; one drag centred between
-    // them crosses both when its window holds both with the margin.
-    Eigen::Vector3d centre = target.point;
-    for (size_t m = k + 1; m < targets.size(); ++m) {
-      const TraceTarget& other = targets[m];
-      if (marks[other.mark].drag != marks[target.mark].drag || other.side != target.side) continue;
-      if ((other.point - target.point).norm() <= 2.0 * (h - trace.explored_mm)) {
-        centre = 0.5 * (target.point + other.point);
-        break;
-      }
-    }
-    // The target is off the surface by the boundary's curvature over a step
-    // (12 mm on a 20 mm radius: 3.6 mm); half a step away is another place.
-    const int v = selector_->NearestVertex(centre, 0.5 * trace.step_share * trace.link_mm);
-    if (v < 0 || v >= static_cast<int>(candidate.size()) || !candidate[v]) continue;
-    const Eigen::Vector3d n = finest.limit_normals[v].norm() > 0 ? Eigen::Vector3d(finest.limit_normals[v].normalized())
-                                                                  : Eigen::Vector3d::UnitZ();
-    Eigen::Vector3d direction = target.direction - target.direction.dot(n) * n;
-    if (direction.norm() < 1e-6) continue;
-    direction.normalize();
+    const DirectedCandidate drag = DragForTarget(targets, k, drags, candidate);
+    if (drag.vertex < 0) continue;
+    const int v = drag.vertex;
     SiteRecord r;
     r.site = {std::max(options_.coarsest_level, NaturalLevel(v)), v};
     r.origin = SiteOrigin::kSelected;
     AddSite(std::move(r));
     if (sites_.at(v).state != SiteState::kPending) break;  // skipped: out of budget or cancelled
-    selected_direction_[v] = direction;
+    selected_direction_[v] = drag.direction;
     candidate[v] = 0;
     covered.push_back(finest.limit_positions[v]);
-    drags.push_back({finest.limit_positions[v] - h * direction, finest.limit_positions[v] + h * direction});
+    drags.push_back({finest.limit_positions[v] - h * drag.direction, finest.limit_positions[v] + h * drag.direction});
     ++added;
   }
   return added;

@@ -219,6 +219,17 @@ class SamplingPlan {
   // kBoundary with follow_boundaries: queues up to `slots` drags that follow
   // boundaries found so far (boundary_tracing.h); returns how many.
   int FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered);
+  // The drag that explores targets[k] (centred between it and its twin
+  // across a narrow feature when one window holds both): vertex -1 when no
+  // candidate vertex is near enough.
+  DirectedCandidate DragForTarget(const std::vector<TraceTarget>& targets, std::size_t k,
+                                  const std::vector<DragSegment>& drags, const std::vector<char>& candidate) const;
+  // kBoundary with continuation_prior > 0: a drag for every open target
+  // (boundary_tracing.h) with continuation_prior x ContinuationError as its
+  // extra gain, to compete with the map's own choices.
+  std::vector<DirectedCandidate> ContinuationDrags(const std::vector<DragSegment>& drags,
+                                                   const std::vector<char>& candidate) const;
+  BoundaryTraceOptions TraceOptions() const;
   // The data windows of measured and imported drags (their paths) and of
   // issued and queued ones (where their direction is known).
   std::vector<DragSegment> DragWindows() const;

@@ -150,6 +150,25 @@ TEST(SaveRestoreTest, FollowBoundariesIsSavedAndAPlanSavedBeforeItRestoresWithou
   EXPECT_FALSE(restored->options().follow_boundaries);
 }
 
+TEST(SaveRestoreTest, ContinuationPriorIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
+  const auto levels = TwoMaterialPlate(1);
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.max_level = 1;
+  o.continuation_prior = 0.5;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  ASSERT_TRUE(plan.ok()) << plan.status();
+  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(restored->options().continuation_prior, 0.5);
+  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
+  saved["options"].erase("continuation_prior");
+  restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(restored->options().continuation_prior, 0.0);
+  o.continuation_prior = 1.5;
+  EXPECT_EQ(SamplingPlan::Create(Pointers(levels), o).status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(SaveRestoreTest, APlanSavedBeforeCoverageSkipRestoresDraggingEverySite) {
   const auto levels = TwoMaterialPlate(1);
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);

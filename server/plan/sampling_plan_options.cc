@@ -34,6 +34,9 @@ bool SamplingPlanOptions::IsValid(std::string* why) const {
   if (!map.IsValid(&map_why)) return fail(absl::StrCat("map: ", map_why));
   if (!reach.IsValid(&map_why)) return fail(absl::StrCat("reach: ", map_why));
   if (!regions.IsValid(&map_why)) return fail(absl::StrCat("regions: ", map_why));
+  if (!(continuation_prior >= 0.0 && continuation_prior <= 1.0)) {
+    return fail(absl::StrCat("continuation_prior must be in [0, 1], got ", continuation_prior));
+  }
   if (!(coverage_skip_share >= 0.0 && coverage_skip_share <= 1.0)) {
     return fail(absl::StrCat("coverage_skip_share must be in [0, 1], got ", coverage_skip_share));
   }

@@ -1,0 +1,127 @@
+#include "server/map/region_map.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include "server/map/testing/map_pieces.h"
+
+namespace surfmap {
+namespace {
+
+using testing::CrossingDrag;
+using testing::Plate;
+using testing::StraightPiece;
+
+constexpr double kGlass = 0.13, kSandpaper = 0.5;
+
+// Glass drags along y at x = -30 and -20, sandpaper drags at x = 20 and 30.
+std::vector<MapPiece> TwoHalves() {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {20.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kSandpaper, 0.0, true));
+  return pieces;
+}
+
+MapValue At(const RegionMap& map, const Eigen::Vector3d& p) {
+  absl::StatusOr<MapValue> v = map.ValueAtPosition(p);
+  EXPECT_TRUE(v.ok()) << v.status();
+  return v.ok() ? *v : MapValue{};
+}
+
+TEST(RegionMapTest, AlikePiecesFormOneRegionEachWithThePooledMu) {
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  ASSERT_TRUE(map->SetPieces(TwoHalves()).ok());
+  ASSERT_EQ(map->regions().size(), 2u);
+  EXPECT_EQ(map->piece_region(), (std::vector<int>{0, 0, 1, 1}));
+  // Equal standard errors: the pooled mu is the plain mean, exactly.
+  EXPECT_DOUBLE_EQ(map->regions()[0].statistics.mu, kGlass);
+  EXPECT_DOUBLE_EQ(map->regions()[1].statistics.mu, kSandpaper);
+  EXPECT_EQ(At(*map, {-40, 20, 0}).region, 0);
+  EXPECT_DOUBLE_EQ(At(*map, {40, -20, 0}).mu, kSandpaper);
+}
+
+TEST(RegionMapTest, RoughnessComesOnlyFromPiecesThatHaveTheirOwnFit) {
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  ASSERT_TRUE(map->SetPieces(TwoHalves()).ok());
+  const MapValue glass = At(*map, {-25, 0, 0});
+  EXPECT_FALSE(glass.has_roughness);
+  const MapValue sand = At(*map, {25, 0, 0});
+  ASSERT_TRUE(sand.has_roughness);
+  ASSERT_EQ(sand.reflection.size(), 2u);
+  EXPECT_DOUBLE_EQ(sand.reflection[0], 0.6);
+  EXPECT_DOUBLE_EQ(sand.reflection[1], -0.25);
+  EXPECT_NEAR(sand.sigma, 0.11, 1e-12);  // exp(median log sigma)
+  // Per vertex: NaN where the region has no roughness.
+  bool saw_nan = false;
+  for (double s : map->log_sigma()) saw_nan |= std::isnan(s);
+  EXPECT_TRUE(saw_nan);
+}
+
+TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
+  // Without a crossing the boundary lies midway between the data (x = 0);
+  // a drag along x that changed at x = 8 puts it there.
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  std::vector<MapPiece> pieces = TwoHalves();
+  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlass, kSandpaper)) pieces.push_back(p);
+  ASSERT_TRUE(map->SetPieces(pieces).ok());
+  ASSERT_EQ(map->regions().size(), 2u);
+  ASSERT_EQ(map->change_marks().size(), 1u);
+  EXPECT_NEAR((map->change_marks()[0].position - Eigen::Vector3d(8, 0, 0)).norm(), 0.0, 1e-9);
+  // Within the near-data distance (the median edge, 2.5 mm) of the crossing.
+  EXPECT_EQ(At(*map, {7.5, 0, 0}).region, 0);
+  EXPECT_EQ(At(*map, {8.5, 0, 0}).region, 1);
+}
+
+TEST(RegionMapTest, UncertaintyIsTheStandardErrorAtDataAndRisesAwayFromIt) {
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  ASSERT_TRUE(map->SetPieces(TwoHalves()).ok());
+  // At a data point only the region mean's standard error remains: two
+  // pieces of se 0.002 pool to 0.002 / sqrt(2).
+  const double se = map->regions()[0].statistics.mu_se;
+  EXPECT_NEAR(se, 0.002 / std::sqrt(2.0), 1e-9);
+  // Vertex 418 is (-30, 0), on a glass drag (41 vertices per row).
+  ASSERT_EQ(level.limit_positions[418], Eigen::Vector3d(-30, 0, 0));
+  const double at_data = map->mu_std()[418];
+  const double far = At(*map, {-48, 23, 0}).mu_std;
+  const double at_boundary = At(*map, {0, 0, 0}).mu_std;
+  // The random walker leaves the other region a probability ~1e-4 even on a
+  // data vertex, so the boundary term is not exactly 0 there: small.
+  EXPECT_GE(at_data, se);
+  EXPECT_LT(at_data, 0.005) << "far " << far << " boundary " << at_boundary;
+  EXPECT_GT(far, 5.0 * at_data);
+  // Midway between glass and sandpaper data the boundary term dominates:
+  // p (1 - p) jump^2 with p ~ 1/2 gives ~ jump / 2 = 0.185.
+  EXPECT_GT(at_boundary, 0.1);
+  EXPECT_GT(at_boundary, far);
+}
+
+TEST(RegionMapTest, BadPiecesAreRefusedByNameAndTheMapKeepsItsState) {
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  EXPECT_EQ(map->SetPieces({}).code(), absl::StatusCode::kInvalidArgument);
+  ASSERT_TRUE(map->SetPieces(TwoHalves()).ok());
+  std::vector<MapPiece> bad = TwoHalves();
+  bad[2].points[1] = Eigen::Vector3d(std::nan(""), 0, 0);
+  const absl::Status s = map->SetPieces(bad);
+  EXPECT_EQ(s.code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("map piece 2: point 1 is not finite"), std::string::npos) << s;
+  bad = TwoHalves();
+  bad[1].points.clear();
+  EXPECT_NE(map->SetPieces(bad).message().find("map piece 1: has no points"), std::string::npos);
+  EXPECT_EQ(map->regions().size(), 2u);
+  EXPECT_EQ(map->pieces().size(), 4u);
+  EXPECT_DOUBLE_EQ(At(*map, {40, 0, 0}).mu, kSandpaper);
+}
+
+}  // namespace
+}  // namespace surfmap

@@ -1,0 +1,49 @@
+// Test support (header-only, not part of the library): map pieces along
+// straight drags on a flat plate, for RegionMap and the planner's tests.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include "server/map/region_map.h"
+#include "server/map/testing/flat_grid_levels.h"
+
+namespace surfmap::testing {
+
+// A 100 x 50 mm plate, x in [-50, 50], y in [-25, 25], z = 0, 2.5 mm cells:
+// finer than a drag, coarse enough that a test builds in milliseconds.
+inline SurfaceLevel Plate() { return MakeFlatGrid(40, 20, 2.5, -50.0, -25.0); }
+
+// One pure piece of drag `drag` from a to b (mm), lying from_mm along its
+// drag, with friction mu known to `mu_se`; with roughness (AR(2) reflection
+// coefficients 0.6, -0.25 and sigma 0.11, rubber-like) when `rough`.
+inline MapPiece StraightPiece(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b, double mu,
+                              double from_mm = 0.0, bool rough = false, double mu_se = 0.002) {
+  MapPiece p;
+  p.drag = drag;
+  p.points = {a, b};
+  p.piece.start_mm = from_mm;
+  p.piece.end_mm = from_mm + (b - a).norm();
+  p.piece.texture.mu = mu;
+  p.piece.texture.mu_std = 0.01;
+  if (rough) {
+    p.piece.texture.reflection = {0.6, -0.25};
+    p.piece.texture.sigma = 0.11;
+  }
+  p.piece.mu_se = mu_se;
+  p.piece.effective_pairs = 10.0;
+  return p;
+}
+
+// A drag from a to b that crosses from mu_before to mu_after at `at` (a
+// point of the segment): two pieces bounded by the detected change.
+inline std::vector<MapPiece> CrossingDrag(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& at,
+                                          const Eigen::Vector3d& b, double mu_before, double mu_after) {
+  MapPiece first = StraightPiece(drag, a, at, mu_before);
+  first.piece.ends_at_change = true;
+  MapPiece second = StraightPiece(drag, at, b, mu_after, first.piece.end_mm);
+  second.piece.starts_at_change = true;
+  return {first, second};
+}
+
+}  // namespace surfmap::testing
