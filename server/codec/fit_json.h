@@ -18,8 +18,11 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // version 1 fits read back without them. Version 3: a piece's roughness
 // sigma is bias-corrected by the bootstrap like its coefficients (version 2
 // kept the raw fit's implied process variance, which read a 5 mm rubber
-// piece's sigma 27 % low); whole-drag fits are unchanged.
-inline constexpr const char* kEstimatorVersion = "3";
+// piece's sigma 27 % low); whole-drag fits are unchanged. Version 4: an end
+// of a drag shorter than the split test's minimum piece is split off where
+// the rest's AR(2) cannot have made it (change_points.h), and the stretch
+// without it is searched again.
+inline constexpr const char* kEstimatorVersion = "4";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 // Missing keys keep their defaults; unknown keys and wrong types are errors.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include "absl/status/status.h"
@@ -182,6 +183,174 @@ double ChiSquare4UpperQuantile(double tail) {
   return c;
 }
 
+// c with P(|Z| > c) = tail for a standard normal Z: Newton on
+// erfc(c / sqrt 2) = tail from a start above the root.
+double NormalTwoSidedQuantile(double tail) {
+  double c = std::sqrt(std::max(1.0, -2.0 * std::log(tail)));
+  for (int i = 0; i < 100; ++i) {
+    const double f = std::erfc(c / std::sqrt(2.0)) - tail;
+    const double df = -std::sqrt(2.0 / std::numbers::pi) * std::exp(-0.5 * c * c);
+    if (df == 0.0) break;
+    const double step = f / df;
+    c -= step;
+    if (std::abs(step) < 1e-12 * c) break;
+  }
+  return c;
+}
+
+// x_t = c + a1 x_(t-1) + a2 x_(t-2) + e_t, least squares over rows t in
+// [2, n) of `x`; sigma the residuals' standard deviation (3 parameters).
+struct Ar2Model {
+  double c = 0.0, a1 = 0.0, a2 = 0.0, sigma = 0.0;
+};
+
+Ar2Model FitAr2(std::span<const double> x) {
+  const ArRowSums sums(x);
+  const ArRowSums::Sums r = sums.Rows(0, static_cast<int>(x.size()));
+  const double n = r[0];
+  double mean = 0.0;
+  for (double v : x) mean += v;
+  mean /= static_cast<double>(x.size());
+  // Centred moments (ArRowSums centres on the stretch's mean).
+  const double a = r[3] - r[1] * r[1] / n, c = r[4] - r[2] * r[2] / n, b = r[5] - r[1] * r[2] / n;
+  const double b1 = r[7] - r[6] * r[1] / n, b2 = r[8] - r[6] * r[2] / n;
+  const double ridge = 1e-12 * (a + c) + 1e-300;
+  const double det = (a + ridge) * (c + ridge) - b * b;
+  Ar2Model m;
+  if (det > 0.0) {
+    m.a1 = ((c + ridge) * b1 - b * b2) / det;
+    m.a2 = ((a + ridge) * b2 - b * b1) / det;
+  }
+  // Intercept in the original units: mean of y minus the lags' contribution.
+  const double y_bar = r[6] / n + mean, z1_bar = r[1] / n + mean, z2_bar = r[2] / n + mean;
+  m.c = y_bar - m.a1 * z1_bar - m.a2 * z2_bar;
+  m.sigma = std::sqrt(sums.Rss(r) / std::max(1.0, n - 3.0));
+  return m;
+}
+
+// The end of a stretch: its last `tested` values may be another material,
+// too few for the AR(2) split test. The rest's model predicts each of them
+// from the two before; at a change the first value of the other material is
+// far from its prediction (the jump), and the values after it sit on the
+// other side of the rest's mean. Returns the index (into `x`) of that first
+// value when its standardised residual exceeds `z_critical` and the mean of
+// the values after it moved the same way by at least half the residual (after
+// a lone spike they do not), leaving at least `min_end` values; index -1
+// otherwise. `z` is that residual's standardised size.
+struct EndSplit {
+  int index = -1;
+  double z = 0.0;
+};
+
+EndSplit EndChange(std::span<const double> x, int tested, int min_end, double z_critical) {
+  const int n = static_cast<int>(x.size());
+  const int rest = n - tested;
+  if (rest < 3 * kParameters || tested < min_end) return {};
+  const Ar2Model m = FitAr2(x.first(rest));
+  if (!(m.sigma > 0.0)) return {};
+  int best = -1;
+  double best_z = 0.0, best_residual = 0.0;
+  for (int t = rest; t <= n - min_end; ++t) {
+    const double residual = x[t] - (m.c + m.a1 * x[t - 1] + m.a2 * x[t - 2]);
+    const double z = std::abs(residual) / m.sigma;
+    if (z > best_z) best = t, best_z = z, best_residual = residual;
+  }
+  if (best < 0 || !(best_z > z_critical)) return {};
+  // The values after the candidate (not it: a spike is one value).
+  double rest_mean = 0.0, end_mean = 0.0;
+  for (int t = 0; t < rest; ++t) rest_mean += x[t];
+  for (int t = best + 1; t < n; ++t) end_mean += x[t];
+  rest_mean /= rest;
+  end_mean /= n - best - 1;
+  const double shift = end_mean - rest_mean;
+  if (!(shift * best_residual > 0.0 && std::abs(shift) >= 0.5 * std::abs(best_residual))) return {};
+  return {best, best_z};
+}
+
+// Binary segmentation of [a, b) (the method above), each change re-placed
+// within the stretch between its neighbours at the end.
+std::vector<ChangePoint> Segment(const ArRowSums& sums, std::span<const double> s_mm, std::span<const double> values,
+                                 const ChangePointOptions& options, int a0, int b0) {
+  std::vector<ChangePoint> changes;
+  std::vector<std::pair<int, int>> stack = {{a0, b0}};
+  while (!stack.empty()) {
+    const auto [a, b] = stack.back();
+    stack.pop_back();
+    const Split split = BestSplit(sums, s_mm, options, a, b);
+    if (split.index < 0) continue;
+    const double critical = ChiSquare4UpperQuantile(options.false_alarm_probability / split.candidates);
+    if (!(split.ratio > critical)) continue;
+    const int k = RefineSplit(values, a, split.index, b);
+    changes.push_back({k, 0.5 * (s_mm[k - 1] + s_mm[k]), split.ratio, critical});
+    stack.push_back({k + kChangeGuardPairs, b});
+    stack.push_back({a, k - kChangeGuardPairs});
+  }
+  std::sort(changes.begin(), changes.end(), [](const ChangePoint& x, const ChangePoint& y) { return x.index < y.index; });
+
+  // Re-place each change within the stretch between its neighbours: a split
+  // found in a longer stretch (with another change inside) is pulled towards it.
+  for (std::size_t i = 0; i < changes.size(); ++i) {
+    const int a = i == 0 ? a0 : changes[i - 1].index + kChangeGuardPairs;
+    const int b = i + 1 == changes.size() ? b0 : changes[i + 1].index - kChangeGuardPairs;
+    const int found = BestSplit(sums, s_mm, options, a, b).index;
+    const int k = found >= 0 ? RefineSplit(values, a, found, b) : -1;
+    if (k >= 0) {
+      changes[i].index = k;
+      changes[i].s_mm = 0.5 * (s_mm[k - 1] + s_mm[k]);
+    }
+  }
+  return changes;
+}
+
+// How many values at the start of [a, b) the split test cannot split off:
+// the first k - a with k an allowed left side (SplitAllowed's left rule).
+int UnsplittableStart(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
+  int k = a + 1;
+  while (k < b && !(k - a >= o.min_piece_pairs && s[k] - s[a] >= o.min_piece_mm)) ++k;
+  return k - a;
+}
+
+int UnsplittableEnd(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
+  int k = b - 1;
+  while (k > a && !(b - k >= o.min_piece_pairs && s[b - 1] - s[k - 1] >= o.min_piece_mm)) --k;
+  return b - k;
+}
+
+// Ends of a series split off by EndChange: the start from the stretch
+// [0, first_end) (fitted backwards), the end from [last_start, n); index
+// -1 where none. `index` is the change's (the first value after it).
+struct EndSplits {
+  EndSplit start, end;
+  double z_critical = 0.0;
+  bool any() const { return start.index >= 0 || end.index >= 0; }
+};
+
+EndSplits FindEnds(std::span<const double> values, std::span<const double> s_mm, const ChangePointOptions& options,
+                   int first_end, int last_start) {
+  const int n = static_cast<int>(values.size());
+  const int head = UnsplittableStart(s_mm, options, 0, first_end);
+  const int tail = UnsplittableEnd(s_mm, options, last_start, n);
+  EndSplits out;
+  // Half the false-alarm probability per look (DetectChangePoints looks twice).
+  out.z_critical = NormalTwoSidedQuantile(0.5 * options.false_alarm_probability / std::max(1, head + tail));
+  // An end keeps at least 2 pairs beside the transitional pair.
+  constexpr int kMinEnd = 2 + kChangeGuardPairs;
+  std::vector<double> reversed(values.begin(), values.begin() + first_end);
+  std::reverse(reversed.begin(), reversed.end());
+  const EndSplit start = EndChange(reversed, head, kMinEnd, out.z_critical);
+  // reversed[e] is values[first_end - 1 - e], the last value of the other
+  // material; the change comes after it.
+  if (start.index >= 0) out.start = {first_end - start.index, start.z};
+  const EndSplit end = EndChange(values.subspan(last_start, n - last_start), tail, kMinEnd, out.z_critical);
+  if (end.index >= 0) out.end = {last_start + end.index, end.z};
+  // Both ends of a short series may claim overlapping values: keep the
+  // clearer one.
+  if (out.start.index >= 0 && out.end.index >= 0 && out.end.index - out.start.index < 3 * kParameters) {
+    (out.start.z >= out.end.z ? out.end : out.start) = EndSplit{};
+  }
+  return out;
+}
+
 }  // namespace
 
 bool ChangePointOptions::IsValid(std::string* why) const {
@@ -222,36 +391,36 @@ absl::StatusOr<std::vector<ChangePoint>> DetectChangePoints(std::span<const doub
                                                      " mm) is before position ", i - 1, " (", s_mm[i - 1], " mm)"));
     }
   }
-  std::vector<ChangePoint> changes;
-  const ArRowSums sums(values);
-
-  std::vector<std::pair<int, int>> stack = {{0, n}};
-  while (!stack.empty()) {
-    const auto [a, b] = stack.back();
-    stack.pop_back();
-    const Split split = BestSplit(sums, s_mm, options, a, b);
-    if (split.index < 0) continue;
-    const double critical = ChiSquare4UpperQuantile(options.false_alarm_probability / split.candidates);
-    if (!(split.ratio > critical)) continue;
-    const int k = RefineSplit(values, a, split.index, b);
-    changes.push_back({k, 0.5 * (s_mm[k - 1] + s_mm[k]), split.ratio, critical});
-    stack.push_back({k + kChangeGuardPairs, b});
-    stack.push_back({a, k - kChangeGuardPairs});
+  // The drag's ends first, with the whole series as the rest (interior
+  // changes only widen its fit's residuals: fewer ends split, never more);
+  // then, where none was split, the stretches before the first change and
+  // after the last that segmentation found. Each look spends half the
+  // false-alarm probability.
+  EndSplits ends = FindEnds(values, s_mm, options, n, 0);
+  if (!ends.any()) {
+    std::vector<ChangePoint> changes = Segment(ArRowSums(values), s_mm, values, options, 0, n);
+    if (changes.empty()) return changes;  // its ends were the whole series': tested
+    ends = FindEnds(values, s_mm, options, changes.front().index - kChangeGuardPairs,
+                    changes.back().index + kChangeGuardPairs);
+    if (!ends.any()) return changes;
   }
-  std::sort(changes.begin(), changes.end(), [](const ChangePoint& x, const ChangePoint& y) { return x.index < y.index; });
-
-  // Re-place each change within the stretch between its neighbours: a split
-  // found in a longer stretch (with another change inside) is pulled towards it.
-  for (std::size_t i = 0; i < changes.size(); ++i) {
-    const int a = i == 0 ? 0 : changes[i - 1].index + kChangeGuardPairs;
-    const int b = i + 1 == changes.size() ? n : changes[i + 1].index - kChangeGuardPairs;
-    const int found = BestSplit(sums, s_mm, options, a, b).index;
-    const int k = found >= 0 ? RefineSplit(values, a, found, b) : -1;
-    if (k >= 0) {
-      changes[i].index = k;
-      changes[i].s_mm = 0.5 * (s_mm[k - 1] + s_mm[k]);
+  // The stretch without its ends, searched again.
+  const int a = ends.start.index < 0 ? 0 : ends.start.index + kChangeGuardPairs;
+  const int b = ends.end.index < 0 ? n : ends.end.index - kChangeGuardPairs;
+  std::vector<ChangePoint> changes;
+  auto end_point = [&](const EndSplit& e) {
+    const int k = e.index;
+    return ChangePoint{k, 0.5 * (s_mm[k - 1] + s_mm[k]), e.z * e.z, ends.z_critical * ends.z_critical};
+  };
+  if (ends.start.index >= 0) changes.push_back(end_point(ends.start));
+  if (b - a > 0) {
+    for (ChangePoint c : Segment(ArRowSums(values.subspan(a, b - a)), s_mm.subspan(a, b - a),
+                                 values.subspan(a, b - a), options, 0, b - a)) {
+      c.index += a;
+      changes.push_back(c);
     }
   }
+  if (ends.end.index >= 0) changes.push_back(end_point(ends.end));
   return changes;
 }
 

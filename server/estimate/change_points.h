@@ -27,6 +27,18 @@
 // are strongly correlated). Both sides are then searched again. At the end
 // every change is re-placed at the largest LR within the stretch between its
 // neighbouring changes.
+//
+// The drag's two ends are too short for that test where they hold less
+// than the minimum piece of another material (the window starts or ends just
+// past a boundary), and such an end's jump sits in the fits of its stretch
+// and can hide a change inside it. So the stretch before the first change
+// (and after the last) is fitted without its untestable end, the fit
+// predicts the end's values one by one (backwards at the start: an AR
+// process's covariance is the same both ways in time), and the end is split
+// off where a value's standardised residual exceeds the two-sided normal
+// quantile at the false-alarm probability over every value tested at both
+// ends, the values from there on having moved the same way by at least half
+// of it (a lone spike does not). The rest is then searched again.
 #pragma once
 
 #include <span>
@@ -64,8 +76,11 @@ struct ChangePointOptions {
 struct ChangePoint {
   int index = 0;              // first element after the change (1..n-1)
   double s_mm = 0.0;          // midway between elements index - 1 and index
-  double statistic = 0.0;     // LR at the split when it was found
-  double critical_value = 0.0;  // the chi-square(4) value it exceeded
+  // LR at the split when it was found, and the chi-square(4) value it
+  // exceeded; for an end split off, the squared standardised residual and
+  // the squared normal quantile.
+  double statistic = 0.0;
+  double critical_value = 0.0;
 };
 
 // `s_mm` (non-decreasing positions along the path) and `values` (e.g. the
