@@ -5,6 +5,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include "server/estimate/change_points.h"
 #include "server/estimate/lag_products.h"
 #include "server/estimate/roughness.h"
 
@@ -60,6 +61,34 @@ void BM_LagProductsAvx2(benchmark::State& state) {
   }
   LagProductsBenchmark(state, &AddLagProductsAvx2);
 }
+// Change points of a 16 mm data window (160 pairs, 0.1 mm apart): one
+// material (segmentation only: its ends are tested and kept), and 0.9 mm of
+// glass, rubber, masonite, glass (the end split off, the rest searched again).
+// Per-pair mu at 5 N: texture sigma / 5.
+void ChangePointsBenchmark(benchmark::State& state, bool with_end) {
+  std::vector<double> s(160), x;
+  for (int i = 0; i < 160; ++i) s[i] = 2.0 + 0.1 * i;
+  auto add = [&x](int n, double mu, const ArParams& texture, int seed) {
+    const Eigen::VectorXd t = SimulateRoughness(texture, n, seed);
+    for (int i = 0; i < n; ++i) x.push_back(mu + t(i));
+  };
+  const ArParams glass{{0.0, 0.0}, 0.003}, rubber{{0.60, 0.25}, 0.022}, masonite{{1.61, -0.73}, 0.032};
+  if (with_end) {
+    add(9, 0.106, glass, 1), add(60, 0.305, rubber, 2), add(65, 0.36, masonite, 3), add(26, 0.106, glass, 4);
+  } else {
+    add(160, 0.305, rubber, 2);
+  }
+  for (auto _ : state) {
+    auto changes = DetectChangePoints(s, x);
+    benchmark::DoNotOptimize(changes);
+  }
+  state.SetItemsProcessed(state.iterations());
+}
+void BM_ChangePointsOneMaterial(benchmark::State& state) { ChangePointsBenchmark(state, false); }
+void BM_ChangePointsEndAndBands(benchmark::State& state) { ChangePointsBenchmark(state, true); }
+
+BENCHMARK(BM_ChangePointsOneMaterial);
+BENCHMARK(BM_ChangePointsEndAndBands);
 BENCHMARK(BM_LagProductsPortable);
 BENCHMARK(BM_LagProductsAvx2);
 
