@@ -53,6 +53,31 @@ std::string FormatRunTable(const std::string& scene, int control_vertices, const
   return out;
 }
 
+std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
+  if (run.map_regions.empty()) return "";
+  std::string out = absl::StrFormat("  %-8s %6s %7s %6s %12s %6s  %s\n", "map", "mu", "se", "spread", "pieces (R)",
+                                    "map%", "truth under its pieces (by length)");
+  for (std::size_t k = 0; k < run.map_regions.size(); ++k) {
+    const MapRegionSummary& r = run.map_regions[k];
+    double total = 0.0;
+    for (double mm : r.truth_mm) total += mm;
+    std::vector<std::pair<double, int>> by_length;
+    for (std::size_t m = 0; m < r.truth_mm.size(); ++m) {
+      if (r.truth_mm[m] > 0.0) by_length.emplace_back(-r.truth_mm[m], static_cast<int>(m));
+    }
+    std::sort(by_length.begin(), by_length.end());
+    std::string truth;
+    for (const auto& [minus_mm, m] : by_length) {
+      absl::StrAppendFormat(&truth, "%s%s %.0f %%", truth.empty() ? "" : ", ", scene.material_names[m],
+                            total > 0.0 ? -100.0 * minus_mm / total : 0.0);
+    }
+    absl::StrAppendFormat(&out, "  %-8s %6.3f %7.4f %6.3f %7d (%2d) %6.1f  %s\n", absl::StrCat("[", k, "]"), r.mu,
+                          r.mu_se, r.spread, r.pieces, r.roughness_pieces, 100.0 * r.vertex_share,
+                          truth.empty() ? "-" : truth);
+  }
+  return out;
+}
+
 nlohmann::json RunToJson(const MappingRunResult& run) {
   const MappingRunOptions& o = run.options;
   nlohmann::json probes = nlohmann::json::array();

@@ -230,6 +230,34 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
   return bench;
 }
 
+namespace {
+
+std::vector<MapRegionSummary> SummariseRegions(const RegionMap& map, const Scene& scene) {
+  std::vector<MapRegionSummary> out(map.regions().size());
+  for (std::size_t k = 0; k < out.size(); ++k) {
+    const TextureRegion& region = map.regions()[k];
+    MapRegionSummary& s = out[k];
+    s.mu = region.statistics.mu;
+    s.mu_se = region.statistics.mu_se;
+    s.spread = region.statistics.spread;
+    s.pieces = static_cast<int>(region.pieces.size());
+    s.roughness_pieces = region.roughness_pieces;
+    s.truth_mm.assign(scene.materials.size(), 0.0);
+    for (int i : region.pieces) {
+      const std::vector<Eigen::Vector3d>& points = map.pieces()[i].points;
+      for (std::size_t j = 1; j < points.size(); ++j) {
+        s.truth_mm[scene.MaterialIndexAt(0.5 * (points[j - 1] + points[j]))] += (points[j] - points[j - 1]).norm();
+      }
+    }
+  }
+  for (int r : map.region()) {
+    if (r >= 0) out[r].vertex_share += 1.0 / map.vertex_count();
+  }
+  return out;
+}
+
+}  // namespace
+
 absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const MappingRunOptions& options) {
   if (std::string why; !options.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("mapping run: ", why));
   const int finest = options.finest_level < 0 ? bench.plan_level() : options.finest_level;
@@ -267,6 +295,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
       pieces.insert(pieces.end(), more.begin(), more.end());
     }
     if (absl::Status status = map->SetPieces(std::move(pieces)); !status.ok()) return status;
+    result.map_regions = SummariseRegions(*map, bench.scene());
     regions = std::move(*map);
     reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
       absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);

@@ -82,6 +82,20 @@ struct ProbeRecord {
   int changes = 0;               // material changes found inside the drag
 };
 
+// One region of a regions map and what its pieces lay on in truth: the
+// first thing to read when a region is classified wrong (a mixed piece
+// with a small standard error pulls a region's mean; a region of one
+// material can spread over another).
+struct MapRegionSummary {
+  double mu = 0.0;
+  double mu_se = 0.0;
+  double spread = 0.0;                // pooled per-pair spread
+  int pieces = 0;
+  int roughness_pieces = 0;
+  double vertex_share = 0.0;          // of the map level's vertices in this region
+  std::vector<double> truth_mm;       // piece length on each scene material (Scene::materials order)
+};
+
 struct MappingRunResult {
   MappingRunOptions options;
   std::vector<ProbeRecord> probes;   // in execution order, failures included
@@ -89,6 +103,7 @@ struct MappingRunResult {
   SurfaceScore score;                // on the scene's true surface
   std::vector<double> map_mu;        // per vertex of the bench's map level (for pictures)
   std::vector<double> map_mu_std;
+  std::vector<MapRegionSummary> map_regions;  // regions maps only
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
   int measured() const;
 };

@@ -37,5 +37,41 @@ TEST(MappingRunTest, RejectsInvalidOptions) {
   EXPECT_NE(why.find("reach"), std::string::npos) << why;
 }
 
+TEST(MappingRunTest, SummarisesTheMapsRegionsWithTheTruthUnderTheirPieces) {
+  absl::StatusOr<Scene> scene = LoadSceneByName("plate");
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  absl::StatusOr<std::unique_ptr<MappingBench>> bench = MappingBench::Create(*std::move(scene), 5);
+  ASSERT_TRUE(bench.ok()) << bench.status();
+  MappingRunOptions o;
+  o.mode = PlanMode::kUniform;
+  o.uniform_spread = true;
+  o.sample_budget = 40;
+  absl::StatusOr<MappingRunResult> run = RunMapping(**bench, o);
+  ASSERT_TRUE(run.ok()) << run.status();
+  ASSERT_FALSE(run->map_regions.empty());
+  double share = 0.0, piece_mm = 0.0, truth_mm = 0.0;
+  for (const MapRegionSummary& r : run->map_regions) {
+    share += r.vertex_share;
+    EXPECT_GE(r.pieces, 1);
+    ASSERT_EQ(r.truth_mm.size(), (*bench)->scene().materials.size());
+    for (double mm : r.truth_mm) truth_mm += mm;
+    // A region's mu is one of the plate's materials' (masonite 0.25 .. wood
+    // 0.42) or a blend of them, to a few standard errors; never outside.
+    EXPECT_GT(r.mu, 0.25 - 4.0 * r.mu_se);
+    EXPECT_LT(r.mu, 0.42 + 4.0 * r.mu_se);
+  }
+  for (const ProbeRecord& p : run->probes) {
+    if (!p.measured) continue;
+    for (const LinePiece& piece : p.line.pieces) piece_mm += piece.end_mm - piece.start_mm;
+  }
+  EXPECT_NEAR(share, 1.0, 1e-9);  // every vertex of the plate is reached by data
+  // The truth is read along the pieces' paths: their lengths in all (the
+  // polyline through the path points is as long as the arc, to rounding).
+  EXPECT_NEAR(truth_mm, piece_mm, 0.01 * piece_mm);
+  const std::string table = FormatMapRegions(*run, (*bench)->scene());
+  EXPECT_NE(table.find("truth under its pieces"), std::string::npos) << table;
+  EXPECT_NE(table.find("wood 100 %"), std::string::npos) << table;  // the plate itself
+}
+
 }  // namespace
 }  // namespace surfmap::mapsim

@@ -179,6 +179,7 @@ int Main(int argc, char** argv) {
     std::printf("%s", rows.c_str());
     for (std::size_t i = 0; i < runs.size(); ++i) {
       if (details || i == 0) std::printf("%s", FormatSurfaceScore(runs[i].score, RunLabel(runs[i])).c_str());
+      if (details) std::printf("%s", FormatMapRegions(runs[i], (*bench)->scene()).c_str());
     }
     std::fflush(stdout);
     const bool several = scenes.size() > 1 || runs.size() > 1;

@@ -25,6 +25,13 @@ struct Pool {
     pairs += p.effective_pairs;
     weighted_var += p.effective_pairs * p.spread * p.spread;
   }
+  void Remove(const PieceStatistics& p) {
+    const double w = 1.0 / (p.mu_se * p.mu_se);
+    weight -= w;
+    weighted_mu -= w * p.mu;
+    pairs -= p.effective_pairs;
+    weighted_var -= p.effective_pairs * p.spread * p.spread;
+  }
   void Add(const Pool& o) {
     weight += o.weight;
     weighted_mu += o.weighted_mu;
@@ -89,39 +96,37 @@ PieceStatistics PoolStatistics(const std::vector<PieceStatistics>& pieces) {
   return pool.Statistics();
 }
 
-std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
-                                  const std::vector<std::pair<int, int>>& adjacent,
-                                  const std::vector<std::pair<int, int>>& cannot_link,
-                                  const RegionMergeOptions& options) {
+namespace {
+
+// Merges touching groups, most alike pieces first, while the merged groups
+// stay alike and no pair in `apart` ends up in one group. `group` holds each
+// piece's group on entry (any label; a piece alone is its own) and on exit.
+void MergeGroups(const std::vector<PieceStatistics>& pieces, const std::vector<std::tuple<double, int, int>>& order,
+                 const std::vector<std::pair<int, int>>& apart_pairs, const RegionMergeOptions& options, double z,
+                 std::vector<int>& group) {
   const int n = static_cast<int>(pieces.size());
-  const double z = CriticalZ(options);
-  std::vector<Pool> pool(n);
-  for (int i = 0; i < n; ++i) pool[i].Add(pieces[i]);
-  // Cannot-links between groups, by root; only those whose pieces differ by
-  // more than the resolutions count.
-  std::vector<std::set<int>> apart(n);
-  for (const auto& [a, b] : cannot_link) {
-    if (a < 0 || b < 0 || a >= n || b >= n || a == b) continue;
-    const double dmu = std::abs(pieces[a].mu - pieces[b].mu);
-    const double dspread = std::abs(std::log(pieces[a].spread / pieces[b].spread));
-    if (dmu <= options.mu_resolution && dspread <= std::log(options.spread_resolution)) continue;
-    apart[a].insert(b);
-    apart[b].insert(a);
-  }
-  // Most alike pairs first; ties by index (deterministic).
-  std::vector<std::tuple<double, int, int>> order;
-  for (const auto& [a, b] : adjacent) {
-    if (a < 0 || b < 0 || a >= n || b >= n || a == b) continue;
-    order.emplace_back(Unlikeness(pieces[a], pieces[b], options, z), std::min(a, b), std::max(a, b));
-  }
-  std::sort(order.begin(), order.end());
-  order.erase(std::unique(order.begin(), order.end()), order.end());
   Groups groups(n);
+  {
+    std::vector<int> first(n, -1);  // lowest piece of each label
+    for (int i = 0; i < n; ++i) {
+      if (first[group[i]] < 0) first[group[i]] = i;
+      if (first[group[i]] != i) groups.Join(i, first[group[i]]);
+    }
+  }
+  std::vector<Pool> pool(n);
+  for (int i = 0; i < n; ++i) pool[groups.Find(i)].Add(pieces[i]);
+  std::vector<std::set<int>> apart(n);  // by root
+  for (const auto& [a, b] : apart_pairs) {
+    const int ra = groups.Find(a), rb = groups.Find(b);
+    if (ra == rb) continue;  // callers never ask for this
+    apart[ra].insert(rb);
+    apart[rb].insert(ra);
+  }
   for (const auto& [unlike, a, b] : order) {
     const int ra = groups.Find(a), rb = groups.Find(b);
     if (ra == rb || apart[ra].count(rb)) continue;
     if (Unlikeness(pool[ra].Statistics(), pool[rb].Statistics(), options, z) > 1.0) continue;
-    // Keep the lower index as the root; carry the pool and the cannot-links.
+    // Keep the lower index as the root; carry the pool and the apart sets.
     const int root = std::min(ra, rb), child = std::max(ra, rb);
     groups.Join(child, root);
     pool[root].Add(pool[child]);
@@ -132,10 +137,102 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
     }
     apart[child].clear();
   }
+  for (int i = 0; i < n; ++i) group[i] = groups.Find(i);
+}
+
+// The piece of each group of >= 2 that is least like the rest of its group,
+// if it is unlike them by the rule. Greedy merging tests a group only against
+// what it joins, so a chain of small, noisy pieces can carry a group across
+// textures (a 16 mm rubber drag into a masonite patch through a mixed piece
+// and two short masonite pieces, pulling the patch's mu to rubber's).
+std::vector<int> Misfits(const std::vector<PieceStatistics>& pieces, const std::vector<int>& group,
+                         const RegionMergeOptions& options, double z) {
+  const int n = static_cast<int>(pieces.size());
+  std::vector<Pool> pool(n);
+  std::vector<int> size(n, 0);
+  for (int i = 0; i < n; ++i) {
+    pool[group[i]].Add(pieces[i]);
+    ++size[group[i]];
+  }
+  std::vector<double> worst(n, 1.0);
+  std::vector<int> misfit(n, -1);
+  for (int i = 0; i < n; ++i) {
+    const int g = group[i];
+    if (size[g] < 2) continue;
+    Pool rest = pool[g];
+    rest.Remove(pieces[i]);
+    const double unlike = Unlikeness(pieces[i], rest.Statistics(), options, z);
+    if (unlike > worst[g]) {
+      worst[g] = unlike;
+      misfit[g] = i;
+    }
+  }
+  std::vector<int> out;
+  for (int m : misfit) {
+    if (m >= 0) out.push_back(m);
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
+                                  const std::vector<std::pair<int, int>>& adjacent,
+                                  const std::vector<std::pair<int, int>>& cannot_link,
+                                  const RegionMergeOptions& options) {
+  const int n = static_cast<int>(pieces.size());
+  const double z = CriticalZ(options);
+  // Cannot-links count only where the pieces differ by more than the
+  // resolutions.
+  std::vector<std::pair<int, int>> apart;
+  for (const auto& [a, b] : cannot_link) {
+    if (a < 0 || b < 0 || a >= n || b >= n || a == b) continue;
+    const double dmu = std::abs(pieces[a].mu - pieces[b].mu);
+    const double dspread = std::abs(std::log(pieces[a].spread / pieces[b].spread));
+    if (dmu <= options.mu_resolution && dspread <= std::log(options.spread_resolution)) continue;
+    apart.emplace_back(a, b);
+  }
+  // Most alike pairs first; ties by index (deterministic).
+  std::vector<std::tuple<double, int, int>> order;
+  for (const auto& [a, b] : adjacent) {
+    if (a < 0 || b < 0 || a >= n || b >= n || a == b) continue;
+    order.emplace_back(Unlikeness(pieces[a], pieces[b], options, z), std::min(a, b), std::max(a, b));
+  }
+  std::sort(order.begin(), order.end());
+  order.erase(std::unique(order.begin(), order.end()), order.end());
+  std::vector<int> group(n);
+  std::iota(group.begin(), group.end(), 0);
+  const std::vector<std::pair<int, int>> known_apart = apart;
+  MergeGroups(pieces, order, apart, options, z, group);
+  // A piece unlike the rest of its group leaves it, for good, and may join
+  // another group it is alike to; the most unlike piece of each group at a
+  // time, since one misfit can make others look unlike the rest. Each pass
+  // separates at least one pair for good, so this ends; a cap bounds the work.
+  for (int pass = 0; pass < n; ++pass) {
+    const std::vector<int> misfits = Misfits(pieces, group, options, z);
+    if (misfits.empty()) break;
+    std::vector<char> is_misfit(n, 0);
+    for (int m : misfits) {
+      is_misfit[m] = 1;
+      for (int i = 0; i < n; ++i) {
+        if (i != m && group[i] == group[m]) apart.emplace_back(m, i);
+      }
+    }
+    std::vector<int> lowest(n, -1);  // of each group, its lowest piece that stays
+    for (int i = 0; i < n; ++i) {
+      if (!is_misfit[i] && lowest[group[i]] < 0) lowest[group[i]] = i;
+    }
+    for (int i = 0; i < n; ++i) group[i] = is_misfit[i] ? i : lowest[group[i]];
+    MergeGroups(pieces, order, apart, options, z, group);
+  }
+  // Groups split by ejections may be alike as wholes (a rubber band whose
+  // drags were split by a misfit between them): merge them back, now that
+  // each is tested with all its pieces.
+  MergeGroups(pieces, order, known_apart, options, z, group);
   std::vector<int> region(n, -1), number(n, -1);
   int next = 0;
   for (int i = 0; i < n; ++i) {
-    const int r = groups.Find(i);
+    const int r = group[i];
     if (number[r] < 0) number[r] = next++;
     region[i] = number[r];
   }

@@ -17,6 +17,16 @@
 // drag on both sides of a detected change are never merged, unless they are
 // alike within the resolutions (a change that is statistically real but
 // smaller than anything worth mapping).
+//
+// Greedy merging tests a group only against the group it joins, so a chain
+// of short, noisy pieces can carry one texture into another's region (a
+// 16 mm rubber drag into a masonite patch, through a piece that was mostly
+// rubber and two short masonite pieces: the patch read 0.330 for 0.36). So
+// after merging, each group's piece least like the rest of the group (the
+// same rule, the piece against the group without it) leaves it if unlike,
+// for good, and may join any other group it is alike to; this repeats until
+// no group has such a piece. Groups that were split this way are then merged
+// again where they are alike as wholes.
 #pragma once
 
 #include <string>
