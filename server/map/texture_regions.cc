@@ -141,12 +141,12 @@ void MergeGroups(const std::vector<PieceStatistics>& pieces, const std::vector<s
 }
 
 // The piece of each group of >= 2 that is least like the rest of its group,
-// if it is unlike them by the rule. Greedy merging tests a group only against
+// if it is unlike them by the rule (pieces marked `stay` are not looked at). Greedy merging tests a group only against
 // what it joins, so a chain of small, noisy pieces can carry a group across
 // textures (a 16 mm rubber drag into a masonite patch through a mixed piece
 // and two short masonite pieces, pulling the patch's mu to rubber's).
 std::vector<int> Misfits(const std::vector<PieceStatistics>& pieces, const std::vector<int>& group,
-                         const RegionMergeOptions& options, double z) {
+                         const RegionMergeOptions& options, double z, const std::vector<char>& stay) {
   const int n = static_cast<int>(pieces.size());
   std::vector<Pool> pool(n);
   std::vector<int> size(n, 0);
@@ -158,7 +158,7 @@ std::vector<int> Misfits(const std::vector<PieceStatistics>& pieces, const std::
   std::vector<int> misfit(n, -1);
   for (int i = 0; i < n; ++i) {
     const int g = group[i];
-    if (size[g] < 2) continue;
+    if (size[g] < 2 || stay[i]) continue;
     Pool rest = pool[g];
     rest.Remove(pieces[i]);
     const double unlike = Unlikeness(pieces[i], rest.Statistics(), options, z);
@@ -204,30 +204,61 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
   std::iota(group.begin(), group.end(), 0);
   const std::vector<std::pair<int, int>> known_apart = apart;
   MergeGroups(pieces, order, apart, options, z, group);
-  // A piece unlike the rest of its group leaves it, for good, and may join
-  // another group it is alike to; the most unlike piece of each group at a
-  // time, since one misfit can make others look unlike the rest. Each pass
-  // separates at least one pair for good, so this ends; a cap bounds the work.
+  // A piece unlike the rest of its group moves, for good, to a touching
+  // group it is alike to and more alike to than to its own rest; with none,
+  // it stays (a piece that straddles two textures is unlike both, and where
+  // it lies is better told by the group it was merged with). One piece per
+  // group per pass, the most unlike, since one misfit can make others look
+  // unlike the rest. Each pass moves a piece for good or settles one, so
+  // this ends; the cap only bounds the work.
+  std::vector<std::vector<int>> neighbours(n);
+  for (const auto& [unlike, a, b] : order) {
+    neighbours[a].push_back(b);
+    neighbours[b].push_back(a);
+  }
+  std::vector<char> stay(n, 0);  // misfits with nowhere better to go
   for (int pass = 0; pass < n; ++pass) {
-    const std::vector<int> misfits = Misfits(pieces, group, options, z);
+    const std::vector<int> misfits = Misfits(pieces, group, options, z, stay);
     if (misfits.empty()) break;
-    std::vector<char> is_misfit(n, 0);
+    std::vector<Pool> pool(n);
+    for (int i = 0; i < n; ++i) pool[group[i]].Add(pieces[i]);
+    const std::set<std::pair<int, int>> kept_apart(apart.begin(), apart.end());
+    std::vector<int> target(n, -1);  // the group a misfit moves to
     for (int m : misfits) {
-      is_misfit[m] = 1;
+      Pool rest = pool[group[m]];
+      rest.Remove(pieces[m]);
+      double best = std::min(1.0, Unlikeness(pieces[m], rest.Statistics(), options, z));
+      for (int other : neighbours[m]) {
+        const int g = group[other];
+        if (g == group[m] || target[m] == g) continue;
+        bool blocked = false;
+        for (int j = 0; j < n && !blocked; ++j) {
+          blocked = group[j] == g && (kept_apart.count({m, j}) > 0 || kept_apart.count({j, m}) > 0);
+        }
+        if (blocked) continue;
+        const double unlike = Unlikeness(pieces[m], pool[g].Statistics(), options, z);
+        if (unlike <= best) {
+          best = unlike;
+          target[m] = g;
+        }
+      }
+      if (target[m] < 0) {
+        stay[m] = 1;
+        continue;
+      }
       for (int i = 0; i < n; ++i) {
         if (i != m && group[i] == group[m]) apart.emplace_back(m, i);
       }
     }
-    std::vector<int> lowest(n, -1);  // of each group, its lowest piece that stays
-    for (int i = 0; i < n; ++i) {
-      if (!is_misfit[i] && lowest[group[i]] < 0) lowest[group[i]] = i;
+    // Labels are any piece index (MergeGroups joins pieces of one label);
+    // a moved piece takes its target's.
+    for (int m : misfits) {
+      if (target[m] >= 0) group[m] = target[m];
     }
-    for (int i = 0; i < n; ++i) group[i] = is_misfit[i] ? i : lowest[group[i]];
     MergeGroups(pieces, order, apart, options, z, group);
   }
-  // Groups split by ejections may be alike as wholes (a rubber band whose
-  // drags were split by a misfit between them): merge them back, now that
-  // each is tested with all its pieces.
+  // Groups kept apart only by a moved piece may be alike as wholes: merge
+  // them, now that each is tested with all its pieces.
   MergeGroups(pieces, order, known_apart, options, z, group);
   std::vector<int> region(n, -1), number(n, -1);
   int next = 0;

@@ -23,10 +23,11 @@
 // 16 mm rubber drag into a masonite patch, through a piece that was mostly
 // rubber and two short masonite pieces: the patch read 0.330 for 0.36). So
 // after merging, each group's piece least like the rest of the group (the
-// same rule, the piece against the group without it) leaves it if unlike,
-// for good, and may join any other group it is alike to; this repeats until
-// no group has such a piece. Groups that were split this way are then merged
-// again where they are alike as wholes.
+// same rule, the piece against the group without it), if unlike, moves for
+// good to a touching group it is alike to and more alike to than to its own
+// rest, or stays where none is (a piece straddling two textures is unlike
+// both); this repeats until no group has a piece to move. Groups kept apart
+// only by a moved piece are then merged where they are alike as wholes.
 #pragma once
 
 #include <string>

@@ -41,7 +41,7 @@ TEST(MergeIntoRegions, ACannotLinkKeepsAlikePiecesApartOnlyBeyondTheResolutions)
 }
 
 // A recorded neighbourhood of a map (surfmap-mapsim --scene banded_vase
-// --mode boundary --seed 3, estimator 4, before misfits were ejected): the
+// --mode boundary --seed 3, estimator 4, before misfits were moved): the
 // pieces of the region laid over a masonite patch (truth mu 0.36) and every
 // piece touching them (glass 0.106, rubber 0.305 of the band that crosses the
 // patch), with the touching pairs and cannot-links the map found. Greedy
@@ -125,9 +125,9 @@ TEST(MergeIntoRegions, AChainOfNoisyPiecesDoesNotCarryAnotherTextureIntoARegion)
   }
 }
 
-TEST(MergeIntoRegions, PiecesOfOneMaterialAreNotEjected) {
+TEST(MergeIntoRegions, PiecesOfOneMaterialStayOneRegion) {
   // The glass pieces of the neighbourhood, all touching: one region, however
-  // many passes look for misfits.
+  // many passes look for misfits to move.
   const Neighbourhood n = VasePatch();
   std::vector<PieceStatistics> glass;
   for (const PieceStatistics& p : n.pieces) {
