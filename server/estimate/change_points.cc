@@ -3,11 +3,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <numbers>
 #include <utility>
 
 #include "absl/status/status.h"
 #include "absl/strings/str_cat.h"
+#include "server/estimate/normal_quantile.h"
 
 namespace surfmap {
 namespace {
@@ -27,6 +27,7 @@ class ArRowSums {
     double mean = 0.0;
     for (double v : x) mean += v;
     mean /= std::max<std::size_t>(1, x.size());
+    mean_ = mean;
     double mean_square = 0.0;
     for (std::size_t t = 0; t < x.size(); ++t) {
       Sums row{};
@@ -50,10 +51,14 @@ class ArRowSums {
     return s;
   }
 
-  // Residual sum of squares of the least-squares fit on `s` (floored): with
-  // the intercept eliminated, RSS = Syy - b' Szz^-1 b over the centred
-  // moments, a 2 x 2 solve in closed form (this runs ~3 times per candidate).
-  double Rss(const Sums& s) const {
+  // The least-squares fit on `s`: with the intercept eliminated, the lag
+  // coefficients solve Szz a = b over the centred moments, a 2 x 2 solve in
+  // closed form, and RSS = Syy - a' b (floored). This runs ~3 times per
+  // candidate split.
+  struct Fit {
+    double a1 = 0.0, a2 = 0.0, rss = 0.0;
+  };
+  Fit Solve(const Sums& s) const {
     const double n = s[0];
     const double inv_n = 1.0 / n;
     const double a = s[3] - s[1] * s[1] * inv_n;   // z1 z1
@@ -66,12 +71,21 @@ class ArRowSums {
     const double ridge = 1e-12 * (a + c) + 1e-300;
     const double ar = a + ridge, cr = c + ridge;
     const double det = ar * cr - b * b;
-    const double explained = det > 0.0 ? (cr * b1 * b1 - 2.0 * b * b1 * b2 + ar * b2 * b2) / det : 0.0;
-    return std::max(yy - explained, variance_floor_ * n);
+    Fit f;
+    if (det > 0.0) {
+      f.a1 = (cr * b1 - b * b2) / det;
+      f.a2 = (ar * b2 - b * b1) / det;
+    }
+    f.rss = std::max(yy - (f.a1 * b1 + f.a2 * b2), variance_floor_ * n);
+    return f;
   }
+  double Rss(const Sums& s) const { return Solve(s).rss; }
+  // The mean the rows are centred on.
+  double mean() const { return mean_; }
 
  private:
   std::vector<Sums> prefix_;
+  double mean_ = 0.0;
   double variance_floor_ = 0.0;
 };
 
@@ -183,21 +197,6 @@ double ChiSquare4UpperQuantile(double tail) {
   return c;
 }
 
-// c with P(|Z| > c) = tail for a standard normal Z: Newton on
-// erfc(c / sqrt 2) = tail from a start above the root.
-double NormalTwoSidedQuantile(double tail) {
-  double c = std::sqrt(std::max(1.0, -2.0 * std::log(tail)));
-  for (int i = 0; i < 100; ++i) {
-    const double f = std::erfc(c / std::sqrt(2.0)) - tail;
-    const double df = -std::sqrt(2.0 / std::numbers::pi) * std::exp(-0.5 * c * c);
-    if (df == 0.0) break;
-    const double step = f / df;
-    c -= step;
-    if (std::abs(step) < 1e-12 * c) break;
-  }
-  return c;
-}
-
 // x_t = c + a1 x_(t-1) + a2 x_(t-2) + e_t, least squares over rows t in
 // [2, n) of `x`; sigma the residuals' standard deviation (3 parameters).
 struct Ar2Model {
@@ -208,23 +207,15 @@ Ar2Model FitAr2(std::span<const double> x) {
   const ArRowSums sums(x);
   const ArRowSums::Sums r = sums.Rows(0, static_cast<int>(x.size()));
   const double n = r[0];
-  double mean = 0.0;
-  for (double v : x) mean += v;
-  mean /= static_cast<double>(x.size());
-  // Centred moments (ArRowSums centres on the stretch's mean).
-  const double a = r[3] - r[1] * r[1] / n, c = r[4] - r[2] * r[2] / n, b = r[5] - r[1] * r[2] / n;
-  const double b1 = r[7] - r[6] * r[1] / n, b2 = r[8] - r[6] * r[2] / n;
-  const double ridge = 1e-12 * (a + c) + 1e-300;
-  const double det = (a + ridge) * (c + ridge) - b * b;
+  const ArRowSums::Fit fit = sums.Solve(r);
   Ar2Model m;
-  if (det > 0.0) {
-    m.a1 = ((c + ridge) * b1 - b * b2) / det;
-    m.a2 = ((a + ridge) * b2 - b * b1) / det;
-  }
-  // Intercept in the original units: mean of y minus the lags' contribution.
-  const double y_bar = r[6] / n + mean, z1_bar = r[1] / n + mean, z2_bar = r[2] / n + mean;
-  m.c = y_bar - m.a1 * z1_bar - m.a2 * z2_bar;
-  m.sigma = std::sqrt(sums.Rss(r) / std::max(1.0, n - 3.0));
+  m.a1 = fit.a1;
+  m.a2 = fit.a2;
+  // Intercept in the original units (the sums are centred on the mean): the
+  // mean of y minus the lags' contribution.
+  const double mean = sums.mean();
+  m.c = (r[6] / n + mean) - m.a1 * (r[1] / n + mean) - m.a2 * (r[2] / n + mean);
+  m.sigma = std::sqrt(fit.rss / std::max(1.0, n - 3.0));
   return m;
 }
 
@@ -331,8 +322,10 @@ EndSplits FindEnds(std::span<const double> values, std::span<const double> s_mm,
   const int head = UnsplittableStart(s_mm, options, 0, first_end);
   const int tail = UnsplittableEnd(s_mm, options, last_start, n);
   EndSplits out;
-  // Half the false-alarm probability per look (DetectChangePoints looks twice).
-  out.z_critical = NormalTwoSidedQuantile(0.5 * options.false_alarm_probability / std::max(1, head + tail));
+  // Half the false-alarm probability per look (DetectChangePoints looks
+  // twice), over the values tested, two-sided: P(|Z| > z) = alpha / 2 /
+  // tested, so P(Z > z) is half that.
+  out.z_critical = NormalUpperQuantile(0.25 * options.false_alarm_probability / std::max(1, head + tail));
   // An end keeps at least 2 pairs beside the transitional pair.
   constexpr int kMinEnd = 2 + kChangeGuardPairs;
   std::vector<double> reversed(values.begin(), values.begin() + first_end);

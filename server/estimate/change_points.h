@@ -31,14 +31,17 @@
 // The drag's two ends are too short for that test where they hold less
 // than the minimum piece of another material (the window starts or ends just
 // past a boundary), and such an end's jump sits in the fits of its stretch
-// and can hide a change inside it. So the stretch before the first change
-// (and after the last) is fitted without its untestable end, the fit
-// predicts the end's values one by one (backwards at the start: an AR
-// process's covariance is the same both ways in time), and the end is split
-// off where a value's standardised residual exceeds the two-sided normal
-// quantile at the false-alarm probability over every value tested at both
-// ends, the values from there on having moved the same way by at least half
-// of it (a lone spike does not). The rest is then searched again.
+// and can hide a change inside it. So the series without its untestable
+// ends is fitted, the fit predicts the end's values one by one (backwards
+// at the start: an AR process's covariance is the same both ways in time),
+// and an end is split off where a value's standardised residual exceeds the
+// two-sided normal quantile at half the false-alarm probability over every
+// value tested at both ends, the values from there on having moved the same
+// way by at least half of it (a lone spike does not). Where no end is split
+// off so, the series is segmented and the same is tried with the stretches
+// before the first change and after the last as the rest (the other half
+// of the probability). The series without the ends split off is then
+// segmented again.
 #pragma once
 
 #include <span>

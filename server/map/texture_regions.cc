@@ -140,28 +140,35 @@ void MergeGroups(const std::vector<PieceStatistics>& pieces, const std::vector<s
   for (int i = 0; i < n; ++i) group[i] = groups.Find(i);
 }
 
+// Each group's pooled statistics, indexed by group label.
+std::vector<Pool> GroupPools(const std::vector<PieceStatistics>& pieces, const std::vector<int>& group) {
+  std::vector<Pool> pool(pieces.size());
+  for (std::size_t i = 0; i < pieces.size(); ++i) pool[group[i]].Add(pieces[i]);
+  return pool;
+}
+
+// The statistics of piece i's group without it.
+PieceStatistics RestOfGroup(const std::vector<PieceStatistics>& pieces, const std::vector<int>& group,
+                            const std::vector<Pool>& pool, int i) {
+  Pool rest = pool[group[i]];
+  rest.Remove(pieces[i]);
+  return rest.Statistics();
+}
+
 // The piece of each group of >= 2 that is least like the rest of its group,
-// if it is unlike them by the rule (pieces marked `stay` are not looked at). Greedy merging tests a group only against
-// what it joins, so a chain of small, noisy pieces can carry a group across
-// textures (a 16 mm rubber drag into a masonite patch through a mixed piece
-// and two short masonite pieces, pulling the patch's mu to rubber's).
+// if it is unlike them by the rule; pieces marked `stay` are not looked at.
 std::vector<int> Misfits(const std::vector<PieceStatistics>& pieces, const std::vector<int>& group,
-                         const RegionMergeOptions& options, double z, const std::vector<char>& stay) {
+                         const std::vector<Pool>& pool, const RegionMergeOptions& options, double z,
+                         const std::vector<char>& stay) {
   const int n = static_cast<int>(pieces.size());
-  std::vector<Pool> pool(n);
   std::vector<int> size(n, 0);
-  for (int i = 0; i < n; ++i) {
-    pool[group[i]].Add(pieces[i]);
-    ++size[group[i]];
-  }
+  for (int i = 0; i < n; ++i) ++size[group[i]];
   std::vector<double> worst(n, 1.0);
   std::vector<int> misfit(n, -1);
   for (int i = 0; i < n; ++i) {
     const int g = group[i];
     if (size[g] < 2 || stay[i]) continue;
-    Pool rest = pool[g];
-    rest.Remove(pieces[i]);
-    const double unlike = Unlikeness(pieces[i], rest.Statistics(), options, z);
+    const double unlike = Unlikeness(pieces[i], RestOfGroup(pieces, group, pool, i), options, z);
     if (unlike > worst[g]) {
       worst[g] = unlike;
       misfit[g] = i;
@@ -217,25 +224,24 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
     neighbours[b].push_back(a);
   }
   std::vector<char> stay(n, 0);  // misfits with nowhere better to go
+  bool moved = false;
   for (int pass = 0; pass < n; ++pass) {
-    const std::vector<int> misfits = Misfits(pieces, group, options, z, stay);
+    const std::vector<Pool> pool = GroupPools(pieces, group);
+    const std::vector<int> misfits = Misfits(pieces, group, pool, options, z, stay);
     if (misfits.empty()) break;
-    std::vector<Pool> pool(n);
-    for (int i = 0; i < n; ++i) pool[group[i]].Add(pieces[i]);
-    const std::set<std::pair<int, int>> kept_apart(apart.begin(), apart.end());
+    std::vector<std::vector<int>> apart_from(n);  // each piece's partners in `apart`
+    for (const auto& [a, b] : apart) {
+      apart_from[a].push_back(b);
+      apart_from[b].push_back(a);
+    }
     std::vector<int> target(n, -1);  // the group a misfit moves to
     for (int m : misfits) {
-      Pool rest = pool[group[m]];
-      rest.Remove(pieces[m]);
-      double best = std::min(1.0, Unlikeness(pieces[m], rest.Statistics(), options, z));
+      std::set<int> blocked;  // groups holding a piece kept apart from m
+      for (int j : apart_from[m]) blocked.insert(group[j]);
+      double best = std::min(1.0, Unlikeness(pieces[m], RestOfGroup(pieces, group, pool, m), options, z));
       for (int other : neighbours[m]) {
         const int g = group[other];
-        if (g == group[m] || target[m] == g) continue;
-        bool blocked = false;
-        for (int j = 0; j < n && !blocked; ++j) {
-          blocked = group[j] == g && (kept_apart.count({m, j}) > 0 || kept_apart.count({j, m}) > 0);
-        }
-        if (blocked) continue;
+        if (g == group[m] || blocked.count(g) > 0) continue;
         const double unlike = Unlikeness(pieces[m], pool[g].Statistics(), options, z);
         if (unlike <= best) {
           best = unlike;
@@ -253,13 +259,15 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
     // Labels are any piece index (MergeGroups joins pieces of one label);
     // a moved piece takes its target's.
     for (int m : misfits) {
-      if (target[m] >= 0) group[m] = target[m];
+      if (target[m] < 0) continue;
+      group[m] = target[m];
+      moved = true;
     }
     MergeGroups(pieces, order, apart, options, z, group);
   }
   // Groups kept apart only by a moved piece may be alike as wholes: merge
   // them, now that each is tested with all its pieces.
-  MergeGroups(pieces, order, known_apart, options, z, group);
+  if (moved) MergeGroups(pieces, order, known_apart, options, z, group);
   std::vector<int> region(n, -1), number(n, -1);
   int next = 0;
   for (int i = 0; i < n; ++i) {

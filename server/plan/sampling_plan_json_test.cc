@@ -1,7 +1,9 @@
 #include <deque>
+#include <string>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include "absl/strings/str_cat.h"
 #include "server/plan/plan_test_support.h"
 #include "server/plan/sampling_plan.h"
 
@@ -133,58 +135,59 @@ TEST(SaveRestoreTest, APlanSavedBeforeChangeLocationRestoresWithTheDefault) {
             SamplingPlanOptions{}.regions.change_location_mm);
 }
 
-TEST(SaveRestoreTest, FollowBoundariesIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
+// A boundary plan with options `o`, saved and restored: its options as
+// restored, with `erased_key` ("" for none) taken out of the saved options
+// first, as a plan saved before the option existed would lack it.
+absl::StatusOr<SamplingPlanOptions> RestoredOptions(SamplingPlanOptions o, const std::string& erased_key) {
   const auto levels = TwoMaterialPlate(1);
-  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
   o.max_level = 1;
-  o.follow_boundaries = true;
   auto plan = SamplingPlan::Create(Pointers(levels), o);
-  ASSERT_TRUE(plan.ok()) << plan.status();
-  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_TRUE(restored->options().follow_boundaries);
+  if (!plan.ok()) return plan.status();
   nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
-  saved["options"].erase("follow_boundaries");
-  restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_FALSE(restored->options().follow_boundaries);
+  if (!erased_key.empty()) {
+    if (!saved["options"].contains(erased_key)) {
+      return absl::NotFoundError(absl::StrCat("the saved options have no ", erased_key));
+    }
+    saved["options"].erase(erased_key);
+  }
+  auto restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
+  if (!restored.ok()) return restored.status();
+  return restored->options();
+}
+
+TEST(SaveRestoreTest, FollowBoundariesIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.follow_boundaries = true;
+  auto kept = RestoredOptions(o, "");
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_TRUE(kept->follow_boundaries);
+  auto older = RestoredOptions(o, "follow_boundaries");
+  ASSERT_TRUE(older.ok()) << older.status();
+  EXPECT_FALSE(older->follow_boundaries);
 }
 
 TEST(SaveRestoreTest, ContinuationPriorIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
-  const auto levels = TwoMaterialPlate(1);
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
-  o.max_level = 1;
   o.continuation_prior = 0.5;
-  auto plan = SamplingPlan::Create(Pointers(levels), o);
-  ASSERT_TRUE(plan.ok()) << plan.status();
-  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_EQ(restored->options().continuation_prior, 0.5);
-  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
-  saved["options"].erase("continuation_prior");
-  restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_EQ(restored->options().continuation_prior, 0.0);
+  auto kept = RestoredOptions(o, "");
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_EQ(kept->continuation_prior, 0.5);
+  auto older = RestoredOptions(o, "continuation_prior");
+  ASSERT_TRUE(older.ok()) << older.status();
+  EXPECT_EQ(older->continuation_prior, 0.0);
   o.continuation_prior = 1.5;
-  EXPECT_EQ(SamplingPlan::Create(Pointers(levels), o).status().code(), absl::StatusCode::kInvalidArgument);
+  EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
 }
 
 TEST(SaveRestoreTest, APlanSavedBeforeCoverageSkipRestoresDraggingEverySite) {
-  const auto levels = TwoMaterialPlate(1);
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
-  o.max_level = 1;
   o.coverage_skip_share = 0.25;
-  auto plan = SamplingPlan::Create(Pointers(levels), o);
-  ASSERT_TRUE(plan.ok()) << plan.status();
-  auto restored = SamplingPlan::Restore(plan->SaveJson(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_EQ(restored->options().coverage_skip_share, 0.25);
-  nlohmann::json saved = nlohmann::json::parse(plan->SaveJson());
-  ASSERT_TRUE(saved["options"].contains("coverage_skip_share"));
-  saved["options"].erase("coverage_skip_share");
-  restored = SamplingPlan::Restore(saved.dump(), Pointers(levels));
-  ASSERT_TRUE(restored.ok()) << restored.status();
-  EXPECT_EQ(restored->options().coverage_skip_share, 0.0);
+  auto kept = RestoredOptions(o, "");
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_EQ(kept->coverage_skip_share, 0.25);
+  auto older = RestoredOptions(o, "coverage_skip_share");
+  ASSERT_TRUE(older.ok()) << older.status();
+  EXPECT_EQ(older->coverage_skip_share, 0.0);
 }
 
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
