@@ -226,9 +226,8 @@ absl::Status RegionMap::Rebuild() {
       if (!bounded || j < 0 || j >= n || pieces_[j].drag != pieces_[i].drag) continue;
       const double share = std::min(1.0, options_.change_location_mm / length);
       const double jump = pieces_[j].piece.texture.mu - p.texture.mu;
-      statistics[i].location_variance += share * share * jump * jump;
+      se2 += share * share * jump * jump;
     }
-    se2 += statistics[i].location_variance;
     statistics[i].mu_se = std::sqrt(se2);
     statistics[i].spread = std::max(p.texture.mu_std, options_.min_spread);
     statistics[i].effective_pairs = std::max(p.effective_pairs, 1.0);
@@ -253,7 +252,7 @@ absl::Status RegionMap::Rebuild() {
       for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
       log_sigma.push_back(std::log(t.sigma));
     }
-    r.statistics = RegionEstimate(members);
+    r.statistics = PoolStatistics(members);
     r.roughness_pieces = static_cast<int>(log_sigma.size());
     if (r.roughness_pieces > 0) {
       for (int j = 0; j < order; ++j) r.reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));

@@ -21,9 +21,8 @@
 //    the boundary is resolved below the level's edge length. A diagram of the
 //    nearest data (nearest_labels.h) gives the distance to data.
 //
-// Values: a vertex takes its region's mu (RegionEstimate: the mean of its
-// pieces weighted by their effective pairs under the region's pooled
-// spread) and, when at least one of its pieces had its own roughness fit, the
+// Values: a vertex takes its region's mu (the precision-weighted mean of its
+// pieces) and, when at least one of its pieces had its own roughness fit, the
 // region's roughness (per-coefficient medians of the pieces' reflection
 // coefficients, median sigma): roughness comes only from pure pieces, and a
 // region without one has none (NaN). Uncertainty (standard deviation of mu):

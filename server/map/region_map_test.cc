@@ -84,10 +84,10 @@ TEST(RegionMapTest, UncertaintyIsTheStandardErrorAtDataAndRisesAwayFromIt) {
   auto map = RegionMap::Create(level);
   ASSERT_TRUE(map.ok());
   ASSERT_TRUE(map->SetPieces(TwoHalves()).ok());
-  // At a data point only the region mean's standard error remains: the
-  // pooled spread 0.01 over the two pieces' 10 + 10 effective pairs.
+  // At a data point only the region mean's standard error remains: two
+  // pieces of se 0.002 pool to 0.002 / sqrt(2).
   const double se = map->regions()[0].statistics.mu_se;
-  EXPECT_NEAR(se, 0.01 / std::sqrt(20.0), 1e-9);
+  EXPECT_NEAR(se, 0.002 / std::sqrt(2.0), 1e-9);
   // Vertex 418 is (-30, 0), on a glass drag (41 vertices per row).
   ASSERT_EQ(level.limit_positions[418], Eigen::Vector3d(-30, 0, 0));
   const double at_data = map->mu_std()[418];

@@ -96,21 +96,6 @@ PieceStatistics PoolStatistics(const std::vector<PieceStatistics>& pieces) {
   return pool.Statistics();
 }
 
-PieceStatistics RegionEstimate(const std::vector<PieceStatistics>& pieces) {
-  PieceStatistics out = PoolStatistics(pieces);
-  if (pieces.size() < 2) return out;
-  const double texture_variance = out.spread * out.spread;
-  double weight = 0.0, weighted_mu = 0.0;
-  for (const PieceStatistics& p : pieces) {
-    const double w = 1.0 / (texture_variance / p.effective_pairs + p.location_variance);
-    weight += w;
-    weighted_mu += w * p.mu;
-  }
-  out.mu = weighted_mu / weight;
-  out.mu_se = 1.0 / std::sqrt(weight);
-  return out;
-}
-
 namespace {
 
 // Merges touching groups, most alike pieces first, while the merged groups

@@ -41,9 +41,6 @@ struct PieceStatistics {
   double mu_se = 0.0;        // > 0 (callers floor it)
   double spread = 0.0;       // per-pair standard deviation, > 0 (callers floor it)
   double effective_pairs = 1.0;
-  // The part of mu_se^2 that does not come from the texture's sampling: a
-  // piece bounded by a change may hold some of its neighbour's material.
-  double location_variance = 0.0;
 };
 
 struct RegionMergeOptions {
@@ -75,20 +72,7 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
 // planner).
 bool TexturesAlike(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& options);
 
-// The statistics of pieces merged into one group: mu weighted by each
-// piece's own 1 / mu_se^2, as the merge tests compare them.
+// The statistics of pieces merged into one group.
 PieceStatistics PoolStatistics(const std::vector<PieceStatistics>& pieces);
-
-// A region's estimate from its pieces, one texture: the same pooled spread s
-// and effective pairs, but mu weighted by 1 / (s^2 / n_i + location_variance_i)
-// and mu_se = 1 / sqrt(sum of the weights). A piece's own spread is a noisy
-// estimate of one texture's spread (3 mm pieces of simulated masonite read
-// 0.067 to 0.157 between the 10th and 90th percentiles, so their own weights
-// vary 5x by chance; a piece that also holds some undetected rubber reads
-// calmer still), and weighting by it hands a region's mean to the pieces that
-// happened to read calm. The
-// merge tests keep each piece's own se: there the question is whether the
-// piece belongs. One piece: the same as PoolStatistics.
-PieceStatistics RegionEstimate(const std::vector<PieceStatistics>& pieces);
 
 }  // namespace surfmap

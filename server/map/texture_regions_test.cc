@@ -1,7 +1,5 @@
 #include "server/map/texture_regions.h"
 
-#include <cmath>
-#include <random>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -138,70 +136,6 @@ TEST(MergeIntoRegions, PiecesOfOneMaterialStayOneRegion) {
   ASSERT_GE(glass.size(), 15u);
   const std::vector<int> region = MergeIntoRegions(glass, AllPairs(0, static_cast<int>(glass.size())), {});
   EXPECT_EQ(std::set<int>(region.begin(), region.end()).size(), 1u);
-}
-
-TEST(RegionEstimate, OnePieceIsItsOwnEstimate) {
-  PieceStatistics p = Piece(0.36, 0.02, 0.12, 36);
-  p.mu_se = std::hypot(0.02, 0.01);
-  p.location_variance = 0.01 * 0.01;
-  const PieceStatistics e = RegionEstimate({p});
-  EXPECT_EQ(e.mu, p.mu);
-  EXPECT_EQ(e.mu_se, p.mu_se);
-  EXPECT_EQ(e.spread, p.spread);
-  EXPECT_EQ(e.effective_pairs, p.effective_pairs);
-}
-
-TEST(RegionEstimate, WeighsPiecesByTheirPairsNotTheirOwnSpread) {
-  // Two pieces of one texture, 20 effective pairs each; one read calm
-  // (0.06), one wild (0.15). Weighted by their own se the calm one takes
-  // 86 % of the mean; under the region's one spread they count alike.
-  const std::vector<PieceStatistics> pieces = {Piece(0.30, 0.06 / std::sqrt(20.0), 0.06, 20),
-                                               Piece(0.40, 0.15 / std::sqrt(20.0), 0.15, 20)};
-  EXPECT_NEAR(PoolStatistics(pieces).mu, 0.3138, 1e-4);
-  const PieceStatistics e = RegionEstimate(pieces);
-  const double pooled_spread = std::sqrt((20 * 0.06 * 0.06 + 20 * 0.15 * 0.15) / 40);
-  EXPECT_NEAR(e.mu, 0.35, 1e-12);
-  EXPECT_NEAR(e.spread, pooled_spread, 1e-12);
-  EXPECT_NEAR(e.mu_se, pooled_spread / std::sqrt(40.0), 1e-12);
-  EXPECT_EQ(e.effective_pairs, 40);
-}
-
-TEST(RegionEstimate, APieceThatMayHoldItsNeighbourCountsLess) {
-  // Equal pairs and spreads; the second piece ends at a change and may hold
-  // its neighbour's material: its texture variance 0.1^2 / 25 = 4e-4 plus
-  // 4e-4 from where it ends halves its weight.
-  std::vector<PieceStatistics> pieces = {Piece(0.30, 0.02, 0.1, 25), Piece(0.39, std::sqrt(8e-4), 0.1, 25)};
-  pieces[1].location_variance = 4e-4;
-  const PieceStatistics e = RegionEstimate(pieces);
-  EXPECT_NEAR(e.mu, (0.30 * 2 + 0.39 * 1) / 3, 1e-12);
-  EXPECT_NEAR(e.mu_se, 1.0 / std::sqrt(1 / 4e-4 + 1 / 8e-4), 1e-12);
-}
-
-TEST(RegionEstimate, ANoisySpreadMakesAWorseWeightThanTheRegionsOwn) {
-  // Regions of six pieces of one texture (spread 0.12, 10-60 effective
-  // pairs): each piece's mean errs by spread / sqrt(pairs), independently of
-  // the spread it reads, which is the texture's times a log-normal factor of
-  // log-sd 0.33 (3 mm pieces of simulated masonite read 0.067-0.157 between
-  // the 10th and 90th percentiles). Over 400 seeded regions the region's
-  // estimate must err less than the mean weighted by each piece's own se.
-  std::mt19937_64 rng(16);
-  std::normal_distribution<double> gauss;
-  std::uniform_real_distribution<double> pairs_draw(10.0, 60.0);
-  constexpr double kMu = 0.36, kSpread = 0.12, kLogSpreadSd = 0.33;
-  double own_square = 0.0, region_square = 0.0;
-  for (int region = 0; region < 400; ++region) {
-    std::vector<PieceStatistics> pieces;
-    for (int i = 0; i < 6; ++i) {
-      const double pairs = pairs_draw(rng);
-      const double mu = kMu + kSpread / std::sqrt(pairs) * gauss(rng);
-      const double spread = kSpread * std::exp(kLogSpreadSd * gauss(rng));
-      pieces.push_back(Piece(mu, spread / std::sqrt(pairs), spread, pairs));
-    }
-    own_square += std::pow(PoolStatistics(pieces).mu - kMu, 2);
-    region_square += std::pow(RegionEstimate(pieces).mu - kMu, 2);
-  }
-  // Measured 0.88; own-se weights give 1 by construction.
-  EXPECT_LT(std::sqrt(region_square / own_square), 0.95);
 }
 
 }  // namespace
