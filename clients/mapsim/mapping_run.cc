@@ -219,7 +219,7 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
   absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(scene, score);
   if (!scorer.ok()) return scorer.status();
   SimulatedRigOptions rig_options;
-  rig_options.surface_level = std::max(rig_surface_level, map_level);
+  rig_options.surface_level = std::max(rig_surface_level, map_level - 1);
   rig_options.seed = rig_seed;
   absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(std::move(scene), rig_options);
   if (!rig.ok()) return rig.status();

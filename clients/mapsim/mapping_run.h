@@ -20,6 +20,7 @@
 #include "absl/status/statusor.h"
 #include "clients/sim/rig/scene.h"
 #include "clients/sim/rig/simulated_rig.h"
+#include "server/map/map_level.h"
 #include "clients/sim/rig/surface_score.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/line_sample.h"
@@ -112,9 +113,10 @@ struct MappingRunResult {
 // runs (runs do not modify it).
 class MappingBench {
  public:
-  // The rig's surface is refined to max(rig_surface_level, map_level) (finer
-  // = smoother drag paths); map_level -1 = MapLevelFor(scene mesh): edges of
-  // ~2 mm. Errors: INVALID_ARGUMENT for levels outside 0..6 or a scene mesh
+  // The rig's surface is refined to max(rig_surface_level, map_level - 1)
+  // (finer = smoother drag paths; ~2 mm edges are as smooth as a drag needs);
+  // map_level -1 = MapLevelFor(scene mesh): edges of ~1 mm, the plan
+  // kPlanLevelsBelowMap coarser, as the service chooses them. Errors: INVALID_ARGUMENT for levels outside 0..6 or a scene mesh
   // the rig rejects; the scorer's errors.
   static absl::StatusOr<std::unique_ptr<MappingBench>> Create(Scene scene, std::uint64_t rig_seed,
                                                               int rig_surface_level = 3, int map_level = -1,
@@ -123,7 +125,7 @@ class MappingBench {
   const SimulatedRig& rig() const { return *rig_; }
   const Scene& scene() const { return rig_->scene(); }
   int map_level() const { return map_level_; }
-  int plan_level() const { return std::max(0, map_level_ - 1); }
+  int plan_level() const { return std::max(0, map_level_ - kPlanLevelsBelowMap); }
   const SurfaceLevel& level(int k) const { return rig_->surface().level(k); }
   const SurfaceLevel& map_surface() const { return level(map_level_); }
   const SurfaceScorer& scorer() const { return *scorer_; }

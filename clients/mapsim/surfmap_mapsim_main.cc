@@ -75,7 +75,7 @@ int Main(int argc, char** argv) {
       ->check(CLI::IsMember({"regions", "harmonic"}))
       ->capture_default_str();
   app.add_option("--coarsest", coarsest, "coarsest level")->capture_default_str();
-  app.add_option("--finest", finest, "the plan's finest level (-1: the map level)")->capture_default_str();
+  app.add_option("--finest", finest, "the plan's finest level (-1: two levels coarser than the map's)")->capture_default_str();
   app.add_option("--threshold", threshold, "adaptive: refine where the texture distance exceeds this")
       ->capture_default_str();
   app.add_option("--budget", budget, "sample budget (0: the mode's default)")->capture_default_str();

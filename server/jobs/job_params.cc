@@ -100,7 +100,7 @@ void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
   const int auto_map = MapLevelFor(mesh);
   if (p.finest_level == kAutoLevel) {
     const int map = p.map_level == kAutoLevel ? auto_map : p.map_level;
-    p.finest_level = std::max(p.coarsest_level, map - 1);
+    p.finest_level = std::max(p.coarsest_level, map - kPlanLevelsBelowMap);
   }
   if (p.map_level == kAutoLevel) p.map_level = std::max(p.finest_level, auto_map);
 }

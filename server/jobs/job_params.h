@@ -52,10 +52,11 @@ struct JobParams {
   bool IsValid(std::string* why) const;
 };
 
-// Replaces kAutoLevel levels: map_level by MapLevelFor (edges of ~2 mm on
-// the object's control mesh, level 0 of `surface`), finest_level one coarser
-// (~4 mm edges: enough to decide where to drag, at a quarter of the map's
-// cost to rebuild the plan's own map after every drag), never below
+// Replaces kAutoLevel levels: map_level by MapLevelFor (edges of ~1 mm on
+// the object's control mesh, level 0 of `surface`), finest_level
+// kPlanLevelsBelowMap coarser (~4 mm edges: enough to decide where to drag,
+// at a sixteenth of the map's cost to rebuild the plan's own map after every
+// drag), never below
 // coarsest_level; a given finest_level finer than the auto map level raises
 // map_level to it.
 void ResolveAutoLevels(const SurfaceLevel& control_level, JobParams& params);

@@ -32,11 +32,11 @@ TEST(DefaultJob, TheServerChoosesTheBoundaryModeAndLevelsFromTheMesh) {
   ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, DefaultSpec(setup.object_id)));
   const pb::JobSpec& spec = job.spec();
   EXPECT_EQ(spec.mode(), pb::SAMPLING_MODE_BOUNDARY);
-  // The bottle's control edges are ~10-20 mm: ~2 mm map edges are 3 halvings
-  // away (MapLevelFor), the plan one level coarser.
+  // The bottle's control edges are ~10-20 mm: ~1 mm map edges are 4 halvings
+  // away (MapLevelFor), the plan two levels coarser.
   ASSERT_TRUE(spec.has_map_level());
-  EXPECT_GE(spec.map_level(), 3);
-  EXPECT_EQ(spec.finest_level(), spec.map_level() - 1);
+  EXPECT_GE(spec.map_level(), 4);
+  EXPECT_EQ(spec.finest_level(), spec.map_level() - 2);
   // Every control vertex is a first site: the bottle has 82.
   EXPECT_EQ(job.progress().pending() + job.progress().issued(), 82);
   ITEST_ASSERT_OK_AND_ASSIGN(map, [&]() -> absl::StatusOr<pb::GetMapResponse> {

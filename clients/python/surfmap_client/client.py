@@ -256,8 +256,8 @@ class SurfmapClient:
                    timeout: Optional[float] = None) -> r.JobInfo:
         """Creates a mapping job. Settings left None take the server's defaults
         (the boundary-seeking mode with its budget of 1.5 samples per control
-        vertex; levels chosen from the mesh: the map on ~2 mm edges, the plan
-        one level coarser; threshold 1 (ADAPTIVE only: other modes refuse
+        vertex; levels chosen from the mesh: the map on ~1 mm edges, the plan
+        two levels coarser; threshold 1 (ADAPTIVE only: other modes refuse
         one); the paper's 20 mm drag at 10 mm/s and 5 N, seed 1, 2 retries,
         60 s lease); the returned JobInfo shows the values applied."""
         try:
