@@ -171,7 +171,9 @@ if [ "$RIG_FAILED" = 1 ]; then
 fi
 
 "$SURFMAP" job show "$JOB" | tee "$OUT/job.txt"
-SAMPLES=$("$SURFMAP" job show "$JOB" --json 2>/dev/null | sed -n 's/.*"measured": *\([0-9]*\).*/\1/p' | head -n 1)
+# The job's total (progress.measured), not the first level's count.
+SAMPLES=$("$SURFMAP" job show "$JOB" --json 2>/dev/null |
+  python3 -c 'import json, sys; print(json.load(sys.stdin)["progress"]["measured"])' 2>/dev/null || true)
 grep -q "COMPLETED" <(head -n 1 "$OUT/job.txt") || { echo "demo: job $JOB did not complete" >&2; exit 1; }
 
 "$SURFMAP" map get "$JOB" --format json -o "$OUT/bottle_map.json"
