@@ -20,11 +20,11 @@
 #include "absl/status/statusor.h"
 #include "clients/sim/rig/scene.h"
 #include "clients/sim/rig/simulated_rig.h"
-#include "server/map/map_level.h"
 #include "clients/sim/rig/surface_score.h"
 #include "server/estimate/fit_trace.h"
 #include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"
+#include "server/map/map_level.h"
 #include "server/plan/reachability.h"
 #include "server/plan/sampling_plan_options.h"
 
@@ -116,8 +116,9 @@ class MappingBench {
   // The rig's surface is refined to max(rig_surface_level, map_level - 1)
   // (finer = smoother drag paths; ~2 mm edges are as smooth as a drag needs);
   // map_level -1 = MapLevelFor(scene mesh): edges of ~1 mm, the plan
-  // kPlanLevelsBelowMap coarser, as the service chooses them. Errors: INVALID_ARGUMENT for levels outside 0..6 or a scene mesh
-  // the rig rejects; the scorer's errors.
+  // kPlanLevelsBelowMap coarser, as the service chooses them. Errors:
+  // INVALID_ARGUMENT for levels outside 0..6 or a scene mesh the rig
+  // rejects; the scorer's errors.
   static absl::StatusOr<std::unique_ptr<MappingBench>> Create(Scene scene, std::uint64_t rig_seed,
                                                               int rig_surface_level = 3, int map_level = -1,
                                                               const SurfaceScoreOptions& score = {});
