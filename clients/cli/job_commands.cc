@@ -199,7 +199,7 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
       ->check(CLI::IsMember({"boundary", "adaptive", "uniform", "uncertainty"}))
       ->capture_default_str();
   create->add_option("--coarsest", a->coarsest, "Coarsest subdivision level (default 0)")->check(CLI::Range(0, 6));
-  create->add_option("--finest", a->finest, "The plan's finest level (default: one coarser than the map level)")
+  create->add_option("--finest", a->finest, "The plan's finest level (default: two coarser than the map level)")
       ->check(CLI::Range(0, 6));
   create->add_option("--map-level", a->map_level, "The level the map is evaluated on (default: ~1 mm edges)")
       ->check(CLI::Range(0, 6));

@@ -155,26 +155,29 @@ absl::StatusOr<SamplingPlanOptions> RestoredOptions(SamplingPlanOptions o, const
   return restored->options();
 }
 
+// `o.*field` survives a save and restore, and a plan saved before the
+// option existed (its `key` missing) restores with `before_it`.
+template <typename T>
+void ExpectSavedAndDefaultedBeforeIt(const SamplingPlanOptions& o, T SamplingPlanOptions::*field,
+                                     const std::string& key, T before_it) {
+  auto kept = RestoredOptions(o, "");
+  ASSERT_TRUE(kept.ok()) << kept.status();
+  EXPECT_EQ((*kept).*field, o.*field) << key;
+  auto older = RestoredOptions(o, key);
+  ASSERT_TRUE(older.ok()) << older.status();
+  EXPECT_EQ((*older).*field, before_it) << key;
+}
+
 TEST(SaveRestoreTest, FollowBoundariesIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
   o.follow_boundaries = true;
-  auto kept = RestoredOptions(o, "");
-  ASSERT_TRUE(kept.ok()) << kept.status();
-  EXPECT_TRUE(kept->follow_boundaries);
-  auto older = RestoredOptions(o, "follow_boundaries");
-  ASSERT_TRUE(older.ok()) << older.status();
-  EXPECT_FALSE(older->follow_boundaries);
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::follow_boundaries, "follow_boundaries", false);
 }
 
 TEST(SaveRestoreTest, ContinuationPriorIsSavedAndAPlanSavedBeforeItRestoresWithoutIt) {
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
   o.continuation_prior = 0.5;
-  auto kept = RestoredOptions(o, "");
-  ASSERT_TRUE(kept.ok()) << kept.status();
-  EXPECT_EQ(kept->continuation_prior, 0.5);
-  auto older = RestoredOptions(o, "continuation_prior");
-  ASSERT_TRUE(older.ok()) << older.status();
-  EXPECT_EQ(older->continuation_prior, 0.0);
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::continuation_prior, "continuation_prior", 0.0);
   o.continuation_prior = 1.5;
   EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
 }
@@ -182,12 +185,7 @@ TEST(SaveRestoreTest, ContinuationPriorIsSavedAndAPlanSavedBeforeItRestoresWitho
 TEST(SaveRestoreTest, APlanSavedBeforeCoverageSkipRestoresDraggingEverySite) {
   SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
   o.coverage_skip_share = 0.25;
-  auto kept = RestoredOptions(o, "");
-  ASSERT_TRUE(kept.ok()) << kept.status();
-  EXPECT_EQ(kept->coverage_skip_share, 0.25);
-  auto older = RestoredOptions(o, "coverage_skip_share");
-  ASSERT_TRUE(older.ok()) << older.status();
-  EXPECT_EQ(older->coverage_skip_share, 0.0);
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::coverage_skip_share, "coverage_skip_share", 0.0);
 }
 
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
