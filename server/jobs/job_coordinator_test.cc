@@ -57,6 +57,30 @@ TEST_F(JobCoordinatorTest, SteeringNeverWaitsForTheStoreAndAnswersWhenDurable) {
   EXPECT_FALSE((*submit_answer)->already_accepted);
 }
 
+TEST_F(JobCoordinatorTest, SteeringIsAnsweredWhileTheLongWorkPoolIsBusy) {
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  // Every long-work thread busy (as with map builds for several watchers)
+  // until the pause has been answered or has timed out.
+  std::promise<void> release;
+  std::shared_future<void> released = release.get_future().share();
+  std::atomic<int> busy{0};
+  for (int i = 0; i < pool_->threads(); ++i) {
+    pool_->Post([&busy, released] {
+      ++busy;
+      released.wait();
+    });
+  }
+  while (busy.load() < pool_->threads()) std::this_thread::yield();
+
+  Awaited<absl::StatusOr<JobSnapshot>> paused;
+  coordinator_->SetJobState(job.record.id, JobState::kPaused, paused.Callback());
+  std::optional<absl::StatusOr<JobSnapshot>> answer = paused.Get("pause while the long-work pool is busy");
+  release.set_value();
+  ASSERT_TRUE(answer && answer->ok()) << (answer ? answer->status() : absl::Status());
+  EXPECT_EQ((*answer)->record.state, JobState::kPaused);
+}
+
 TEST_F(JobCoordinatorTest, InlineCallbacksCannotDeadlock) {
   // The store answers on the calling thread, which may hold a job lock: the
   // coordinator must only post from its callbacks.

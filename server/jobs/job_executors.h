@@ -11,8 +11,10 @@ struct JobExecutors {
   // here and does nothing else on the store's thread. Tasks are short (apply
   // a committed write to memory, notify watchers, answer the caller).
   TaskQueue* completions = nullptr;
-  // The rigs' work: fitting submitted traces. A pool of its own, so a trace
-  // never waits behind a map build or a refit (every trace is short).
+  // Short work that must not wait behind long work: fitting the rigs'
+  // submitted traces, and the store read that completes a steering answer.
+  // A pool of its own, so neither waits behind a map build or a refit
+  // (every task here is short).
   WorkerPool* probes = nullptr;
   // Long work: map builds, refits, job loads, recomputed series, watchers.
   WorkerPool* work = nullptr;

@@ -155,8 +155,11 @@ void JobSteering::ApplyStoredState(const std::shared_ptr<JobRuntime>& runtime, a
   }
   if (IsFinalJobState(stored->state)) registry_->NoteFinished(runtime->job_id);
   NotifyListeners(*runtime);
-  // The leased count is a store read: not on the completion queue.
-  executors_.work->Post([this, snapshot = std::move(snapshot), done = std::move(done)]() mutable {
+  // The leased count is a store read: not on the completion queue, and not
+  // on the long-work pool either, where a steering answer would wait behind
+  // map builds (three watchers of a 1 mm map kept both of its threads busy
+  // for seconds under TSan, and a pause missed its 5 s deadline).
+  executors_.probes->Post([this, snapshot = std::move(snapshot), done = std::move(done)]() mutable {
     done(WithLeasedCount(std::move(snapshot)));
   });
 }
