@@ -75,6 +75,8 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
                           r.mu_se, r.spread, r.pieces, r.roughness_pieces, 100.0 * r.vertex_share,
                           truth.empty() ? "-" : truth);
   }
+  absl::StrAppendFormat(&out, "  boundaries: %d crossings between regions, %d links and %d corners drawn through them\n",
+                        run.map_changes, run.map_links, run.map_corners);
   return out;
 }
 

@@ -296,6 +296,9 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     }
     if (absl::Status status = map->SetPieces(std::move(pieces)); !status.ok()) return status;
     result.map_regions = SummariseRegions(*map, bench.scene());
+    result.map_changes = static_cast<int>(map->change_marks().size());
+    result.map_links = map->boundary_links();
+    result.map_corners = map->boundary_corners();
     regions = std::move(*map);
     reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
       absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);

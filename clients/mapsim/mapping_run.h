@@ -105,6 +105,9 @@ struct MappingRunResult {
   std::vector<double> map_mu;        // per vertex of the bench's map level (for pictures)
   std::vector<double> map_mu_std;
   std::vector<MapRegionSummary> map_regions;  // regions maps only
+  int map_changes = 0;                         // regions maps: crossings between regions,
+  int map_links = 0;                           // links drawn between them,
+  int map_corners = 0;                         // and corners (boundary_corners.h)
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
   int measured() const;
 };

@@ -4,44 +4,13 @@
 #include <cmath>
 #include <limits>
 #include <set>
-#include <unordered_map>
 
 #include <Eigen/Geometry>
+#include "server/map/boundary_corners.h"
+#include "server/map/boundary_corridor.h"
 
 namespace surfmap {
 namespace {
-
-// Data points by cell for corridor queries.
-class PointGrid {
- public:
-  PointGrid(const std::vector<LabelledPoint>& points, double cell) : points_(points), cell_(cell) {
-    for (int i = 0; i < static_cast<int>(points.size()); ++i) cells_[Key(Cell(points[i].point))].push_back(i);
-  }
-  template <typename Fn>
-  void ForEachNear(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double margin, const Fn& fn) const {
-    const Eigen::Vector3i lo = Cell(a.cwiseMin(b) - Eigen::Vector3d::Constant(margin));
-    const Eigen::Vector3i hi = Cell(a.cwiseMax(b) + Eigen::Vector3d::Constant(margin));
-    for (int x = lo.x(); x <= hi.x(); ++x) {
-      for (int y = lo.y(); y <= hi.y(); ++y) {
-        for (int z = lo.z(); z <= hi.z(); ++z) {
-          auto it = cells_.find(Key({x, y, z}));
-          if (it == cells_.end()) continue;
-          for (int i : it->second) fn(points_[i]);
-        }
-      }
-    }
-  }
-
- private:
-  Eigen::Vector3i Cell(const Eigen::Vector3d& p) const { return (p / cell_).array().floor().cast<int>().matrix(); }
-  static std::uint64_t Key(const Eigen::Vector3i& c) {
-    return (static_cast<std::uint64_t>(c.x() & 0x1fffff) << 42) | (static_cast<std::uint64_t>(c.y() & 0x1fffff) << 21) |
-           static_cast<std::uint64_t>(c.z() & 0x1fffff);
-  }
-  const std::vector<LabelledPoint>& points_;
-  double cell_;
-  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
-};
 
 // Unit vector pointing to region `a`'s side at a mark, in its tangent plane.
 Eigen::Vector3d TowardsA(const ChangeMark& m, int a) { return m.before == a ? Eigen::Vector3d(-m.direction) : m.direction; }
@@ -50,9 +19,9 @@ Eigen::Vector3d TowardsA(const ChangeMark& m, int a) { return m.before == a ? Ei
 
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
-                                              const BoundaryLinkOptions& o, int* links) {
+                                              const BoundaryLinkOptions& o, int* links, int* corners) {
   const int n = static_cast<int>(marks.size());
-  const PointGrid grid(data, std::max(1.0, o.max_length_mm / 4.0));
+  const LabelledPointGrid grid(data, std::max(1.0, o.max_length_mm / 4.0));
   // Per mark and side along the boundary: the nearest consistent partner.
   std::vector<std::array<int, 2>> nearest(n, {-1, -1});
   std::vector<std::array<double, 2>> nearest_distance(n, {std::numeric_limits<double>::infinity(),
@@ -99,40 +68,19 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     }
   }
   std::vector<LabelledPoint> out;
-  int accepted = 0;
+  std::vector<DrawnLink> drawn;
   for (const auto& [i, j] : pairs) {
     Eigen::Vector3d towards_a;
     int a, b;
     if (!consistent(i, j, &towards_a, &a, &b)) continue;
-    const Eigen::Vector3d p = marks[i].position, q = marks[j].position;
-    const Eigen::Vector3d chord = q - p;
-    const double length = chord.norm();
-    const Eigen::Vector3d t = chord / length;
-    bool contradicted = false;
-    grid.ForEachNear(p, q, o.corridor_mm, [&](const LabelledPoint& x) {
-      if (contradicted) return;
-      const Eigen::Vector3d r = x.point - p;
-      const double along = r.dot(t);
-      if (along < 0.0 || along > length) return;
-      const Eigen::Vector3d off = r - along * t;
-      if (off.norm() > o.corridor_mm) return;
-      const double side = off.dot(towards_a);  // > 0: A's side
-      if (x.label != a && x.label != b) {
-        contradicted = true;
-      } else if ((x.label == a && side < -o.seed_offset_mm) || (x.label == b && side > o.seed_offset_mm)) {
-        contradicted = true;
-      }
-    });
-    if (contradicted) continue;
-    ++accepted;
-    const int steps = std::max(1, static_cast<int>(std::ceil(length / o.seed_spacing_mm)));
-    for (int k = 0; k <= steps; ++k) {
-      const Eigen::Vector3d on = p + (static_cast<double>(k) / steps) * chord;
-      out.push_back({on + o.seed_offset_mm * towards_a, a});
-      out.push_back({on - o.seed_offset_mm * towards_a, b});
-    }
+    const BoundarySegment link{marks[i].position, marks[j].position, towards_a, a, b};
+    if (SegmentContradicted(link, grid, o)) continue;
+    drawn.push_back({i, j, a, b, towards_a});
+    AppendSegmentSeeds(link, o, &out);
   }
-  if (links != nullptr) *links = accepted;
+  if (links != nullptr) *links = static_cast<int>(drawn.size());
+  std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);
+  out.insert(out.end(), corner_points.begin(), corner_points.end());
   return out;
 }
 

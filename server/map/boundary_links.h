@@ -63,12 +63,24 @@ struct BoundaryLinkOptions {
   // claim more than a crossing shows.
   double seed_spacing_mm = 0.5;
   double seed_offset_mm = 0.25;
+  // Corners (boundary_corners.h): where two chains of links end and their
+  // boundaries, carried straight on, meet within corner_reach_mm of both
+  // ends (half the longest link: no corner segment is longer than a link's
+  // half), turning by min..max_corner_turn_deg. 0 = no corners.
+  double corner_reach_mm = 20.0;
+  double min_corner_turn_deg = 30.0;   // less: the boundary runs on (not a corner)
+  double max_corner_turn_deg = 120.0;  // more: a hairpin or a round dot, not a corner
+  // A chain end's direction is its last link's; over a shorter link the
+  // change's ~0.3 mm location error turns it by more than ~4 degrees.
+  double min_corner_link_mm = 4.0;
 };
 
-// The labelled points of every accepted link (not yet on the surface:
-// callers project them); *links (if given) receives the number of links.
+// The labelled points of every accepted link and corner (not yet on the
+// surface: callers project them); *links and *corners (if given) receive
+// how many were drawn.
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
-                                              const BoundaryLinkOptions& options = {}, int* links = nullptr);
+                                              const BoundaryLinkOptions& options = {}, int* links = nullptr,
+                                              int* corners = nullptr);
 
 }  // namespace surfmap

@@ -308,8 +308,9 @@ absl::Status RegionMap::Rebuild() {
     for (const Eigen::Vector3d& p : placed_[i].data_points) data.push_back({p, piece_region_[i]});
   }
   links_ = 0;
+  corners_ = 0;
   marks_ = std::move(marks);
-  for (const LabelledPoint& p : BoundaryLinkPoints(marks_, data, options_.links, &links_)) {
+  for (const LabelledPoint& p : BoundaryLinkPoints(marks_, data, options_.links, &links_, &corners_)) {
     const SurfacePoint hit = locator_->Closest(p.point);
     if (hit.triangle < 0) continue;
     surface_seeds.push_back({hit.triangle, hit.barycentric, p.label});

@@ -164,7 +164,8 @@ class RegionMap {
   const std::vector<std::vector<double>>& reflection() const { return reflection_; }
   const std::vector<double>& log_sigma() const { return log_sigma_; }  // NaN where no roughness
   int roughness_order() const { return static_cast<int>(reflection_.size()); }
-  int boundary_links() const { return links_; }  // links drawn between crossings
+  int boundary_links() const { return links_; }      // links drawn between crossings
+  int boundary_corners() const { return corners_; }  // corners drawn between chain ends
   // Where drags crossed from one region into another (a change inside a
   // drag between pieces of different regions), in piece order.
   const std::vector<ChangeMark>& change_marks() const { return marks_; }
@@ -215,6 +216,7 @@ class RegionMap {
   std::shared_ptr<LabelPropagation> propagation_;
   std::vector<std::vector<double>> probability_;  // [region][vertex]
   int links_ = 0;
+  int corners_ = 0;
   std::vector<ChangeMark> marks_;
   // Data points by grid cell of near_data_mm, for the near-data rule.
   double near_data_mm_ = 0.0;

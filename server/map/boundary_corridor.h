@@ -1,0 +1,64 @@
+// The checks and seeds shared by every boundary drawn between crossings
+// (boundary_links.h: straight links; boundary_corners.h: corners): a
+// segment of boundary is drawn only where no data contradicts it, and it
+// becomes labelled points just either side of it.
+#pragma once
+
+#include <cstdint>
+#include <unordered_map>
+#include <vector>
+
+#include <Eigen/Core>
+#include "server/map/boundary_links.h"
+
+namespace surfmap {
+
+// Data points by cell, for corridor queries.
+class LabelledPointGrid {
+ public:
+  LabelledPointGrid(const std::vector<LabelledPoint>& points, double cell);
+  // Calls fn(point) for every point in the cells of the box around a and b
+  // grown by `margin` (a superset of the points within margin of a..b).
+  template <typename Fn>
+  void ForEachNear(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double margin, const Fn& fn) const {
+    const Eigen::Vector3i lo = Cell(a.cwiseMin(b) - Eigen::Vector3d::Constant(margin));
+    const Eigen::Vector3i hi = Cell(a.cwiseMax(b) + Eigen::Vector3d::Constant(margin));
+    for (int x = lo.x(); x <= hi.x(); ++x) {
+      for (int y = lo.y(); y <= hi.y(); ++y) {
+        for (int z = lo.z(); z <= hi.z(); ++z) {
+          auto it = cells_.find(Key({x, y, z}));
+          if (it == cells_.end()) continue;
+          for (int i : it->second) fn(points_[i]);
+        }
+      }
+    }
+  }
+
+ private:
+  Eigen::Vector3i Cell(const Eigen::Vector3d& p) const { return (p / cell_).array().floor().cast<int>().matrix(); }
+  static std::uint64_t Key(const Eigen::Vector3i& c);
+  const std::vector<LabelledPoint>& points_;
+  double cell_;
+  std::unordered_map<std::uint64_t, std::vector<int>> cells_;
+};
+
+// A boundary segment p -> q between regions a and b, a on the side of the
+// unit vector towards_a (perpendicular to the segment, in the surface).
+struct BoundarySegment {
+  Eigen::Vector3d p = Eigen::Vector3d::Zero();
+  Eigen::Vector3d q = Eigen::Vector3d::Zero();
+  Eigen::Vector3d towards_a = Eigen::Vector3d::Zero();
+  int a = -1;
+  int b = -1;
+};
+
+// True when data contradicts the segment: within options.corridor_mm of it
+// (between its ends), a point of a lies more than seed_offset_mm on b's
+// side, or of b on a's, or a point of any third region lies there.
+bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& options);
+
+// The segment's labelled points: every seed_spacing_mm along it,
+// seed_offset_mm to a's side labelled a and to b's side labelled b.
+void AppendSegmentSeeds(const BoundarySegment& s, const BoundaryLinkOptions& options, std::vector<LabelledPoint>* out);
+
+}  // namespace surfmap
