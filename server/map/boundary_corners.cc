@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <tuple>
 
 #include <Eigen/Dense>
@@ -45,33 +46,38 @@ struct Corner {
   double reach = 0.0;  // s + t
   int e1 = -1;
   int e2 = -1;
-  BoundarySegment first, second;  // E1 -> C, C -> E2
-  int inside = -1;                // the region the turn encloses
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();  // the plane the corner is drawn in
+  BoundarySegment first, second;                      // E1 -> C, C -> E2
+  int inside = -1;                                    // the region the turn encloses
 };
 
-// The corner of ends x and y, or nullopt-like (e1 < 0) when they make none.
-Corner CornerOf(const ChangeMark& m1, const ChainEnd& x, const ChangeMark& m2, const ChainEnd& y,
-                const BoundaryLinkOptions& o) {
-  Corner none;
-  if (x.a != y.a || x.b != y.b) return none;
+// The corner of ends x and y, if they make one.
+std::optional<Corner> CornerOf(const ChangeMark& m1, const ChainEnd& x, const ChangeMark& m2, const ChainEnd& y,
+                               const BoundaryLinkOptions& o) {
+  if (x.a != y.a || x.b != y.b) return std::nullopt;
+  // A corner is drawn straight in one tangent plane: two ends whose normals
+  // differ by more than max_corner_normal_deg are not on one piece of
+  // surface (the two faces of a thin object, or round a sharp edge).
+  if (m1.normal.dot(m2.normal) < std::cos(o.max_corner_normal_deg * std::numbers::pi / 180.0)) return std::nullopt;
   const Eigen::Vector3d n = (m1.normal + m2.normal).normalized();
   const Eigen::Vector3d u1 = InPlane(x.out, n).normalized(), u2 = InPlane(y.out, n).normalized();
   // The boundary runs E1 -> C along u1, then C -> E2 along -u2.
   const double turn = std::acos(std::clamp(u1.dot(-u2), -1.0, 1.0)) * 180.0 / std::numbers::pi;
-  if (turn < o.min_corner_turn_deg || turn > o.max_corner_turn_deg) return none;
+  if (turn < o.min_corner_turn_deg || turn > o.max_corner_turn_deg) return std::nullopt;
   Eigen::Matrix<double, 3, 2> lines;
   lines.col(0) = u1;
   lines.col(1) = -u2;
   const Eigen::Vector3d gap = InPlane(m2.position - m1.position, n);
   const Eigen::Vector2d st = lines.colPivHouseholderQr().solve(gap);
   const double s = st(0), t = st(1);
-  if (!(s > 0.0 && t > 0.0 && s <= o.corner_reach_mm && t <= o.corner_reach_mm)) return none;
-  if ((lines * st - gap).norm() > o.corridor_mm) return none;  // the two lines pass each other
+  if (!(s > 0.0 && t > 0.0 && s <= o.corner_reach_mm && t <= o.corner_reach_mm)) return std::nullopt;
+  if ((lines * st - gap).norm() > o.corridor_mm) return std::nullopt;  // the two lines pass each other
   const Eigen::Vector3d ta1 = InPlane(x.towards_a, n).normalized(), ta2 = InPlane(y.towards_a, n).normalized();
-  if (n.dot(u1.cross(ta1)) * n.dot((-u2).cross(ta2)) <= 0.0) return none;  // a changes hands
+  if (n.dot(u1.cross(ta1)) * n.dot((-u2).cross(ta2)) <= 0.0) return std::nullopt;  // a changes hands
   const Eigen::Vector3d c = 0.5 * ((m1.position + s * u1) + (m2.position + t * u2));
   Corner corner;
   corner.reach = s + t;
+  corner.normal = n;
   corner.first = {m1.position, c, ta1, x.a, x.b};
   corner.second = {c, m2.position, ta2, x.a, x.b};
   corner.inside = gap.dot(ta1) > 0.0 ? x.a : x.b;
@@ -80,8 +86,8 @@ Corner CornerOf(const ChangeMark& m1, const ChainEnd& x, const ChangeMark& m2, c
 
 // True when a data point of another region than `corner.inside` lies in
 // the triangle E1, C, E2 (farther than seed_offset_mm inside its sides).
-bool TriangleContradicted(const Corner& corner, const Eigen::Vector3d& n, const LabelledPointGrid& data,
-                          const BoundaryLinkOptions& o) {
+bool TriangleContradicted(const Corner& corner, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  const Eigen::Vector3d& n = corner.normal;
   const Eigen::Vector3d p0 = corner.first.p, p1 = corner.first.q, p2 = corner.second.q;
   const Eigen::Vector3d lo = p0.cwiseMin(p1).cwiseMin(p2), hi = p0.cwiseMax(p1).cwiseMax(p2);
   Eigen::Matrix<double, 3, 2> edges;
@@ -89,6 +95,7 @@ bool TriangleContradicted(const Corner& corner, const Eigen::Vector3d& n, const 
   edges.col(1) = InPlane(p2 - p0, n);
   const double area2 = edges.col(0).cross(edges.col(1)).norm();
   if (!(area2 > 1e-9)) return false;
+  const Eigen::ColPivHouseholderQR<Eigen::Matrix<double, 3, 2>> barycentric(edges);  // once per triangle
   // Barycentric tolerance: seed_offset_mm over the triangle's smallest height.
   const double longest = std::max({(p1 - p0).norm(), (p2 - p1).norm(), (p0 - p2).norm()});
   const double margin = o.seed_offset_mm * longest / area2;
@@ -100,7 +107,7 @@ bool TriangleContradicted(const Corner& corner, const Eigen::Vector3d& n, const 
     if (contradicted || x.label == corner.inside) return;
     const Eigen::Vector3d r = x.point - p0;
     if (std::abs(r.dot(n)) > sheet) return;
-    const Eigen::Vector2d uv = edges.colPivHouseholderQr().solve(InPlane(r, n));
+    const Eigen::Vector2d uv = barycentric.solve(InPlane(r, n));
     if (uv(0) > margin && uv(1) > margin && uv(0) + uv(1) < 1.0 - margin) contradicted = true;
   });
   return contradicted;
@@ -118,11 +125,11 @@ std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& m
     std::vector<Corner> candidates;
     for (int i = 0; i < static_cast<int>(ends.size()); ++i) {
       for (int j = i + 1; j < static_cast<int>(ends.size()); ++j) {
-        Corner c = CornerOf(marks[ends[i].mark], ends[i], marks[ends[j].mark], ends[j], o);
-        if (c.inside < 0) continue;
-        c.e1 = i;
-        c.e2 = j;
-        candidates.push_back(c);
+        std::optional<Corner> c = CornerOf(marks[ends[i].mark], ends[i], marks[ends[j].mark], ends[j], o);
+        if (!c) continue;
+        c->e1 = i;
+        c->e2 = j;
+        candidates.push_back(*c);
       }
     }
     std::sort(candidates.begin(), candidates.end(), [](const Corner& l, const Corner& r) {
@@ -131,9 +138,8 @@ std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& m
     std::vector<bool> used(ends.size(), false);
     for (const Corner& c : candidates) {
       if (used[c.e1] || used[c.e2]) continue;
-      const Eigen::Vector3d n = (marks[ends[c.e1].mark].normal + marks[ends[c.e2].mark].normal).normalized();
       if (SegmentContradicted(c.first, data, o) || SegmentContradicted(c.second, data, o) ||
-          TriangleContradicted(c, n, data, o)) {
+          TriangleContradicted(c, data, o)) {
         continue;
       }
       used[c.e1] = used[c.e2] = true;

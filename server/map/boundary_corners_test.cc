@@ -1,5 +1,7 @@
 #include "server/map/boundary_corners.h"
 
+#include <cmath>
+
 #include <gtest/gtest.h>
 
 #include "server/map/boundary_links.h"
@@ -84,7 +86,26 @@ TEST(BoundaryCorners, EndsFartherFromTheCornerThanTheReachAreNotJoined) {
   BoundaryLinkPoints(scene.marks, scene.data, o, nullptr, &corners);
   EXPECT_EQ(corners, 0);
   o.corner_reach_mm = 0.0;  // off
-  BoundaryLinkPoints(PatchCorner(5.0).marks, PatchCorner(5.0).data, o, nullptr, &corners);
+  const Scene near = PatchCorner(5.0);
+  BoundaryLinkPoints(near.marks, near.data, o, nullptr, &corners);
+  EXPECT_EQ(corners, 0);
+}
+
+TEST(BoundaryCorners, EndsOnSurfacesThatTurnAwayFromEachOtherAreNotJoined) {
+  // The side y = 0's crossings on a face tilted 70 degrees from the other
+  // side's (a fold, or the far face of a thin object).
+  Scene scene = PatchCorner(5.0);
+  const double tilt = 70.0 * 3.14159265358979 / 180.0;
+  for (int m : {2, 3}) {
+    scene.marks[m].normal = {0.0, -std::sin(tilt), std::cos(tilt)};
+    scene.marks[m].direction = {0.0, std::cos(tilt), std::sin(tilt)};  // along the tilted face
+  }
+  BoundaryLinkOptions any_normals;
+  any_normals.max_corner_normal_deg = 180.0;
+  int corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, any_normals, nullptr, &corners);
+  ASSERT_EQ(corners, 1) << "without the normals' limit the corner is drawn";
+  BoundaryLinkPoints(scene.marks, scene.data, {}, nullptr, &corners);
   EXPECT_EQ(corners, 0);
 }
 

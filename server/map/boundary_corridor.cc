@@ -2,12 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 
 namespace surfmap {
 
-LabelledPointGrid::LabelledPointGrid(const std::vector<LabelledPoint>& points, double cell)
-    : points_(points), cell_(cell) {
-  for (int i = 0; i < static_cast<int>(points.size()); ++i) cells_[Key(Cell(points[i].point))].push_back(i);
+LabelledPointGrid::LabelledPointGrid(std::vector<LabelledPoint> points, double cell)
+    : points_(std::move(points)), cell_(cell) {
+  for (int i = 0; i < static_cast<int>(points_.size()); ++i) cells_[Key(Cell(points_[i].point))].push_back(i);
 }
 
 std::uint64_t LabelledPointGrid::Key(const Eigen::Vector3i& c) {

@@ -13,14 +13,20 @@
 
 namespace surfmap {
 
-// Data points by cell, for corridor queries.
+// Labelled points by cell of a 3D grid, for the queries near a segment or a
+// point that boundaries (corridor checks here) and the region map (the
+// nearest data point, region_map.h) make. Owns its points, so it can be
+// copied with its owner.
 class LabelledPointGrid {
  public:
-  LabelledPointGrid(const std::vector<LabelledPoint>& points, double cell);
+  LabelledPointGrid() = default;  // empty: no point is near anything
+  LabelledPointGrid(std::vector<LabelledPoint> points, double cell);
+  bool empty() const { return points_.empty(); }
   // Calls fn(point) for every point in the cells of the box around a and b
   // grown by `margin` (a superset of the points within margin of a..b).
   template <typename Fn>
   void ForEachNear(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double margin, const Fn& fn) const {
+    if (points_.empty()) return;
     const Eigen::Vector3i lo = Cell(a.cwiseMin(b) - Eigen::Vector3d::Constant(margin));
     const Eigen::Vector3i hi = Cell(a.cwiseMax(b) + Eigen::Vector3d::Constant(margin));
     for (int x = lo.x(); x <= hi.x(); ++x) {
@@ -37,8 +43,8 @@ class LabelledPointGrid {
  private:
   Eigen::Vector3i Cell(const Eigen::Vector3d& p) const { return (p / cell_).array().floor().cast<int>().matrix(); }
   static std::uint64_t Key(const Eigen::Vector3i& c);
-  const std::vector<LabelledPoint>& points_;
-  double cell_;
+  std::vector<LabelledPoint> points_;
+  double cell_ = 1.0;
   std::unordered_map<std::uint64_t, std::vector<int>> cells_;
 };
 

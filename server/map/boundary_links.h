@@ -65,11 +65,16 @@ struct BoundaryLinkOptions {
   double seed_offset_mm = 0.25;
   // Corners (boundary_corners.h): where two chains of links end and their
   // boundaries, carried straight on, meet within corner_reach_mm of both
-  // ends (half the longest link: no corner segment is longer than a link's
-  // half), turning by min..max_corner_turn_deg. 0 = no corners.
+  // ends (the longest link: no corner segment is longer than a link; 10 mm
+  // missed most of the bottle's corners, whose last crossings lie 8-15 mm
+  // from them), turning by min..max_corner_turn_deg. 0 = no corners.
   double corner_reach_mm = 20.0;
   double min_corner_turn_deg = 30.0;   // less: the boundary runs on (not a corner)
   double max_corner_turn_deg = 120.0;  // more: a hairpin or a round dot, not a corner
+  // The two ends' normals may differ by at most this: 20 mm over the
+  // scenes' most curved parts (radii of curvature ~27 mm) turns ~42 degrees;
+  // more is not one piece of surface to draw straight segments on.
+  double max_corner_normal_deg = 60.0;
   // A chain end's direction is its last link's; over a shorter link the
   // change's ~0.3 mm location error turns it by more than ~4 degrees.
   double min_corner_link_mm = 4.0;

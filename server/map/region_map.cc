@@ -40,15 +40,6 @@ std::vector<Eigen::Vector3d> Resample(const std::vector<Eigen::Vector3d>& points
 
 Eigen::Vector3d Tangent(const Eigen::Vector3d& v, const Eigen::Vector3d& normal) { return v - v.dot(normal) * normal; }
 
-Eigen::Vector3i Cell(const Eigen::Vector3d& p, double size) { return (p / size).array().floor().cast<int>().matrix(); }
-
-std::uint64_t CellKey(const Eigen::Vector3i& c) {
-  return (static_cast<std::uint64_t>(c.x() & 0x1fffff) << 42) | (static_cast<std::uint64_t>(c.y() & 0x1fffff) << 21) |
-         static_cast<std::uint64_t>(c.z() & 0x1fffff);
-}
-
-std::uint64_t CellKey(const Eigen::Vector3d& p, double size) { return CellKey(Cell(p, size)); }
-
 }  // namespace
 
 std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
@@ -316,11 +307,7 @@ absl::Status RegionMap::Rebuild() {
     surface_seeds.push_back({hit.triangle, hit.barycentric, p.label});
     data.push_back({hit.position, p.label});
   }
-  data_ = std::move(data);
-  data_cells_.clear();
-  if (near_data_mm_ > 0.0) {
-    for (int i = 0; i < static_cast<int>(data_.size()); ++i) data_cells_[CellKey(data_[i].point, near_data_mm_)].push_back(i);
-  }
+  near_data_ = near_data_mm_ > 0.0 ? LabelledPointGrid(std::move(data), near_data_mm_) : LabelledPointGrid();
   absl::StatusOr<std::vector<std::vector<double>>> fields = propagation_->Propagate(surface_seeds, region_count);
   if (!fields.ok()) return fields.status();
   probability_ = *std::move(fields);
@@ -462,25 +449,15 @@ absl::StatusOr<MapValue> RegionMap::ValueAt(const SurfacePoint& point) const {
 }
 
 int RegionMap::NearestDataRegion(const Eigen::Vector3d& p) const {
-  if (data_cells_.empty()) return -1;
-  const Eigen::Vector3i c = Cell(p, near_data_mm_);
   int best = -1;
   double best2 = near_data_mm_ * near_data_mm_;
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
-      for (int dz = -1; dz <= 1; ++dz) {
-        auto it = data_cells_.find(CellKey(Eigen::Vector3i(c.x() + dx, c.y() + dy, c.z() + dz)));
-        if (it == data_cells_.end()) continue;
-        for (int i : it->second) {
-          const double d2 = (data_[i].point - p).squaredNorm();
-          if (d2 < best2 || (d2 == best2 && best >= 0 && data_[i].label < best)) {
-            best2 = d2;
-            best = data_[i].label;
-          }
-        }
-      }
+  near_data_.ForEachNear(p, p, near_data_mm_, [&](const LabelledPoint& x) {
+    const double d2 = (x.point - p).squaredNorm();
+    if (d2 < best2 || (d2 == best2 && best >= 0 && x.label < best)) {
+      best2 = d2;
+      best = x.label;
     }
-  }
+  });
   return best;
 }
 

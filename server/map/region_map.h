@@ -49,7 +49,6 @@
 
 #include <cstdint>
 #include <memory>
-#include <unordered_map>
 #include <string>
 #include <vector>
 
@@ -58,6 +57,7 @@
 #include "absl/status/statusor.h"
 #include "server/estimate/line_sample.h"
 #include "server/map/friction_map.h"
+#include "server/map/boundary_corridor.h"
 #include "server/map/boundary_links.h"
 #include "server/map/label_propagation.h"
 #include "server/map/nearest_labels.h"
@@ -218,10 +218,10 @@ class RegionMap {
   int links_ = 0;
   int corners_ = 0;
   std::vector<ChangeMark> marks_;
-  // Data points by grid cell of near_data_mm, for the near-data rule.
+  // Data points (pieces' and links') by cell of near_data_mm, for the
+  // near-data rule; empty when the rule is off.
   double near_data_mm_ = 0.0;
-  std::vector<LabelledPoint> data_;
-  std::unordered_map<std::uint64_t, std::vector<int>> data_cells_;
+  LabelledPointGrid near_data_;
   int NearestDataRegion(const Eigen::Vector3d& p) const;
   double correlation_length_mm_ = 0.0;
 
