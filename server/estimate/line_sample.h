@@ -25,6 +25,11 @@ struct LinePiece {
   TextureParams texture;
   double mu_se = 0.0;            // standard error of texture.mu (serial correlation included)
   double effective_pairs = 0.0;  // independent pairs behind mu and mu_std
+  // Values of one pass behind the roughness fit (its series holds both
+  // passes, which feel the same texture); 0 without a fit, and where the fit
+  // is below the sensor's noise floor (its shape is the noise's, not the
+  // texture's).
+  int roughness_rows = 0;
   bool has_roughness() const { return texture.sigma > 0.0 && !texture.reflection.empty(); }
 };
 

@@ -73,6 +73,13 @@ TEST(LineSampleTest, OfAFitCarriesItsPathAndPieces) {
   EXPECT_NEAR(line.PointAt(line.pieces[0].end_mm).x(), 1.0, 0.15);
   EXPECT_TRUE(line.pieces[1].has_roughness());  // rubber, ~7 mm: fitted
   EXPECT_NEAR(line.pieces[0].texture.mu, kGlass.mu, 0.003);
+  // The rows behind a roughness fit are one pass's values; a fit below the
+  // noise floor (glass) has none, its shape being the sensor's.
+  const DragPiece& rubber = fit->pieces[1];
+  ASSERT_FALSE(rubber.roughness.below_noise_floor);
+  EXPECT_EQ(line.pieces[1].roughness_rows, rubber.roughness.n / 2);
+  EXPECT_GT(line.pieces[1].roughness_rows, 30);  // ~7 mm at 0.1 mm
+  if (fit->pieces[0].roughness.below_noise_floor) EXPECT_EQ(line.pieces[0].roughness_rows, 0);
 }
 
 TEST(LineSampleTest, AFitWithoutPiecesIsOnePieceOverTheWindow) {

@@ -106,6 +106,10 @@ struct RegionMapOptions {
   // more finely than the level's edges, the data can. 0 = the level's
   // median edge length.
   double near_data_mm = 0.0;
+  // Regions alike by the merge rule, wherever they lie, are one material:
+  // each reports the estimates (mu, its se, roughness) of all the
+  // material's pieces. Their extents are unchanged.
+  bool pool_alike_regions = true;
   // Floors on a piece's mu_se and spread: synthetic or noise-free data can
   // report 0, which the merge statistics divide by.
   double min_mu_se = 1e-4;
@@ -114,10 +118,14 @@ struct RegionMapOptions {
 };
 
 struct TextureRegion {
-  PieceStatistics statistics;     // pooled over its pieces
+  // Pooled over its material's pieces (RegionMapOptions::pool_alike_regions;
+  // without it, over its own).
+  PieceStatistics statistics;
+  PieceStatistics own_statistics;  // pooled over its own pieces
+  int material = -1;               // regions of one material share their estimates
   std::vector<int> pieces;        // indices into the pieces given
-  int roughness_pieces = 0;       // pieces with their own roughness fit
-  std::vector<double> reflection;  // medians (empty without roughness)
+  int roughness_pieces = 0;       // pieces with their own roughness fit (of the material)
+  std::vector<double> reflection;  // medians (empty without roughness; of the material)
   double sigma = 0.0;             // median (0 without roughness)
   bool has_roughness() const { return roughness_pieces > 0; }
 };
@@ -205,6 +213,12 @@ class RegionMap {
   absl::Status Validate(const std::vector<MapPiece>& pieces) const;
   PlacedPiece Place(const MapPiece& piece, int index) const;
   absl::Status Rebuild();
+  // `out`'s estimates from pieces `piece_indices` (their `statistics`).
+  void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
+                 TextureRegion* out) const;
+  // Groups alike regions into materials and gives each region its
+  // material's estimates.
+  void PoolAlikeRegions(const std::vector<PieceStatistics>& statistics, int order);
   void RecomputeUncertainty();
   double PointVariance(int region, int second, double p, double d) const;
   double BoundaryVariance(int region, int second, double p) const;

@@ -43,6 +43,36 @@ TEST(RegionMapTest, AlikePiecesFormOneRegionEachWithThePooledMu) {
   EXPECT_DOUBLE_EQ(At(*map, {40, -20, 0}).mu, kSandpaper);
 }
 
+TEST(RegionMapTest, RegionsOfOneMaterialApartOnTheSurfaceShareTheirEstimates) {
+  // Sandpaper at both ends of the plate, glass between: the two sandpaper
+  // groups do not touch, so they are two regions, each with its own mu
+  // (0.48 and 0.52, alike); as one material both report the pool, 0.50.
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-40.0, -35.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.48, 0.0, true, 0.02));
+  for (double x : {-10.0, 0.0, 10.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {35.0, 40.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.52, 0.0, true, 0.02));
+  const SurfaceLevel level = Plate();
+  RegionMapOptions separate;
+  separate.pool_alike_regions = false;
+  for (const bool pooled : {true, false}) {
+    auto map = RegionMap::Create(level, pooled ? RegionMapOptions{} : separate);
+    ASSERT_TRUE(map.ok());
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    ASSERT_EQ(map->regions().size(), 3u);
+    const TextureRegion& left = map->regions()[map->piece_region()[0]];
+    const TextureRegion& right = map->regions()[map->piece_region()[5]];
+    EXPECT_NEAR(left.own_statistics.mu, 0.48, 1e-12);
+    EXPECT_NEAR(right.own_statistics.mu, 0.52, 1e-12);
+    EXPECT_EQ(left.material == right.material, pooled);
+    EXPECT_NEAR(At(*map, {-45, 0, 0}).mu, pooled ? 0.50 : 0.48, 1e-12) << pooled;
+    EXPECT_NEAR(At(*map, {45, 0, 0}).mu, pooled ? 0.50 : 0.52, 1e-12) << pooled;
+    // The pool's standard error: four pieces of se 0.02.
+    if (pooled) EXPECT_NEAR(left.statistics.mu_se, 0.01, 1e-12);
+    EXPECT_NE(map->regions()[map->piece_region()[3]].material, left.material);  // glass stays glass
+  }
+}
+
 TEST(RegionMapTest, RoughnessComesOnlyFromPiecesThatHaveTheirOwnFit) {
   const SurfaceLevel level = Plate();
   auto map = RegionMap::Create(level);

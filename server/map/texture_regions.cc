@@ -1,6 +1,7 @@
 #include "server/map/texture_regions.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <set>
@@ -18,25 +19,30 @@ struct Pool {
   double weighted_mu = 0.0;   // sum of mu / se^2
   double pairs = 0.0;         // sum of effective pairs
   double weighted_var = 0.0;  // sum of pairs * spread^2
-  void Add(const PieceStatistics& p) {
+  static constexpr int kOrder = PieceStatistics::kMaxSignatureOrder;
+  std::array<double, kOrder> rows{};        // sum of rows behind k_j
+  std::array<double, kOrder> weighted_k{};  // sum of rows * k_j
+  void Add(const PieceStatistics& p, double sign = 1.0) {
     const double w = 1.0 / (p.mu_se * p.mu_se);
-    weight += w;
-    weighted_mu += w * p.mu;
-    pairs += p.effective_pairs;
-    weighted_var += p.effective_pairs * p.spread * p.spread;
+    weight += sign * w;
+    weighted_mu += sign * w * p.mu;
+    pairs += sign * p.effective_pairs;
+    weighted_var += sign * p.effective_pairs * p.spread * p.spread;
+    for (int j = 0; j < std::min(p.signature_order, kOrder); ++j) {
+      rows[j] += sign * p.reflection_rows[j];
+      weighted_k[j] += sign * p.reflection_rows[j] * p.reflection[j];
+    }
   }
-  void Remove(const PieceStatistics& p) {
-    const double w = 1.0 / (p.mu_se * p.mu_se);
-    weight -= w;
-    weighted_mu -= w * p.mu;
-    pairs -= p.effective_pairs;
-    weighted_var -= p.effective_pairs * p.spread * p.spread;
-  }
+  void Remove(const PieceStatistics& p) { Add(p, -1.0); }
   void Add(const Pool& o) {
     weight += o.weight;
     weighted_mu += o.weighted_mu;
     pairs += o.pairs;
     weighted_var += o.weighted_var;
+    for (int j = 0; j < kOrder; ++j) {
+      rows[j] += o.rows[j];
+      weighted_k[j] += o.weighted_k[j];
+    }
   }
   PieceStatistics Statistics() const {
     PieceStatistics s;
@@ -44,6 +50,14 @@ struct Pool {
     s.mu_se = 1.0 / std::sqrt(weight);
     s.effective_pairs = pairs;
     s.spread = std::sqrt(weighted_var / pairs);
+    // A coefficient pooled over the pieces that have it (rows-weighted);
+    // the signature ends at the first coefficient no piece has (rows below
+    // half a value: what Remove leaves of a removed piece's rows).
+    while (s.signature_order < kOrder && rows[s.signature_order] > 0.5) {
+      const int j = s.signature_order++;
+      s.reflection[j] = weighted_k[j] / rows[j];
+      s.reflection_rows[j] = rows[j];
+    }
     return s;
   }
 };
@@ -55,7 +69,28 @@ double Unlikeness(const PieceStatistics& a, const PieceStatistics& b, const Regi
   const double mu_allowed = std::max(o.mu_resolution, z * std::hypot(a.mu_se, b.mu_se));
   const double spread_allowed =
       std::max(std::log(o.spread_resolution), z * std::sqrt(0.5 / a.effective_pairs + 0.5 / b.effective_pairs));
-  return std::max(std::abs(a.mu - b.mu) / mu_allowed, std::abs(std::log(a.spread / b.spread)) / spread_allowed);
+  double unlike = std::max(std::abs(a.mu - b.mu) / mu_allowed, std::abs(std::log(a.spread / b.spread)) / spread_allowed);
+  if (!o.compare_roughness) return unlike;
+  for (int j = 0; j < std::min(a.signature_order, b.signature_order); ++j) {
+    const double var = (1.0 - a.reflection[j] * a.reflection[j]) / a.reflection_rows[j] +
+                       (1.0 - b.reflection[j] * b.reflection[j]) / b.reflection_rows[j];
+    const double allowed =
+        std::max(o.reflection_resolution, z * o.reflection_se_factor * std::sqrt(std::max(var, 0.0)));
+    unlike = std::max(unlike, std::abs(a.reflection[j] - b.reflection[j]) / allowed);
+  }
+  return unlike;
+}
+
+// Alike however precisely both are known: every difference below its
+// resolution.
+bool WithinResolutions(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o) {
+  if (std::abs(a.mu - b.mu) > o.mu_resolution) return false;
+  if (std::abs(std::log(a.spread / b.spread)) > std::log(o.spread_resolution)) return false;
+  if (!o.compare_roughness) return true;
+  for (int j = 0; j < std::min(a.signature_order, b.signature_order); ++j) {
+    if (std::abs(a.reflection[j] - b.reflection[j]) > o.reflection_resolution) return false;
+  }
+  return true;
 }
 
 class Groups {
@@ -83,6 +118,12 @@ bool RegionMergeOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(mu_resolution) && mu_resolution >= 0.0)) return fail("mu_resolution must be >= 0");
   if (!(std::isfinite(spread_resolution) && spread_resolution >= 1.0)) return fail("spread_resolution must be >= 1");
+  if (!(std::isfinite(reflection_resolution) && reflection_resolution >= 0.0)) {
+    return fail("reflection_resolution must be >= 0");
+  }
+  if (!(std::isfinite(reflection_se_factor) && reflection_se_factor >= 1.0)) {
+    return fail("reflection_se_factor must be >= 1");
+  }
   return true;
 }
 
@@ -194,9 +235,7 @@ std::vector<int> MergeIntoRegions(const std::vector<PieceStatistics>& pieces,
   std::vector<std::pair<int, int>> apart;
   for (const auto& [a, b] : cannot_link) {
     if (a < 0 || b < 0 || a >= n || b >= n || a == b) continue;
-    const double dmu = std::abs(pieces[a].mu - pieces[b].mu);
-    const double dspread = std::abs(std::log(pieces[a].spread / pieces[b].spread));
-    if (dmu <= options.mu_resolution && dspread <= std::log(options.spread_resolution)) continue;
+    if (WithinResolutions(pieces[a], pieces[b], options)) continue;
     apart.emplace_back(a, b);
   }
   // Most alike pairs first; ties by index (deterministic).

@@ -12,8 +12,18 @@
 // the weights), s the pooled per-pair spread and n its effective pairs (the
 // spread of n independent normal values has a log standard error of
 // ~1 / sqrt(2 n)), z the two-sided normal quantile at `false_split_probability`.
-// The spread is the texture's signature: rubber (0.305) and masonite (0.36)
-// are one drag's noise apart in mu but ~3x apart in spread. Pieces of one
+//   roughness, where both have a signature, for each reflection coefficient:
+//            |k_A - k_B| <= max(reflection_resolution,
+//                               z sqrt((1 - k_A^2) / n_A + (1 - k_B^2) / n_B))
+//
+// The spread and the roughness are the texture's signature: rubber (0.305)
+// and masonite (0.36) are one drag's noise apart in mu (a masonite piece of
+// 5 mm reads anywhere in 0.30-0.45: its texture wanders slowly) but ~3x
+// apart in spread and far apart in shape (k2 +0.25 against -0.73; one
+// piece's k is known to ~0.1). (1 - k^2) / n is the large-sample variance
+// of a reflection coefficient estimated from n values (exact for an AR(1)
+// coefficient; an approximation for the others, with n the values of one
+// pass, since a drag's two passes feel the same texture). Pieces of one
 // drag on both sides of a detected change are never merged, unless they are
 // alike within the resolutions (a change that is statistically real but
 // smaller than anything worth mapping).
@@ -30,6 +40,7 @@
 // only by a moved piece are then merged where they are alike as wholes.
 #pragma once
 
+#include <array>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,6 +52,14 @@ struct PieceStatistics {
   double mu_se = 0.0;        // > 0 (callers floor it)
   double spread = 0.0;       // per-pair standard deviation, > 0 (callers floor it)
   double effective_pairs = 1.0;
+  // The roughness signature: reflection coefficients k1..k_order of the
+  // piece's own AR fit and, per coefficient, the series values behind it
+  // (a pool's sum); order 0 = none. Coefficients past kMaxSignatureOrder are
+  // not compared.
+  static constexpr int kMaxSignatureOrder = 4;
+  int signature_order = 0;
+  std::array<double, kMaxSignatureOrder> reflection{};
+  std::array<double, kMaxSignatureOrder> reflection_rows{};
 };
 
 struct RegionMergeOptions {
@@ -56,6 +75,18 @@ struct RegionMergeOptions {
   double mu_resolution = 0.01;
   // Likewise for the per-pair spread: ratios below this are one texture.
   double spread_resolution = 1.25;
+  // Likewise for reflection coefficients: the fitted shape of one texture
+  // varies with the drag's direction and the sensor's noise by more than the
+  // fit's own error says; the paper's materials differ by >= 0.3.
+  double reflection_resolution = 0.3;
+  // The large-sample variance above understates how far one texture's
+  // estimates from short pieces scatter: measured on the simulator over six
+  // jobs per scene, pieces of one material (median 7-11 mm) scatter 1.1-2.5x
+  // its standard error. Its standard error is taken this many times larger.
+  double reflection_se_factor = 2.0;
+  // Whether the roughness signature takes part (off: the rule of mu and
+  // spread alone, for comparison).
+  bool compare_roughness = true;
   bool IsValid(std::string* why) const;
 };
 

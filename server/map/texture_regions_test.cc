@@ -40,6 +40,55 @@ TEST(MergeIntoRegions, ACannotLinkKeepsAlikePiecesApartOnlyBeyondTheResolutions)
   EXPECT_EQ(MergeIntoRegions(near, {{0, 1}}, {{0, 1}}), (std::vector<int>{0, 0}));
 }
 
+// A piece with a roughness signature: reflection coefficients k1, k2 fitted
+// on `rows` values.
+PieceStatistics RoughPiece(double mu, double se, double spread, double pairs, double k1, double k2, double rows) {
+  PieceStatistics p = Piece(mu, se, spread, pairs);
+  p.signature_order = 2;
+  p.reflection = {k1, k2, 0.0, 0.0};
+  p.reflection_rows = {rows, rows, 0.0, 0.0};
+  return p;
+}
+
+TEST(MergeIntoRegions, RoughnessKeepsApartTexturesThatMuAndSpreadCannotTellApart) {
+  // twin_band_egg's rubber (k 0.8, 0.25) and masonite (k 0.93, -0.73) as
+  // 15 mm pieces (150 values a pass) whose mu and spread happen to agree, as
+  // a masonite piece's mu can (its texture wanders slowly): alike by mu and
+  // spread, 0.98 apart in k2, allowed z f sqrt(0.94 / 150 + 0.47 / 150) =
+  // 3.29 x 2 x 0.097 = 0.64 (f = reflection_se_factor).
+  const std::vector<PieceStatistics> pieces = {RoughPiece(0.32, 0.02, 0.08, 10, 0.80, 0.25, 150),
+                                               RoughPiece(0.33, 0.02, 0.09, 10, 0.93, -0.73, 150)};
+  EXPECT_EQ(MergeIntoRegions(pieces, {{0, 1}}, {}), (std::vector<int>{0, 1}));
+  // 6 mm pieces (60 values) are not enough alone (allowed 1.0); their
+  // regions' pools are (the region map's materials).
+  std::vector<PieceStatistics> short_pieces = pieces;
+  for (PieceStatistics& p : short_pieces) p.reflection_rows = {60, 60, 0, 0};
+  EXPECT_EQ(MergeIntoRegions(short_pieces, {{0, 1}}, {}), (std::vector<int>{0, 0}));
+  RegionMergeOptions without;
+  without.compare_roughness = false;
+  EXPECT_EQ(MergeIntoRegions(pieces, {{0, 1}}, {}, without), (std::vector<int>{0, 0}));
+  // One texture's estimates 0.25 apart, known however precisely: below the
+  // resolution, one region.
+  const std::vector<PieceStatistics> same = {RoughPiece(0.32, 0.02, 0.08, 10, 0.80, 0.25, 10000),
+                                             RoughPiece(0.33, 0.02, 0.09, 10, 0.70, 0.00, 10000)};
+  EXPECT_EQ(MergeIntoRegions(same, {{0, 1}}, {}), (std::vector<int>{0, 0}));
+  // A piece without a fit is judged by mu and spread alone.
+  const std::vector<PieceStatistics> unfitted = {RoughPiece(0.32, 0.02, 0.08, 10, 0.80, 0.25, 150),
+                                                 Piece(0.33, 0.02, 0.09, 10)};
+  EXPECT_EQ(MergeIntoRegions(unfitted, {{0, 1}}, {}), (std::vector<int>{0, 0}));
+}
+
+TEST(PoolStatistics, PoolsEachReflectionCoefficientOverThePiecesThatHaveIt) {
+  const PieceStatistics pooled = PoolStatistics({RoughPiece(0.3, 0.02, 0.1, 10, 0.8, 0.2, 100),
+                                                 RoughPiece(0.3, 0.02, 0.1, 10, 0.6, 0.0, 300),
+                                                 Piece(0.3, 0.02, 0.1, 10)});
+  ASSERT_EQ(pooled.signature_order, 2);
+  EXPECT_DOUBLE_EQ(pooled.reflection[0], (0.8 * 100 + 0.6 * 300) / 400);
+  EXPECT_DOUBLE_EQ(pooled.reflection[1], (0.2 * 100 + 0.0 * 300) / 400);
+  EXPECT_DOUBLE_EQ(pooled.reflection_rows[0], 400);
+  EXPECT_EQ(PoolStatistics({Piece(0.3, 0.02, 0.1, 10)}).signature_order, 0);
+}
+
 // A recorded neighbourhood of a map (surfmap-mapsim --scene banded_vase
 // --mode boundary --seed 3, estimator 4, before misfits were moved): the
 // pieces of the region laid over a masonite patch (truth mu 0.36) and every

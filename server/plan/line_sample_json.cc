@@ -50,7 +50,8 @@ json LineSampleToJson(const LineSample& line) {
                       {"se", p.mu_se},
                       {"n", p.effective_pairs},
                       {"k", p.texture.reflection},
-                      {"sigma", p.texture.sigma}});
+                      {"sigma", p.texture.sigma},
+                      {"rows", p.roughness_rows}});
   }
   return {{"s", line.path_s_mm}, {"p", points}, {"pieces", pieces}};
 }
@@ -98,6 +99,14 @@ absl::StatusOr<LineSample> LineSampleFromJson(const json& j, const std::string& 
     piece.texture.sigma = *sigma;
     piece.mu_se = *se;
     piece.effective_pairs = *n;
+    // Absent from plans stored before roughness took part in the map's
+    // merge rule: those pieces have no roughness signature until refitted.
+    if (auto rows = jp.find("rows"); rows != jp.end()) {
+      if (!rows->is_number_integer() || rows->get<int64_t>() < 0 || rows->get<int64_t>() > (1 << 30)) {
+        return Bad(at, "\"rows\" must be a whole number >= 0");
+      }
+      piece.roughness_rows = static_cast<int>(rows->get<int64_t>());
+    }
     line.pieces.push_back(std::move(piece));
   }
   if (absl::Status v = line.Validate(); !v.ok()) return Bad(where, std::string(v.message()));

@@ -3,12 +3,15 @@
 //
 //   {"s": [mm, ...], "p": [[x, y, z], ...],
 //    "pieces": [{"from": mm, "to": mm, "cs": bool, "ce": bool, "mu": x,
-//                "sd": x, "se": x, "n": x, "k": [k1, ...], "sigma": x}, ...]}
+//                "sd": x, "se": x, "n": x, "k": [k1, ...], "sigma": x,
+//                "rows": n}, ...]}
 //
 // s / p: the path (positions along it, points); per piece its extent, whether
 // a change bounds its start (cs) / end (ce), mu, per-pair spread (sd), mu's
 // standard error (se), effective pairs (n) and, when it has its own
-// roughness, the reflection coefficients (k) and sigma (otherwise [] and 0).
+// roughness, the reflection coefficients (k) and sigma (otherwise [] and 0),
+// and the values behind that fit (rows; LinePiece::roughness_rows; absent in
+// plans saved before it existed, read as 0).
 // Doubles round-trip exactly, so a replayed plan decides as the original did.
 #pragma once
 

@@ -184,6 +184,9 @@ void FillRegions(const RegionMap& map, pb::MapLevel* out) {
       o->set_sigma(region.sigma);
     }
     o->set_area_mm2(area[r]);
+    o->set_material(region.material);
+    o->set_own_mu(region.own_statistics.mu);
+    o->set_own_mu_se(region.own_statistics.mu_se);
   }
 }
 

@@ -166,7 +166,8 @@ def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
         mm = mesh(mesh_message)
         positions, normals, triangles = mm.positions, mm.normals, mm.triangles
     regions = tuple(r.MapRegion(g.region, g.mu, g.mu_se, g.mu_spread, g.piece_count, g.roughness_piece_count,
-                                tuple(g.reflection), tuple(g.ar_coefficients), g.sigma, g.area_mm2)
+                                tuple(g.reflection), tuple(g.ar_coefficients), g.sigma, g.area_mm2,
+                                g.material, g.own_mu, g.own_mu_se)
                     for g in m.regions)
     return r.SurfaceMap(job_id=m.job_id, level=m.level, vertex_count=m.vertex_count,
                         samples=tuple(sample(s) for s in m.samples), positions=positions, normals=normals,

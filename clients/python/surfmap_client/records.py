@@ -328,7 +328,10 @@ class JobEvent:
 
 @dataclass(frozen=True)
 class MapRegion:
-    """A material region of the map: the drag pieces grouped together."""
+    """A region of the map: drag pieces that touch and are alike. Regions
+    with the same ``material`` are alike wherever they lie and report the
+    material's estimates (``mu``, ``mu_se``, roughness); ``own_mu`` and
+    ``own_mu_se`` are the region's own pieces'."""
 
     region: int
     mu: float
@@ -340,6 +343,9 @@ class MapRegion:
     ar_coefficients: Tuple[float, ...]   # a1..ap, empty without roughness
     sigma: float                         # N; 0 without roughness
     area_mm2: float
+    material: int = 0
+    own_mu: float = 0.0
+    own_mu_se: float = 0.0
 
 
 @dataclass(frozen=True)

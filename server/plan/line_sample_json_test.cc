@@ -1,0 +1,54 @@
+#include "server/plan/line_sample_json.h"
+
+#include <gtest/gtest.h>
+
+namespace surfmap {
+namespace {
+
+LineSample RoughLine() {
+  LineSample line;
+  line.path_s_mm = {0.0, 10.0};
+  line.path_points = {{0, 0, 0}, {10, 0, 0}};
+  LinePiece piece;
+  piece.end_mm = 10.0;
+  piece.texture.mu = 0.305;
+  piece.texture.mu_std = 0.04;
+  piece.texture.reflection = {0.8, 0.25};
+  piece.texture.sigma = 0.11;
+  piece.mu_se = 0.01;
+  piece.effective_pairs = 12.0;
+  piece.roughness_rows = 96;
+  line.pieces = {piece};
+  return line;
+}
+
+TEST(LineSampleJsonTest, RoundTripsThePiecesWithTheRowsBehindTheirRoughness) {
+  const absl::StatusOr<LineSample> back = LineSampleFromJson(LineSampleToJson(RoughLine()), "line");
+  ASSERT_TRUE(back.ok()) << back.status();
+  ASSERT_EQ(back->pieces.size(), 1u);
+  EXPECT_EQ(back->pieces[0].roughness_rows, 96);
+  EXPECT_EQ(back->pieces[0].texture.reflection, (std::vector<double>{0.8, 0.25}));
+  EXPECT_EQ(back->pieces[0].texture.mu, 0.305);
+}
+
+TEST(LineSampleJsonTest, APieceSavedBeforeRowsExistedHasNoRoughnessSignature) {
+  nlohmann::json j = LineSampleToJson(RoughLine());
+  j["pieces"][0].erase("rows");
+  const absl::StatusOr<LineSample> back = LineSampleFromJson(j, "line");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->pieces[0].roughness_rows, 0);
+  EXPECT_TRUE(back->pieces[0].has_roughness());  // its roughness is kept for the map's values
+}
+
+TEST(LineSampleJsonTest, BadRowsAreRefusedByName) {
+  for (const nlohmann::json& bad : {nlohmann::json(-1), nlohmann::json(2.5), nlohmann::json("96")}) {
+    nlohmann::json j = LineSampleToJson(RoughLine());
+    j["pieces"][0]["rows"] = bad;
+    const absl::StatusOr<LineSample> back = LineSampleFromJson(j, "line");
+    ASSERT_FALSE(back.ok()) << bad;
+    EXPECT_NE(back.status().message().find("line.pieces[0]: \"rows\""), std::string::npos) << back.status();
+  }
+}
+
+}  // namespace
+}  // namespace surfmap
