@@ -79,7 +79,9 @@ TEST(LineSampleTest, OfAFitCarriesItsPathAndPieces) {
   ASSERT_FALSE(rubber.roughness.below_noise_floor);
   EXPECT_EQ(line.pieces[1].roughness_rows, rubber.roughness.n / 2);
   EXPECT_GT(line.pieces[1].roughness_rows, 30);  // ~7 mm at 0.1 mm
-  if (fit->pieces[0].roughness.below_noise_floor) EXPECT_EQ(line.pieces[0].roughness_rows, 0);
+  if (fit->pieces[0].roughness.below_noise_floor) {
+    EXPECT_EQ(line.pieces[0].roughness_rows, 0);
+  }
 }
 
 TEST(LineSampleTest, AFitWithoutPiecesIsOnePieceOverTheWindow) {

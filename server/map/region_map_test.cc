@@ -68,7 +68,9 @@ TEST(RegionMapTest, RegionsOfOneMaterialApartOnTheSurfaceShareTheirEstimates) {
     EXPECT_NEAR(At(*map, {-45, 0, 0}).mu, pooled ? 0.50 : 0.48, 1e-12) << pooled;
     EXPECT_NEAR(At(*map, {45, 0, 0}).mu, pooled ? 0.50 : 0.52, 1e-12) << pooled;
     // The pool's standard error: four pieces of se 0.02.
-    if (pooled) EXPECT_NEAR(left.statistics.mu_se, 0.01, 1e-12);
+    if (pooled) {
+      EXPECT_NEAR(left.statistics.mu_se, 0.01, 1e-12);
+    }
     EXPECT_NE(map->regions()[map->piece_region()[3]].material, left.material);  // glass stays glass
   }
 }
