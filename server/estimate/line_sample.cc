@@ -81,6 +81,10 @@ absl::Status LineSample::Validate() const {
     if (!std::isfinite(piece.effective_pairs) || piece.effective_pairs < 0) {
       return absl::InvalidArgumentError(absl::StrCat(where, ": effective_pairs is ", piece.effective_pairs));
     }
+    if (piece.roughness_rows < 0 || (piece.roughness_rows > 0 && !piece.has_roughness())) {
+      return absl::InvalidArgumentError(absl::StrCat(where, ": roughness_rows is ", piece.roughness_rows,
+                                                     piece.roughness_rows > 0 ? " without a roughness fit" : ""));
+    }
     if (absl::Status s = ValidateTexture(piece.texture, where); !s.ok()) return s;
   }
   return absl::OkStatus();

@@ -53,6 +53,11 @@ TEST(LineSampleTest, ValidateNamesWhatIsWrong) {
   line.path_points.pop_back();
   EXPECT_EQ(line.Validate().message(), "line sample: 4 path positions but 3 points");
   EXPECT_EQ(LineSample{}.Validate().message(), "line sample: the path has no point");
+  line = TwoPieceLine();
+  line.pieces[0].roughness_rows = 40;
+  EXPECT_EQ(line.Validate().message(), "line sample: piece 0: roughness_rows is 40 without a roughness fit");
+  line.pieces[0].roughness_rows = -1;
+  EXPECT_EQ(line.Validate().message(), "line sample: piece 0: roughness_rows is -1");
 }
 
 TEST(LineSampleTest, OfAFitCarriesItsPathAndPieces) {

@@ -1,10 +1,15 @@
 // Recompute and query cost of the map on finest levels of 10k-40k vertices
-// (budget: recompute well under a second, a 100-point query far under 2 ms).
+// (budget: recompute well under a second, a 100-point query far under 2 ms),
+// and what grouping regions into materials adds to a region map's rebuild.
+#include <algorithm>
 #include <random>
+#include <string>
 
 #include <benchmark/benchmark.h>
 #include "server/map/friction_map.h"
+#include "server/map/region_map.h"
 #include "server/map/testing/flat_grid_levels.h"
+#include "server/map/testing/map_pieces.h"
 
 namespace surfmap {
 namespace {
@@ -72,6 +77,51 @@ void BM_MapQuery100Points(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_MapQuery100Points)->Unit(benchmark::kMicrosecond);
+
+// 200 drags of 16 mm across S stripes of 4 textures in turn (each texture in
+// S / 4 places, each stripe a region or more): the region map's whole
+// rebuild (merging, materials, the random walker over 10,201 vertices).
+// Args: pool_alike_regions off (0) / on (1), S (10: 10 mm stripes; 50: 2 mm,
+// ~50 regions, every pair a candidate for a material); the ratio of on to
+// off is what materials cost.
+void BM_RegionMapRebuild(benchmark::State& state) {
+  const SurfaceLevel level = testing::MakeFlatGrid(100, 100, 1.0);
+  RegionMapOptions options;
+  options.pool_alike_regions = state.range(0) != 0;
+  auto map = RegionMap::Create(level, options);
+  const double mu[4] = {0.106, 0.305, 0.36, 0.5};
+  const std::vector<double> k[4] = {{0.0, 0.0}, {0.8, 0.25}, {0.93, -0.73}, {0.33, 0.1}};
+  std::mt19937_64 rng(3);
+  const int stripes = static_cast<int>(state.range(1));
+  const double width = 100.0 / stripes;
+  std::uniform_real_distribution<double> across(0.15 * width, 0.85 * width), along(2.0, 82.0);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  std::vector<MapPiece> pieces;
+  for (int d = 0; d < 200; ++d) {
+    const int stripe = d % stripes, texture = stripe % 4;
+    const double x = width * stripe + across(rng), y = along(rng);
+    MapPiece p = testing::StraightPiece(d, {x, y, 0}, {x, y + 16, 0}, mu[texture] + 0.01 * noise(rng), 0.0,
+                                        texture > 0, 0.01);
+    if (texture > 0) {
+      p.piece.texture.reflection.clear();
+      for (double kj : k[texture]) p.piece.texture.reflection.push_back(std::clamp(kj + 0.05 * noise(rng), -0.98, 0.98));
+      p.piece.roughness_rows = 150;
+    }
+    pieces.push_back(std::move(p));
+  }
+  if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
+  for (auto _ : state) {
+    // Placement is cached for identical pieces; the rebuild is what repeats.
+    if (absl::Status status = map->SetPieces(pieces); !status.ok()) {
+      return state.SkipWithError(std::string(status.message()).c_str());
+    }
+  }
+  int materials = 0;
+  for (const TextureRegion& r : map->regions()) materials = std::max(materials, r.material + 1);
+  state.counters["regions"] = static_cast<double>(map->regions().size());
+  state.counters["materials"] = materials;
+}
+BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace surfmap

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <set>
 
 #include <Eigen/Dense>
@@ -192,50 +193,30 @@ void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vect
   }
   out->statistics = PoolStatistics(members);
   out->roughness_pieces = static_cast<int>(log_sigma.size());
-  out->reflection.clear();
-  out->sigma = 0.0;
   if (out->roughness_pieces > 0) {
     for (int j = 0; j < order; ++j) out->reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));
     out->sigma = std::exp(Median(log_sigma));
   }
 }
 
-void RegionMap::PoolAlikeRegions(const std::vector<PieceStatistics>& statistics, int order) {
+std::vector<int> RegionMap::Materials(const std::vector<PieceStatistics>& own) const {
+  const int region_count = static_cast<int>(own.size());
+  std::vector<int> material(region_count);
+  std::iota(material.begin(), material.end(), 0);
+  if (!options_.pool_alike_regions) return material;
   // Regions are grown only between pieces that touch, so one material met
   // in several places (a band that pieces straddling its neighbour cut into
   // stretches, patches of one material far apart) makes several regions,
   // each estimated from its own few pieces: on twin_band_egg the masonite
   // band's stretches read 0.324-0.361 (truth 0.36) while the rubber band
   // beside it read 0.290-0.317. Regions alike by the merge rule, wherever
-  // they lie, are one material (the same greedy merging, misfits moved,
-  // with every pair of regions as neighbours) and report the material's
-  // estimates from all its pieces. Where regions lie is unchanged.
-  const int region_count = static_cast<int>(regions_.size());
-  std::vector<PieceStatistics> own(region_count);
-  for (int r = 0; r < region_count; ++r) own[r] = regions_[r].statistics;
+  // they lie, are one material: the same greedy merging, misfits moved,
+  // with every pair of regions as neighbours.
   std::vector<std::pair<int, int>> every_pair;
   for (int a = 0; a < region_count; ++a) {
     for (int b = a + 1; b < region_count; ++b) every_pair.emplace_back(a, b);
   }
-  const std::vector<int> material = MergeIntoRegions(own, every_pair, {}, options_.merge);
-  const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
-  std::vector<std::vector<int>> material_pieces(material_count);
-  for (int r = 0; r < region_count; ++r) {
-    const std::vector<int>& p = regions_[r].pieces;
-    material_pieces[material[r]].insert(material_pieces[material[r]].end(), p.begin(), p.end());
-  }
-  std::vector<TextureRegion> pooled(material_count);
-  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, &pooled[m]);
-  for (int r = 0; r < region_count; ++r) {
-    TextureRegion& region = regions_[r];
-    const TextureRegion& of_material = pooled[material[r]];
-    region.material = material[r];
-    region.own_statistics = own[r];
-    region.statistics = of_material.statistics;
-    region.roughness_pieces = of_material.roughness_pieces;
-    region.reflection = of_material.reflection;
-    region.sigma = of_material.sigma;
-  }
+  return MergeIntoRegions(own, every_pair, {}, options_.merge);
 }
 
 absl::Status RegionMap::Rebuild() {
@@ -296,16 +277,36 @@ absl::Status RegionMap::Rebuild() {
   regions_.assign(region_count, {});
   int order = 0;
   for (int i = 0; i < n; ++i) {
-    TextureRegion& r = regions_[piece_region_[i]];
-    r.pieces.push_back(i);
+    regions_[piece_region_[i]].pieces.push_back(i);
     if (pieces_[i].piece.has_roughness()) order = std::max<int>(order, pieces_[i].piece.texture.reflection.size());
   }
+  // Each region's own pool, its material, and the material's estimates
+  // (from all its pieces) as the region's.
+  std::vector<PieceStatistics> own(region_count);
   for (int r = 0; r < region_count; ++r) {
-    Summarise(regions_[r].pieces, statistics, order, &regions_[r]);
-    regions_[r].own_statistics = regions_[r].statistics;
-    regions_[r].material = r;
+    std::vector<PieceStatistics> members;
+    for (int i : regions_[r].pieces) members.push_back(statistics[i]);
+    own[r] = PoolStatistics(members);
   }
-  if (options_.pool_alike_regions) PoolAlikeRegions(statistics, order);
+  const std::vector<int> material = Materials(own);
+  const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
+  std::vector<std::vector<int>> material_pieces(material_count);
+  for (int r = 0; r < region_count; ++r) {
+    const std::vector<int>& p = regions_[r].pieces;
+    material_pieces[material[r]].insert(material_pieces[material[r]].end(), p.begin(), p.end());
+  }
+  std::vector<TextureRegion> estimates(material_count);
+  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, &estimates[m]);
+  for (int r = 0; r < region_count; ++r) {
+    TextureRegion& region = regions_[r];
+    const TextureRegion& of_material = estimates[material[r]];
+    region.material = material[r];
+    region.own_statistics = own[r];
+    region.statistics = of_material.statistics;
+    region.roughness_pieces = of_material.roughness_pieces;
+    region.reflection = of_material.reflection;
+    region.sigma = of_material.sigma;
+  }
 
   // The region diagram.
   seed_points_.clear();

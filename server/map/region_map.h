@@ -213,12 +213,12 @@ class RegionMap {
   absl::Status Validate(const std::vector<MapPiece>& pieces) const;
   PlacedPiece Place(const MapPiece& piece, int index) const;
   absl::Status Rebuild();
-  // `out`'s estimates from pieces `piece_indices` (their `statistics`).
+  // `out`'s estimates (statistics, roughness) from pieces `piece_indices`.
   void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
                  TextureRegion* out) const;
-  // Groups alike regions into materials and gives each region its
-  // material's estimates.
-  void PoolAlikeRegions(const std::vector<PieceStatistics>& statistics, int order);
+  // Each region's material (0..), given each region's own pool: alike
+  // regions grouped, or each its own without pool_alike_regions.
+  std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
   void RecomputeUncertainty();
   double PointVariance(int region, int second, double p, double d) const;
   double BoundaryVariance(int region, int second, double p) const;

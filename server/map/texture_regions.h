@@ -14,7 +14,9 @@
 // ~1 / sqrt(2 n)), z the two-sided normal quantile at `false_split_probability`.
 //   roughness, where both have a signature, for each reflection coefficient:
 //            |k_A - k_B| <= max(reflection_resolution,
-//                               z sqrt((1 - k_A^2) / n_A + (1 - k_B^2) / n_B))
+//                               z f sqrt((1 - k_A^2) / n_A + (1 - k_B^2) / n_B))
+//
+// (f = reflection_se_factor)
 //
 // The spread and the roughness are the texture's signature: rubber (0.305)
 // and masonite (0.36) are one drag's noise apart in mu (a masonite piece of

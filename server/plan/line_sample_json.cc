@@ -103,7 +103,7 @@ absl::StatusOr<LineSample> LineSampleFromJson(const json& j, const std::string& 
     // merge rule: those pieces have no roughness signature until refitted.
     if (auto rows = jp.find("rows"); rows != jp.end()) {
       if (!rows->is_number_integer() || rows->get<int64_t>() < 0 || rows->get<int64_t>() > (1 << 30)) {
-        return Bad(at, "\"rows\" must be a whole number >= 0");
+        return Bad(at, "\"rows\" must be a whole number in 0..2^30");
       }
       piece.roughness_rows = static_cast<int>(rows->get<int64_t>());
     }

@@ -48,6 +48,14 @@ TEST(LineSampleJsonTest, BadRowsAreRefusedByName) {
     ASSERT_FALSE(back.ok()) << bad;
     EXPECT_NE(back.status().message().find("line.pieces[0]: \"rows\""), std::string::npos) << back.status();
   }
+  // Rows without the roughness fit they would count.
+  nlohmann::json j = LineSampleToJson(RoughLine());
+  j["pieces"][0]["k"] = nlohmann::json::array();
+  j["pieces"][0]["sigma"] = 0.0;
+  const absl::StatusOr<LineSample> back = LineSampleFromJson(j, "line");
+  ASSERT_FALSE(back.ok());
+  EXPECT_NE(back.status().message().find("roughness_rows is 96 without a roughness fit"), std::string::npos)
+      << back.status();
 }
 
 }  // namespace
