@@ -116,7 +116,7 @@ LineSample LineSampleOf(const TraceFit& fit) {
     if (p.roughness_state == PieceRoughness::kFitted && p.roughness.stationary) {
       piece.texture.reflection = p.roughness.reflection;
       piece.texture.sigma = p.roughness.sigma;
-      if (!p.roughness.below_noise_floor) piece.roughness_rows = std::max(1, p.roughness.n / 2);
+      if (!p.roughness.below_noise_floor && piece.has_roughness()) piece.roughness_rows = std::max(1, p.roughness.n / 2);
     }
     piece.mu_se = p.mu_se;
     piece.effective_pairs = p.effective_pairs;
