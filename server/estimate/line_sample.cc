@@ -60,6 +60,15 @@ absl::Status LineSample::Validate() const {
     }
   }
   if (pieces.empty()) return bad("no piece");
+  if (pair_s_mm.size() != pair_mu.size()) {
+    return bad(absl::StrCat(pair_s_mm.size(), " pair positions but ", pair_mu.size(), " pair values"));
+  }
+  for (std::size_t i = 0; i < pair_mu.size(); ++i) {
+    if (!std::isfinite(pair_s_mm[i]) || !std::isfinite(pair_mu[i])) return bad(absl::StrCat("pair ", i, " is not finite"));
+    if (i > 0 && pair_s_mm[i] < pair_s_mm[i - 1]) {
+      return bad(absl::StrCat("pair position ", i, " (", pair_s_mm[i], " mm) is before the previous one"));
+    }
+  }
   const double slack = 1e-6 * (1.0 + std::abs(path_s_mm.back()));
   for (std::size_t p = 0; p < pieces.size(); ++p) {
     const LinePiece& piece = pieces[p];
@@ -105,6 +114,8 @@ LineSample LineSampleOf(const TraceFit& fit) {
     line.pieces.push_back(std::move(piece));
     return line;
   }
+  line.pair_s_mm = fit.friction.pair_s_mm;
+  line.pair_mu = fit.friction.pair_mu;
   for (const DragPiece& p : fit.pieces) {
     LinePiece piece;
     piece.start_mm = p.start_mm;

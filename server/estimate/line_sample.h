@@ -37,6 +37,13 @@ struct LineSample {
   std::vector<double> path_s_mm;             // increasing
   std::vector<Eigen::Vector3d> path_points;  // mm, object frame, one per path_s_mm
   std::vector<LinePiece> pieces;             // in path order, end of one = start of the next
+  // The per-pair friction series behind the pieces (FrictionFit::pair_s_mm,
+  // pair_mu; positions in the frame of path_s_mm, increasing): what lets the
+  // map test a piece again against the textures other drags found
+  // (server/map/known_texture_split.h). Empty for fits and plans stored
+  // before it was kept.
+  std::vector<double> pair_s_mm;
+  std::vector<double> pair_mu;
 
   // The path point at arc length s (linear between path points, clamped to
   // the ends). The path must not be empty.
@@ -48,7 +55,8 @@ struct LineSample {
   // OK, or INVALID_ARGUMENT naming the field: no path point, sizes that
   // differ, non-finite values, decreasing s, no piece, pieces out of order,
   // outside the path or with invalid textures (mu not finite, mu_std, mu_se or
-  // sigma negative, |k| >= 1).
+  // sigma negative, |k| >= 1), a pair series whose sizes differ or whose
+  // values are not finite or positions not increasing.
   absl::Status Validate() const;
 };
 

@@ -53,7 +53,12 @@ json LineSampleToJson(const LineSample& line) {
                       {"sigma", p.texture.sigma},
                       {"rows", p.roughness_rows}});
   }
-  return {{"s", line.path_s_mm}, {"p", points}, {"pieces", pieces}};
+  json out = {{"s", line.path_s_mm}, {"p", points}, {"pieces", pieces}};
+  if (!line.pair_mu.empty()) {
+    out["ps"] = line.pair_s_mm;
+    out["pmu"] = line.pair_mu;
+  }
+  return out;
 }
 
 absl::StatusOr<LineSample> LineSampleFromJson(const json& j, const std::string& where) {
@@ -108,6 +113,15 @@ absl::StatusOr<LineSample> LineSampleFromJson(const json& j, const std::string& 
       piece.roughness_rows = static_cast<int>(rows->get<int64_t>());
     }
     line.pieces.push_back(std::move(piece));
+  }
+  // The pair series: absent in plans saved before it was kept (and for
+  // fits without pieces).
+  if (j.contains("ps") || j.contains("pmu")) {
+    absl::StatusOr<std::vector<double>> ps = Numbers(j, where, "ps"), pmu = Numbers(j, where, "pmu");
+    if (!ps.ok()) return ps.status();
+    if (!pmu.ok()) return pmu.status();
+    line.pair_s_mm = *std::move(ps);
+    line.pair_mu = *std::move(pmu);
   }
   if (absl::Status v = line.Validate(); !v.ok()) return Bad(where, std::string(v.message()));
   return line;

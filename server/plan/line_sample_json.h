@@ -4,14 +4,17 @@
 //   {"s": [mm, ...], "p": [[x, y, z], ...],
 //    "pieces": [{"from": mm, "to": mm, "cs": bool, "ce": bool, "mu": x,
 //                "sd": x, "se": x, "n": x, "k": [k1, ...], "sigma": x,
-//                "rows": n}, ...]}
+//                "rows": n}, ...],
+//    "ps": [mm, ...], "pmu": [mu, ...]}
 //
 // s / p: the path (positions along it, points); per piece its extent, whether
 // a change bounds its start (cs) / end (ce), mu, per-pair spread (sd), mu's
 // standard error (se), effective pairs (n) and, when it has its own
 // roughness, the reflection coefficients (k) and sigma (otherwise [] and 0),
 // and the values behind that fit (rows; LinePiece::roughness_rows; absent in
-// plans saved before it existed, read as 0).
+// plans saved before it existed, read as 0). ps / pmu: the per-pair friction
+// series (LineSample::pair_s_mm, pair_mu; absent when empty, and in plans
+// saved before it was kept).
 // Doubles round-trip exactly, so a replayed plan decides as the original did.
 #pragma once
 

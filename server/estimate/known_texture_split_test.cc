@@ -1,0 +1,123 @@
+#include "server/estimate/known_texture_split.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include "server/estimate/change_points.h"
+#include "server/estimate/series_for_test.h"
+
+namespace surfmap {
+namespace {
+
+using namespace surfmap::testing;  // NOLINT: the synthetic series
+
+constexpr double kRubberMu = 0.305;
+constexpr double kMasoniteMu = 0.36;
+constexpr double kGlassMu = 0.106;
+
+// The textures a map would know, each fitted from 40 stretches of 100 pairs
+// (4,000 pairs: what a material's pieces in a mapped scene hold).
+std::vector<SeriesTexture> KnownTextures() {
+  std::vector<SeriesTexture> out;
+  int seed = 900000;
+  for (const auto& [mu, texture] : {std::pair{kGlassMu, kGlassLike}, std::pair{kRubberMu, kRubberLike},
+                                    std::pair{kMasoniteMu, kMasoniteLike}}) {
+    std::vector<std::vector<double>> stretches;
+    for (int i = 0; i < 40; ++i) stretches.push_back(Series({{100, mu, texture}}, ++seed));
+    std::vector<std::span<const double>> spans(stretches.begin(), stretches.end());
+    absl::StatusOr<SeriesTexture> fitted = FitSeriesTexture(spans);
+    EXPECT_TRUE(fitted.ok()) << fitted.status();
+    out.push_back(*fitted);
+  }
+  return out;
+}
+
+TEST(KnownTextureSplitTest, FitRecoversTheTexture) {
+  // 4,000 pairs of masonite: the AR(2) coefficients' large-sample standard
+  // error is sqrt((1 - a2^2) / n) ~ 0.011; allow 4 of them. The mean of a
+  // nearly integrated texture wanders: its long-run standard deviation over
+  // 40 stretches of 100 pairs is ~0.006; allow 0.02.
+  const std::vector<SeriesTexture> known = KnownTextures();
+  EXPECT_NEAR(known[2].a1, 1.61, 0.045);
+  EXPECT_NEAR(known[2].a2, -0.73, 0.045);
+  EXPECT_NEAR(known[2].mean, kMasoniteMu, 0.02);
+  EXPECT_NEAR(std::sqrt(known[2].innovation_variance), 0.16 / 5.0, 0.002);
+  EXPECT_NEAR(known[1].a1, 0.60, 0.045);
+  EXPECT_NEAR(known[1].a2, 0.25, 0.045);
+}
+
+TEST(KnownTextureSplitTest, RarelySplitsOneMaterial) {
+  // alpha = 1e-3 per series, a bound (Markov) for exact models; the models
+  // here are fitted, so allow 1 % over 300 seeds per material.
+  const std::vector<SeriesTexture> known = KnownTextures();
+  constexpr int kSeeds = 300;
+  for (const auto& [mu, texture] : {std::pair{kGlassMu, kGlassLike}, std::pair{kRubberMu, kRubberLike},
+                                    std::pair{kMasoniteMu, kMasoniteLike}}) {
+    int alarms = 0;
+    for (int seed = 1; seed <= kSeeds; ++seed) {
+      auto changes = FindKnownTextureChanges(Series({{kPairs, mu, texture}}, seed), Positions(kPairs), known);
+      ASSERT_TRUE(changes.ok()) << changes.status();
+      alarms += !changes->empty();
+    }
+    EXPECT_LE(alarms, 0.01 * kSeeds) << "mu " << mu;
+  }
+}
+
+TEST(KnownTextureSplitTest, FindsRubberAgainstMasoniteWhereTheDragAloneCannot) {
+  // 6 mm of rubber then 6 mm of masonite (twin_band_egg's bands, one drag
+  // across both): the drag's own change test finds this change in ~60-80 %
+  // of drags (docs/method.md); with the textures known it must be found far
+  // more often, within 1 mm of the boundary.
+  const std::vector<SeriesTexture> known = KnownTextures();
+  constexpr int kSeeds = 200;
+  constexpr double kToleranceMm = 1.0;
+  int found_known = 0, found_alone = 0;
+  for (int seed = 1; seed <= kSeeds; ++seed) {
+    const std::vector<double> x = Series({{60, kRubberMu, kRubberLike}, {60, kMasoniteMu, kMasoniteLike}}, seed);
+    const std::vector<double> s = Positions(120);
+    const double boundary = 0.5 * (s[59] + s[60]);
+    auto changes = FindKnownTextureChanges(x, s, known);
+    ASSERT_TRUE(changes.ok()) << changes.status();
+    if (changes->size() == 1 && std::abs((*changes)[0].s_mm - boundary) <= kToleranceMm) ++found_known;
+    auto alone = DetectChangePoints(s, x);
+    ASSERT_TRUE(alone.ok()) << alone.status();
+    if (alone->size() == 1 && std::abs((*alone)[0].s_mm - boundary) <= kToleranceMm) ++found_alone;
+  }
+  RecordProperty("found_known", found_known);
+  RecordProperty("found_alone", found_alone);
+  EXPECT_GE(found_known, 0.9 * kSeeds);
+  EXPECT_GT(found_known, found_alone);
+}
+
+TEST(KnownTextureSplitTest, FindsBothEdgesOfABand) {
+  // Glass, 6 mm of rubber, glass: two changes, each within 0.3 mm (the
+  // glass step is 20 standard deviations of a pair).
+  const std::vector<SeriesTexture> known = KnownTextures();
+  for (int seed = 1; seed <= 20; ++seed) {
+    const std::vector<double> x =
+        Series({{50, kGlassMu, kGlassLike}, {60, kRubberMu, kRubberLike}, {50, kGlassMu, kGlassLike}}, seed);
+    const std::vector<double> s = Positions(160);
+    auto changes = FindKnownTextureChanges(x, s, known);
+    ASSERT_TRUE(changes.ok()) << changes.status();
+    ASSERT_EQ(changes->size(), 2u) << "seed " << seed;
+    EXPECT_NEAR((*changes)[0].s_mm, 0.5 * (s[49] + s[50]), 0.3);
+    EXPECT_NEAR((*changes)[1].s_mm, 0.5 * (s[109] + s[110]), 0.3);
+  }
+}
+
+TEST(KnownTextureSplitTest, NeedsTwoTexturesAndRefusesBadInput) {
+  const std::vector<SeriesTexture> known = KnownTextures();
+  const std::vector<double> x = Series({{kPairs, kRubberMu, kRubberLike}}, 1);
+  auto one = FindKnownTextureChanges(x, Positions(kPairs), {known[1]});
+  ASSERT_TRUE(one.ok());
+  EXPECT_TRUE(one->empty());
+  EXPECT_FALSE(FindKnownTextureChanges(x, Positions(kPairs - 1), known).ok());
+  SeriesTexture flat = known[0];
+  flat.innovation_variance = 0.0;
+  EXPECT_FALSE(FindKnownTextureChanges(x, Positions(kPairs), {known[1], flat}).ok());
+  EXPECT_FALSE(FitSeriesTexture({std::span<const double>(x.data(), 50)}).ok());  // 48 rows < 100
+}
+
+}  // namespace
+}  // namespace surfmap
