@@ -82,6 +82,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.follow_boundaries = options.follow_boundaries;
   plan_options.continuation_prior = options.continuation_prior;
   plan_options.coverage_skip_share = options.coverage_skip_share;
+  plan_options.regions.split_against_materials = options.plan_split_against_materials;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
@@ -285,7 +286,9 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
   std::optional<FrictionMap> harmonic;
   std::shared_ptr<const MeshLocator> harmonic_locator;
   if (options.map == MapKind::kRegions) {
-    absl::StatusOr<RegionMap> map = RegionMap::Create(map_level);
+    RegionMapOptions map_options;
+    map_options.split_against_materials = options.map_split_against_materials;
+    absl::StatusOr<RegionMap> map = RegionMap::Create(map_level, map_options);
     if (!map.ok()) return map.status();
     std::vector<MapPiece> pieces;
     for (int i = 0; i < static_cast<int>(result.probes.size()); ++i) {

@@ -62,6 +62,11 @@ struct MappingRunOptions {
   bool follow_boundaries = false;  // kBoundary: SamplingPlanOptions::follow_boundaries
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;  // kBoundary
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;  // kBoundary
+  // RegionMapOptions::split_against_materials for the plan's own map and for
+  // the map scored: both on as in a job; the map's alone differing compares
+  // the two on the same drags.
+  bool plan_split_against_materials = true;
+  bool map_split_against_materials = true;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -67,6 +67,7 @@ int Main(int argc, char** argv) {
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
+  bool plan_split = true, map_split = true;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -95,6 +96,13 @@ int Main(int argc, char** argv) {
                  "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
                  "length of (0: drag every one, the build before)")
       ->capture_default_str();
+  app.add_option("--plan-split", plan_split,
+                 "the plan's map splits pieces against its materials' textures (true|false)")
+      ->capture_default_str();
+  app.add_option("--map-split", map_split,
+                 "the scored map splits pieces against its materials' textures (true|false); "
+                 "differing from --plan-split alone compares the two on the same drags")
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -111,6 +119,8 @@ int Main(int argc, char** argv) {
   base.follow_boundaries = follow;
   base.continuation_prior = continuation_prior;
   base.coverage_skip_share = coverage_skip_share;
+  base.plan_split_against_materials = plan_split;
+  base.map_split_against_materials = map_split;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

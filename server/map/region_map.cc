@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "server/map/piece_resplit.h"
 
 namespace surfmap {
 namespace {
@@ -43,20 +44,6 @@ Eigen::Vector3d Tangent(const Eigen::Vector3d& v, const Eigen::Vector3d& normal)
 
 }  // namespace
 
-std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
-  std::vector<MapPiece> out;
-  for (const LinePiece& piece : line.pieces) {
-    MapPiece p;
-    p.drag = drag;
-    p.piece = piece;
-    p.points = line.path_s_mm.empty() ? std::vector<Eigen::Vector3d>{site_position}
-                                      : line.PointsBetween(piece.start_mm, piece.end_mm);
-    if (p.points.empty()) p.points.push_back(line.path_s_mm.empty() ? site_position : line.PointAt(piece.start_mm));
-    out.push_back(std::move(p));
-  }
-  return out;
-}
-
 bool RegionMapOptions::IsValid(std::string* why) const {
   auto fail = [why](std::string m) {
     if (why != nullptr) *why = std::move(m);
@@ -64,6 +51,8 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   };
   std::string inner;
   if (!merge.IsValid(&inner)) return fail(absl::StrCat("merge: ", inner));
+  if (!known_split.IsValid(&inner)) return fail(absl::StrCat("known_split: ", inner));
+  if (min_texture_rows < 3) return fail("min_texture_rows must be >= 3");
   if (!(std::isfinite(point_spacing_mm) && point_spacing_mm > 0.0)) return fail("point_spacing_mm must be > 0");
   if (!(std::isfinite(correlation_length_mm) && correlation_length_mm >= 0.0)) {
     return fail("correlation_length_mm must be >= 0 (0 = automatic)");
@@ -157,14 +146,46 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   std::vector<PlacedPiece> placed;
   placed.reserve(pieces.size());
   for (std::size_t i = 0; i < pieces.size(); ++i) {
-    if (i < placed_.size() && placed_[i].points == pieces[i].points) {
-      placed.push_back(std::move(placed_[i]));
+    if (i < given_placed_.size() && given_placed_[i].points == pieces[i].points) {
+      placed.push_back(std::move(given_placed_[i]));
     } else {
       placed.push_back(Place(pieces[i], static_cast<int>(i)));
     }
   }
+  given_placed_ = std::move(placed);
+  split_pieces_ = 0;
   pieces_ = std::move(pieces);
-  placed_ = std::move(placed);
+  placed_ = given_placed_;
+  if (absl::Status s = Rebuild(); !s.ok()) return s;
+  if (!options_.split_against_materials) return absl::OkStatus();
+
+  // Test every piece again against the materials just found, and build the
+  // map again from the split pieces where any was split.
+  std::vector<int> piece_material(pieces_.size());
+  for (std::size_t i = 0; i < pieces_.size(); ++i) piece_material[i] = regions_[piece_region_[i]].material;
+  const std::vector<SeriesTexture> textures = MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
+  std::vector<std::vector<MapPiece>> splits = SplitPiecesAgainst(pieces_, textures, options_.known_split);
+  if (std::all_of(splits.begin(), splits.end(), [](const auto& s) { return s.empty(); })) return absl::OkStatus();
+  std::vector<MapPiece> split_pieces;
+  std::vector<PlacedPiece> split_placed;
+  for (std::size_t i = 0; i < pieces_.size(); ++i) {
+    if (splits[i].empty()) {
+      PlacedPiece p = given_placed_[i];
+      const int index = static_cast<int>(split_pieces.size());
+      for (LabelledSeed& seed : p.seeds) seed.label = index;
+      for (SurfaceSeed& seed : p.surface_seeds) seed.label = index;
+      split_placed.push_back(std::move(p));
+      split_pieces.push_back(std::move(pieces_[i]));
+      continue;
+    }
+    for (MapPiece& sub : splits[i]) {
+      split_placed.push_back(Place(sub, static_cast<int>(split_pieces.size())));
+      split_pieces.push_back(std::move(sub));
+    }
+  }
+  pieces_ = std::move(split_pieces);
+  placed_ = std::move(split_placed);
+  split_pieces_ = static_cast<int>(std::count_if(splits.begin(), splits.end(), [](const auto& s) { return !s.empty(); }));
   return Rebuild();
 }
 

@@ -56,28 +56,18 @@
 #include "absl/status/status.h"
 #include "absl/status/statusor.h"
 #include "server/estimate/line_sample.h"
+#include "server/estimate/known_texture_split.h"
 #include "server/map/friction_map.h"
 #include "server/map/boundary_corridor.h"
 #include "server/map/boundary_links.h"
 #include "server/map/label_propagation.h"
+#include "server/map/map_piece.h"
 #include "server/map/nearest_labels.h"
 #include "server/map/texture_regions.h"
 #include "server/mesh/loop_surface.h"
 #include "server/mesh/mesh_locator.h"
 
 namespace surfmap {
-
-// One pure piece of one drag, on the object.
-struct MapPiece {
-  int drag = -1;                        // pieces with the same id are one drag, in path order
-  std::vector<Eigen::Vector3d> points;  // along its extent (>= 1; a point sample has one), mm
-  LinePiece piece;                      // texture, mu_se, effective pairs, change flags
-};
-
-// The pieces of a line sample as map pieces (the path between each piece's
-// ends). A line sample without a path (an old fit) gives one piece at
-// `site_position`.
-std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position);
 
 struct RegionMapOptions {
   RegionMergeOptions merge;
@@ -106,6 +96,14 @@ struct RegionMapOptions {
   // more finely than the level's edges, the data can. 0 = the level's
   // median edge length.
   double near_data_mm = 0.0;
+  // Pieces are tested again against the textures of the map's materials
+  // (server/map/piece_resplit.h): a piece whose series shows a change between
+  // two of them that its drag's own test missed is split there, and the map
+  // is built again from the split pieces. A material's texture is fitted
+  // only from at least min_texture_rows pairs.
+  bool split_against_materials = true;
+  KnownTextureSplitOptions known_split;
+  int min_texture_rows = 300;
   // Regions alike by the merge rule, wherever they lie, are one material:
   // each reports the estimates (mu, its se, roughness) of all the
   // material's pieces. Their extents are unchanged.
@@ -143,6 +141,8 @@ class RegionMap {
   // invalid texture (LineSample rules). On error the map keeps its state.
   // Pieces identical to those at the same index in the previous call keep
   // their projection onto the level (a plan adds pieces at the end).
+  // pieces() are those the map is built from: the given ones, or their parts
+  // where they were split against the map's materials.
   absl::Status SetPieces(std::vector<MapPiece> pieces);
 
   // Points about to be measured (issued drags' sites): they lower the
@@ -174,6 +174,9 @@ class RegionMap {
   int roughness_order() const { return static_cast<int>(reflection_.size()); }
   int boundary_links() const { return links_; }      // links drawn between crossings
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
+  // Pieces given that were split against the map's materials
+  // (RegionMapOptions::split_against_materials); pieces() holds their parts.
+  int split_pieces() const { return split_pieces_; }
   // Where drags crossed from one region into another (a change inside a
   // drag between pieces of different regions), in piece order.
   const std::vector<ChangeMark>& change_marks() const { return marks_; }
@@ -239,6 +242,11 @@ class RegionMap {
   int NearestDataRegion(const Eigen::Vector3d& p) const;
   double correlation_length_mm_ = 0.0;
 
+  // The pieces as given (and their placement, kept so that the next call
+  // places only new pieces), and those the map is built from: the given
+  // ones, split where a known texture test found a change.
+  std::vector<PlacedPiece> given_placed_;
+  int split_pieces_ = 0;
   std::vector<MapPiece> pieces_;
   std::vector<PlacedPiece> placed_;
   std::vector<Eigen::Vector3d> pending_;

@@ -1,0 +1,46 @@
+#include "server/map/map_piece.h"
+
+#include <cstddef>
+
+namespace surfmap {
+
+std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
+  std::vector<MapPiece> out;
+  for (const LinePiece& piece : line.pieces) {
+    MapPiece p;
+    p.drag = drag;
+    p.piece = piece;
+    if (line.path_s_mm.empty()) {
+      p.points = {site_position};
+      out.push_back(std::move(p));
+      continue;
+    }
+    p.points = line.PointsBetween(piece.start_mm, piece.end_mm);
+    if (p.points.empty()) {
+      p.points.push_back(line.PointAt(piece.start_mm));
+      p.point_s_mm = {piece.start_mm};
+    } else {
+      // The positions of PointsBetween's points: both ends and the path's
+      // points between them.
+      p.point_s_mm.push_back(piece.start_mm);
+      for (double s : line.path_s_mm) {
+        if (s > piece.start_mm && s < piece.end_mm) p.point_s_mm.push_back(s);
+      }
+      if (piece.end_mm > piece.start_mm) p.point_s_mm.push_back(piece.end_mm);
+    }
+    // The piece's own pairs: those inside its extent, less the transitional
+    // pair next to a change (the change lies midway between two pairs).
+    std::size_t first = 0;
+    while (first < line.pair_s_mm.size() && line.pair_s_mm[first] < piece.start_mm) ++first;
+    std::size_t end = first;
+    while (end < line.pair_s_mm.size() && line.pair_s_mm[end] <= piece.end_mm) ++end;
+    if (piece.starts_at_change && first < end) ++first;
+    if (piece.ends_at_change && end > first) --end;
+    p.pair_s_mm.assign(line.pair_s_mm.begin() + first, line.pair_s_mm.begin() + end);
+    p.pair_mu.assign(line.pair_mu.begin() + first, line.pair_mu.begin() + end);
+    out.push_back(std::move(p));
+  }
+  return out;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,28 @@
+// One pure piece of one drag, placed on the object: what the region map is
+// built from.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include "server/estimate/line_sample.h"
+
+namespace surfmap {
+
+struct MapPiece {
+  int drag = -1;                        // pieces with the same id are one drag, in path order
+  std::vector<Eigen::Vector3d> points;  // along its extent (>= 1; a point sample has one), mm
+  std::vector<double> point_s_mm;       // of each point along the drag's path (empty for a point sample)
+  LinePiece piece;                      // texture, mu_se, effective pairs, change flags
+  // The per-pair friction series of the piece's own pairs (the transitional
+  // pair next to a change left out); empty when the line sample has none.
+  std::vector<double> pair_s_mm;
+  std::vector<double> pair_mu;
+};
+
+// The pieces of a line sample as map pieces (the path between each piece's
+// ends). A line sample without a path (an old fit) gives one piece at
+// `site_position`.
+std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position);
+
+}  // namespace surfmap

@@ -1,0 +1,115 @@
+#include "server/map/piece_resplit.h"
+
+#include <cmath>
+#include <numeric>
+
+#include <gtest/gtest.h>
+#include "server/estimate/series_for_test.h"
+#include "server/map/region_map.h"
+#include "server/map/testing/map_pieces.h"
+
+namespace surfmap {
+namespace {
+
+using testing::kRubberLike;
+using testing::kMasoniteLike;
+using testing::Plate;
+using testing::Series;
+using testing::Stretch;
+using testing::StraightPiece;
+
+constexpr double kRubber = 0.305, kMasonite = 0.36;
+
+// A piece from a to b whose statistics and pair series are those of
+// `stretches` (0.1 mm apart), as one piece: no change was detected in it.
+MapPiece PieceWithSeries(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         const std::vector<Stretch>& stretches, std::uint64_t seed) {
+  const std::vector<double> x = Series(stretches, seed);
+  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / x.size();
+  double var = 0.0;
+  for (double v : x) var += (v - mean) * (v - mean);
+  var /= x.size() - 1;
+  MapPiece p = StraightPiece(drag, a, b, mean);
+  p.piece.end_mm = 0.1 * (x.size() - 1);
+  p.piece.texture.mu_std = std::sqrt(var);
+  p.piece.effective_pairs = x.size() / 16.0;  // one independent pair per 1.6 mm
+  p.piece.mu_se = std::sqrt(var / p.piece.effective_pairs);
+  p.point_s_mm = {0.0, p.piece.end_mm};
+  for (std::size_t i = 0; i < x.size(); ++i) p.pair_s_mm.push_back(0.1 * i);
+  p.pair_mu = x;
+  return p;
+}
+
+// Rubber drags on the left half of the plate, masonite on the right, and one
+// drag across the middle that holds 8 mm of each with no change detected.
+std::vector<MapPiece> HalvesAndOneMixedDrag() {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  std::uint64_t seed = 1;
+  for (double x : {-40.0, -32.0, -24.0, -16.0}) {
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+  }
+  for (double x : {16.0, 24.0, 32.0, 40.0}) {
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+  }
+  pieces.push_back(PieceWithSeries(drag++, {-8, 0, 0}, {7.9, 0, 0},
+                                   {{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}}, seed++));
+  return pieces;
+}
+
+TEST(PieceResplitTest, MaterialTexturesNeedEnoughRows) {
+  const std::vector<MapPiece> pieces = HalvesAndOneMixedDrag();
+  std::vector<int> material = {0, 0, 0, 0, 1, 1, 1, 1, -1};
+  const std::vector<SeriesTexture> textures = MaterialTextures(pieces, material, 300);
+  ASSERT_EQ(textures.size(), 2u);
+  // 632 rows of each: the means within the wander of a few drags' texture.
+  EXPECT_NEAR(textures[0].mean, kRubber, 0.02);
+  EXPECT_NEAR(textures[1].mean, kMasonite, 0.03);
+  EXPECT_EQ(MaterialTextures(pieces, material, 1000).size(), 0u);
+}
+
+TEST(PieceResplitTest, TheMixedDragIsSplitWhereItCrossesAndTheMapFollows) {
+  const SurfaceLevel level = Plate();
+  for (const bool split : {true, false}) {
+    RegionMapOptions options;
+    options.split_against_materials = split;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(HalvesAndOneMixedDrag()).ok());
+    EXPECT_EQ(map->split_pieces(), split ? 1 : 0);
+    EXPECT_EQ(map->pieces().size(), split ? 10u : 9u);
+    if (!split) continue;
+    // The parts: the change within 1 mm of the drag's middle (7.95 mm
+    // along it), each part in its own material's region.
+    const MapPiece& left = map->pieces()[8];
+    const MapPiece& right = map->pieces()[9];
+    EXPECT_NEAR(left.piece.end_mm, 7.95, 1.0);
+    EXPECT_TRUE(left.piece.ends_at_change);
+    EXPECT_TRUE(right.piece.starts_at_change);
+    EXPECT_FALSE(left.piece.has_roughness());
+    EXPECT_EQ(map->piece_region()[8], map->piece_region()[0]);
+    EXPECT_EQ(map->piece_region()[9], map->piece_region()[4]);
+    const absl::StatusOr<MapValue> at_left = map->ValueAtPosition({-5, 0, 0});
+    const absl::StatusOr<MapValue> at_right = map->ValueAtPosition({5, 0, 0});
+    ASSERT_TRUE(at_left.ok() && at_right.ok());
+    EXPECT_EQ(at_left->region, map->piece_region()[0]);
+    EXPECT_EQ(at_right->region, map->piece_region()[4]);
+  }
+}
+
+TEST(PieceResplitTest, APlanAddingDragsKeepsTheSplit) {
+  // The plan calls SetPieces with one more drag each time: the pieces given
+  // before are recognised though the map holds their parts.
+  const SurfaceLevel level = Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  std::vector<MapPiece> pieces = HalvesAndOneMixedDrag();
+  ASSERT_TRUE(map->SetPieces(pieces).ok());
+  pieces.push_back(PieceWithSeries(100, {-40, 15, 0}, {-24.1, 15, 0}, {{160, kRubber, kRubberLike}}, 77));
+  ASSERT_TRUE(map->SetPieces(pieces).ok());
+  EXPECT_EQ(map->split_pieces(), 1);
+  EXPECT_EQ(map->pieces().size(), 11u);
+}
+
+}  // namespace
+}  // namespace surfmap
