@@ -302,6 +302,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     result.map_changes = static_cast<int>(map->change_marks().size());
     result.map_links = map->boundary_links();
     result.map_corners = map->boundary_corners();
+    result.map_split_pieces = map->split_pieces();
     regions = std::move(*map);
     reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
       absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);

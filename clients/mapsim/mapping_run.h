@@ -113,6 +113,7 @@ struct MappingRunResult {
   int map_changes = 0;                         // regions maps: crossings between regions,
   int map_links = 0;                           // links drawn between them,
   int map_corners = 0;                         // and corners (boundary_corners.h)
+  int map_split_pieces = 0;                    // pieces split against the materials (piece_resplit.h)
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
   int measured() const;
 };

@@ -56,8 +56,13 @@ absl::StatusOr<SeriesTexture> FitSeriesTexture(const std::vector<std::span<const
                                                int min_rows = 100);
 
 struct KnownTextureSplitOptions {
-  // Family-wise chance of a false split per piece tested (see above).
-  double false_alarm_probability = 1e-3;
+  // Bound on the family-wise chance of a false split per piece tested (see
+  // above). The bound is loose: measured on 16 mm series of the paper's four
+  // textures with fitted models, 0 false splits in 8,000 at 0.05 and 1 at
+  // 0.2 (KnownTextureSplitTest.RatesAtTheDefault), while 3 mm of rubber
+  // before masonite is found 70 % of the time at 0.05 against 32 % at 1e-3.
+  // A false split only cuts a piece into two parts that the map finds alike.
+  double false_alarm_probability = 0.05;
   // Shortest side, as the change test's (ChangePointOptions).
   double min_piece_mm = 1.5;
   int min_piece_pairs = 12;
