@@ -58,6 +58,15 @@ TEST(LineSampleTest, ValidateNamesWhatIsWrong) {
   EXPECT_EQ(line.Validate().message(), "line sample: piece 0: roughness_rows is 40 without a roughness fit");
   line.pieces[0].roughness_rows = -1;
   EXPECT_EQ(line.Validate().message(), "line sample: piece 0: roughness_rows is -1");
+  line = TwoPieceLine();
+  line.pair_s_mm = {1.0, 2.0};
+  line.pair_mu = {0.3};
+  EXPECT_EQ(line.Validate().message(), "line sample: 2 pair positions but 1 pair values");
+  line.pair_mu = {0.3, std::nan("")};
+  EXPECT_EQ(line.Validate().message(), "line sample: pair 1 is not finite");
+  line.pair_s_mm = {2.0, 1.0};
+  line.pair_mu = {0.3, 0.3};
+  EXPECT_EQ(line.Validate().message(), "line sample: pair position 1 (1 mm) is before the previous one");
 }
 
 TEST(LineSampleTest, OfAFitCarriesItsPathAndPieces) {
@@ -77,6 +86,9 @@ TEST(LineSampleTest, OfAFitCarriesItsPathAndPieces) {
   // position noise 0.005 mm).
   EXPECT_NEAR(line.PointAt(line.pieces[0].end_mm).x(), 1.0, 0.15);
   EXPECT_TRUE(line.pieces[1].has_roughness());  // rubber, ~7 mm: fitted
+  // The per-pair series behind the pieces, as the fit has it.
+  EXPECT_EQ(line.pair_mu, fit->friction.pair_mu);
+  EXPECT_EQ(line.pair_s_mm, fit->friction.pair_s_mm);
   EXPECT_NEAR(line.pieces[0].texture.mu, kGlass.mu, 0.003);
   // The rows behind a roughness fit are one pass's values; a fit below the
   // noise floor (glass) has none, its shape being the sensor's.

@@ -31,6 +31,31 @@ TEST(LineSampleJsonTest, RoundTripsThePiecesWithTheRowsBehindTheirRoughness) {
   EXPECT_EQ(back->pieces[0].texture.mu, 0.305);
 }
 
+TEST(LineSampleJsonTest, RoundTripsThePairSeriesExactlyAndReadsPlansWithoutIt) {
+  LineSample line = RoughLine();
+  line.pair_s_mm = {0.05, 0.1 + 1e-13, 9.95};
+  line.pair_mu = {0.30512345678901234, 0.31, 1.0 / 3.0};
+  const absl::StatusOr<LineSample> back = LineSampleFromJson(LineSampleToJson(line), "line");
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->pair_s_mm, line.pair_s_mm);  // bit-exact: a replayed plan decides as the original did
+  EXPECT_EQ(back->pair_mu, line.pair_mu);
+  const nlohmann::json without = LineSampleToJson(RoughLine());
+  EXPECT_FALSE(without.contains("ps"));
+  const absl::StatusOr<LineSample> old = LineSampleFromJson(without, "line");
+  ASSERT_TRUE(old.ok());
+  EXPECT_TRUE(old->pair_mu.empty());
+  nlohmann::json bad = LineSampleToJson(line);
+  bad["pmu"] = {0.3, "x", 0.3};
+  EXPECT_NE(LineSampleFromJson(bad, "line").status().message().find("\"pmu\" holds a non-number"), std::string::npos);
+  bad = LineSampleToJson(line);
+  bad.erase("ps");
+  EXPECT_NE(LineSampleFromJson(bad, "line").status().message().find("\"ps\" is missing"), std::string::npos);
+  bad = LineSampleToJson(line);
+  bad["pmu"] = {0.3};
+  EXPECT_NE(LineSampleFromJson(bad, "line").status().message().find("3 pair positions but 1 pair values"),
+            std::string::npos);
+}
+
 TEST(LineSampleJsonTest, APieceSavedBeforeRowsExistedHasNoRoughnessSignature) {
   nlohmann::json j = LineSampleToJson(RoughLine());
   j["pieces"][0].erase("rows");
