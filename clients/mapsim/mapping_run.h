@@ -63,9 +63,9 @@ struct MappingRunOptions {
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;  // kBoundary
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;  // kBoundary
   // RegionMapOptions::split_against_materials for the plan's own map and for
-  // the map scored: both on as in a job; the map's alone differing compares
-  // the two on the same drags.
-  bool plan_split_against_materials = true;
+  // the map scored: as in a job, the plan's off and the map's on; the map's
+  // alone differing compares the two on the same drags.
+  bool plan_split_against_materials = false;
   bool map_split_against_materials = true;
   FitOptions fit;
 

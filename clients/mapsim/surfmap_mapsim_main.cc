@@ -67,7 +67,8 @@ int Main(int argc, char** argv) {
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
-  bool plan_split = true, map_split = true;
+  bool plan_split = MappingRunOptions{}.plan_split_against_materials;
+  bool map_split = MappingRunOptions{}.map_split_against_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))

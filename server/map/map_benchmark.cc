@@ -1,11 +1,14 @@
 // Recompute and query cost of the map on finest levels of 10k-40k vertices
 // (budget: recompute well under a second, a 100-point query far under 2 ms),
-// and what grouping regions into materials adds to a region map's rebuild.
+// and what grouping regions into materials and splitting pieces against
+// their textures add to a region map's rebuild.
 #include <algorithm>
+#include <cmath>
 #include <random>
 #include <string>
 
 #include <benchmark/benchmark.h>
+#include "server/estimate/series_for_test.h"
 #include "server/map/friction_map.h"
 #include "server/map/region_map.h"
 #include "server/map/testing/flat_grid_levels.h"
@@ -122,6 +125,63 @@ void BM_RegionMapRebuild(benchmark::State& state) {
   state.counters["materials"] = materials;
 }
 BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark::kMillisecond);
+
+// What testing pieces again against the materials' textures costs
+// (RegionMapOptions::split_against_materials, piece_resplit.h): 200 drags of
+// 16 mm with their pair series (160 pairs each) on 10 mm stripes of rubber
+// and masonite in turn, every fourth drag across a boundary between them as
+// one piece (no change detected). Arg: the split off (0) / on (1); on, the
+// map is built twice (once to find the materials, once from the parts).
+void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
+  const SurfaceLevel level = testing::MakeFlatGrid(100, 100, 1.0);
+  RegionMapOptions options;
+  options.split_against_materials = state.range(0) != 0;
+  auto map = RegionMap::Create(level, options);
+  if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
+  const testing::Stretch rubber{0, 0.305, testing::kRubberLike}, masonite{0, 0.36, testing::kMasoniteLike};
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> along(2.0, 82.0), inside(2.0, 8.0), split(4.0, 12.0);
+  std::vector<MapPiece> pieces;
+  for (int d = 0; d < 200; ++d) {
+    const int stripe = d % 10;
+    testing::Stretch first = stripe % 2 == 0 ? rubber : masonite, second = stripe % 2 == 0 ? masonite : rubber;
+    const double y = along(rng);
+    Eigen::Vector3d a, b;
+    std::vector<testing::Stretch> stretches;
+    if (d % 4 == 3 && stripe < 9) {  // across the boundary at x = 10 (stripe + 1)
+      const double before = split(rng);
+      a = {10.0 * (stripe + 1) - before, y, 0};
+      b = a + Eigen::Vector3d(15.9, 0, 0);
+      first.length = static_cast<int>(10 * before);
+      second.length = 160 - first.length;
+      stretches = {first, second};
+    } else {
+      const double x = 10.0 * stripe + inside(rng);
+      a = {x, y, 0};
+      b = {x, y + 15.9, 0};
+      first.length = 160;
+      stretches = {first};
+    }
+    const std::vector<double> x = testing::Series(stretches, 1000 + d);
+    double mean = 0.0, var = 0.0;
+    for (double v : x) mean += v / x.size();
+    for (double v : x) var += (v - mean) * (v - mean) / (x.size() - 1);
+    MapPiece p = testing::StraightPiece(d, a, b, mean, 0.0, false, std::sqrt(var / 10.0));
+    p.piece.texture.mu_std = std::sqrt(var);
+    p.point_s_mm = {0.0, p.piece.end_mm};
+    for (std::size_t i = 0; i < x.size(); ++i) p.pair_s_mm.push_back(0.1 * i);
+    p.pair_mu = x;
+    pieces.push_back(std::move(p));
+  }
+  for (auto _ : state) {
+    if (absl::Status status = map->SetPieces(pieces); !status.ok()) {
+      return state.SkipWithError(std::string(status.message()).c_str());
+    }
+  }
+  state.counters["split"] = map->split_pieces();
+  state.counters["regions"] = static_cast<double>(map->regions().size());
+}
+BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace surfmap
