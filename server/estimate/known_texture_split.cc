@@ -6,7 +6,6 @@
 
 #include <Eigen/Dense>
 #include "absl/strings/str_cat.h"
-#include "server/estimate/change_points.h"
 
 namespace surfmap {
 namespace {
@@ -35,7 +34,7 @@ struct Search {
   std::span<const double> s;
   const std::vector<std::vector<double>>& sums;
   const KnownTextureSplitOptions& options;
-  std::vector<KnownTextureChange>& out;
+  std::vector<ChangePoint>& out;
 
   // Sum of texture m's rows in [from, to).
   double Rows(int m, int from, int to) const { return to > from ? sums[m][to] - sums[m][from] : 0.0; }
@@ -72,7 +71,12 @@ struct Search {
         std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
     if (!(best > critical)) return;
     Segment(a, best_k - 1);
-    out.push_back({best_k, 0.5 * (s[best_k - 1] + s[best_k]), best, critical});
+    ChangePoint change;
+    change.index = best_k;
+    change.s_mm = 0.5 * (s[best_k - 1] + s[best_k]);
+    change.statistic = best;
+    change.critical_value = critical;
+    out.push_back(change);
     Segment(best_k + 1, b);
   }
 };
@@ -138,7 +142,7 @@ absl::StatusOr<SeriesTexture> FitSeriesTexture(const std::vector<std::span<const
   return t;
 }
 
-absl::StatusOr<std::vector<KnownTextureChange>> FindKnownTextureChanges(std::span<const double> mu,
+absl::StatusOr<std::vector<ChangePoint>> FindKnownTextureChanges(std::span<const double> mu,
                                                                         std::span<const double> s_mm,
                                                                         const std::vector<SeriesTexture>& textures,
                                                                         const KnownTextureSplitOptions& options) {
@@ -154,7 +158,7 @@ absl::StatusOr<std::vector<KnownTextureChange>> FindKnownTextureChanges(std::spa
                                                      textures[m].innovation_variance));
     }
   }
-  std::vector<KnownTextureChange> out;
+  std::vector<ChangePoint> out;
   if (textures.size() < 2 || mu.size() < 4) return out;
   const std::vector<std::vector<double>> sums = RowPrefixSums(mu, textures);
   Search{s_mm, sums, options, out}.Segment(0, static_cast<int>(mu.size()));

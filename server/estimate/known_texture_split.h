@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "absl/status/statusor.h"
+#include "server/estimate/change_points.h"
 
 namespace surfmap {
 
@@ -69,18 +70,13 @@ struct KnownTextureSplitOptions {
   bool IsValid(std::string* why) const;
 };
 
-struct KnownTextureChange {
-  int index = 0;        // first pair after the change (as ChangePoint::index)
-  double s_mm = 0.0;    // midway between pairs index - 1 and index
-  double log_likelihood_ratio = 0.0;
-  double critical_value = 0.0;  // log(K / alpha)
-};
-
 // The changes found in `mu` (positions `s_mm`, increasing, same size) between
-// `textures` (at least two; fewer gives none), in order. Errors
+// `textures` (at least two; fewer gives none), in order, as the change
+// test's ChangePoint: index and s_mm, `statistic` the largest LLR and
+// `critical_value` log(K / alpha) it exceeded. Errors
 // (INVALID_ARGUMENT): sizes that differ, invalid options or a texture with
 // a non-positive innovation variance.
-absl::StatusOr<std::vector<KnownTextureChange>> FindKnownTextureChanges(std::span<const double> mu,
+absl::StatusOr<std::vector<ChangePoint>> FindKnownTextureChanges(std::span<const double> mu,
                                                                         std::span<const double> s_mm,
                                                                         const std::vector<SeriesTexture>& textures,
                                                                         const KnownTextureSplitOptions& options = {});

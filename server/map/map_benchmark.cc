@@ -131,7 +131,8 @@ BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark:
 // 16 mm with their pair series (160 pairs each) on 10 mm stripes of rubber
 // and masonite in turn, every fourth drag across a boundary between them as
 // one piece (no change detected). Arg: the split off (0) / on (1); on, the
-// map is built twice (once to find the materials, once from the parts).
+// pieces are grouped twice (once to find the materials, once with the
+// parts) and spread once.
 void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   const SurfaceLevel level = testing::MakeFlatGrid(100, 100, 1.0);
   RegionMapOptions options;

@@ -4,6 +4,23 @@
 
 namespace surfmap {
 
+void PlaceAlong(const LineSample& line, double from, double to, MapPiece* piece) {
+  piece->points = line.PointsBetween(from, to);
+  piece->point_s_mm.clear();
+  if (piece->points.empty()) {
+    piece->points.push_back(line.PointAt(from));
+    piece->point_s_mm.push_back(from);
+    return;
+  }
+  // The positions of PointsBetween's points: both ends and the path's points
+  // between them.
+  piece->point_s_mm.push_back(from);
+  for (double s : line.path_s_mm) {
+    if (s > from && s < to) piece->point_s_mm.push_back(s);
+  }
+  if (to > from) piece->point_s_mm.push_back(to);
+}
+
 std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
   std::vector<MapPiece> out;
   for (const LinePiece& piece : line.pieces) {
@@ -15,19 +32,7 @@ std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen:
       out.push_back(std::move(p));
       continue;
     }
-    p.points = line.PointsBetween(piece.start_mm, piece.end_mm);
-    if (p.points.empty()) {
-      p.points.push_back(line.PointAt(piece.start_mm));
-      p.point_s_mm = {piece.start_mm};
-    } else {
-      // The positions of PointsBetween's points: both ends and the path's
-      // points between them.
-      p.point_s_mm.push_back(piece.start_mm);
-      for (double s : line.path_s_mm) {
-        if (s > piece.start_mm && s < piece.end_mm) p.point_s_mm.push_back(s);
-      }
-      if (piece.end_mm > piece.start_mm) p.point_s_mm.push_back(piece.end_mm);
-    }
+    PlaceAlong(line, piece.start_mm, piece.end_mm, &p);
     // The piece's own pairs: those inside its extent, less the transitional
     // pair next to a change (the change lies midway between two pairs).
     std::size_t first = 0;

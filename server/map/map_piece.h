@@ -20,6 +20,10 @@ struct MapPiece {
   std::vector<double> pair_mu;
 };
 
+// Sets piece->points and piece->point_s_mm to the stretch [from, to] of
+// `line`'s path (LineSample::PointsBetween and the positions of its points).
+void PlaceAlong(const LineSample& line, double from, double to, MapPiece* piece);
+
 // The pieces of a line sample as map pieces (the path between each piece's
 // ends). A line sample without a path (an old fit) gives one piece at
 // `site_position`.

@@ -3,49 +3,25 @@
 #include <algorithm>
 #include <span>
 
+#include "absl/strings/str_cat.h"
 #include "server/estimate/drag_pieces.h"
 
 namespace surfmap {
 namespace {
 
-// The points of `piece` between from and to (mm along its drag's path):
-// both ends, interpolated, and the piece's points between them.
-std::vector<Eigen::Vector3d> PointsBetween(const MapPiece& piece, double from, double to,
-                                           std::vector<double>* positions) {
-  const std::vector<double>& s = piece.point_s_mm;
-  auto at = [&](double x) -> Eigen::Vector3d {
-    if (x <= s.front()) return piece.points.front();
-    if (x >= s.back()) return piece.points.back();
-    const std::size_t i = std::upper_bound(s.begin(), s.end(), x) - s.begin();
-    const double w = s[i] > s[i - 1] ? (x - s[i - 1]) / (s[i] - s[i - 1]) : 0.0;
-    return (1.0 - w) * piece.points[i - 1] + w * piece.points[i];
-  };
-  std::vector<Eigen::Vector3d> out = {at(from)};
-  positions->assign({from});
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s[i] > from && s[i] < to) out.push_back(piece.points[i]), positions->push_back(s[i]);
-  }
-  if (to > from) out.push_back(at(to)), positions->push_back(to);
-  return out;
-}
-
-std::vector<MapPiece> Split(const MapPiece& piece, const std::vector<KnownTextureChange>& changes) {
+absl::StatusOr<std::vector<MapPiece>> Split(const MapPiece& piece, const std::vector<ChangePoint>& cuts) {
   FrictionFit friction;
   friction.pair_s_mm = piece.pair_s_mm;
   friction.pair_mu = piece.pair_mu;
   friction.window_start_mm = piece.piece.start_mm;
   friction.window_end_mm = piece.piece.end_mm;
-  std::vector<ChangePoint> cuts;
-  for (const KnownTextureChange& c : changes) {
-    ChangePoint cut;
-    cut.index = c.index;
-    cut.s_mm = c.s_mm;
-    cut.statistic = c.log_likelihood_ratio;
-    cut.critical_value = c.critical_value;
-    cuts.push_back(cut);
-  }
+  // The search keeps at least min_piece_pairs on each side of a change, so
+  // every part has its pairs; an error here is a broken invariant.
   absl::StatusOr<std::vector<DragPiece>> cut = CutDragPieces(friction, cuts);
-  if (!cut.ok()) return {};  // a change too close to another: keep the piece whole
+  if (!cut.ok()) return cut.status();
+  LineSample path;  // the piece's own points as a path, to cut along
+  path.path_s_mm = piece.point_s_mm;
+  path.path_points = piece.points;
   std::vector<MapPiece> out;
   for (std::size_t k = 0; k < cut->size(); ++k) {
     const DragPiece& d = (*cut)[k];
@@ -59,12 +35,16 @@ std::vector<MapPiece> Split(const MapPiece& piece, const std::vector<KnownTextur
     sub.piece.texture.mu_std = d.mu_std;
     sub.piece.mu_se = d.mu_se;
     sub.piece.effective_pairs = d.effective_pairs;
-    sub.points = PointsBetween(piece, d.start_mm, d.end_mm, &sub.point_s_mm);
+    PlaceAlong(path, d.start_mm, d.end_mm, &sub);
     sub.pair_s_mm.assign(piece.pair_s_mm.begin() + d.first_pair, piece.pair_s_mm.begin() + d.first_pair + d.pair_count);
     sub.pair_mu.assign(piece.pair_mu.begin() + d.first_pair, piece.pair_mu.begin() + d.first_pair + d.pair_count);
     out.push_back(std::move(sub));
   }
   return out;
+}
+
+absl::Status Named(const absl::Status& status, std::size_t piece) {
+  return absl::Status(status.code(), absl::StrCat("map piece ", piece, ": ", status.message()));
 }
 
 }  // namespace
@@ -85,18 +65,24 @@ std::vector<SeriesTexture> MaterialTextures(const std::vector<MapPiece>& pieces,
   return out;
 }
 
-std::vector<std::vector<MapPiece>> SplitPiecesAgainst(const std::vector<MapPiece>& pieces,
-                                                      const std::vector<SeriesTexture>& textures,
-                                                      const KnownTextureSplitOptions& options) {
+absl::StatusOr<std::vector<std::vector<MapPiece>>> SplitPiecesAgainst(const std::vector<MapPiece>& pieces,
+                                                                      const std::vector<SeriesTexture>& textures,
+                                                                      const KnownTextureSplitOptions& options) {
   std::vector<std::vector<MapPiece>> out(pieces.size());
   if (textures.size() < 2) return out;
   for (std::size_t i = 0; i < pieces.size(); ++i) {
     const MapPiece& p = pieces[i];
-    if (p.pair_mu.empty() || p.point_s_mm.empty()) continue;
-    absl::StatusOr<std::vector<KnownTextureChange>> changes =
-        FindKnownTextureChanges(p.pair_mu, p.pair_s_mm, textures, options);
-    if (!changes.ok() || changes->empty()) continue;
-    out[i] = Split(p, *changes);
+    if (p.pair_mu.empty()) continue;
+    if (p.point_s_mm.size() != p.points.size()) {
+      return absl::InvalidArgumentError(absl::StrCat("map piece ", i, ": ", p.point_s_mm.size(),
+                                                     " point positions for ", p.points.size(), " points"));
+    }
+    absl::StatusOr<std::vector<ChangePoint>> changes = FindKnownTextureChanges(p.pair_mu, p.pair_s_mm, textures, options);
+    if (!changes.ok()) return Named(changes.status(), i);
+    if (changes->empty()) continue;
+    absl::StatusOr<std::vector<MapPiece>> parts = Split(p, *changes);
+    if (!parts.ok()) return Named(parts.status(), i);
+    out[i] = *std::move(parts);
   }
   return out;
 }

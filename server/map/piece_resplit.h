@@ -8,6 +8,7 @@
 
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "server/estimate/known_texture_split.h"
 #include "server/map/map_piece.h"
 
@@ -22,8 +23,10 @@ std::vector<SeriesTexture> MaterialTextures(const std::vector<MapPiece>& pieces,
 // Per piece: empty where it is kept whole (no series, too short, or no change
 // found), otherwise its sub-pieces in path order, with the friction
 // statistics of their own pairs (drag_pieces.h), change flags at the new
-// changes, and no roughness (a sub-piece's fit was never made).
-std::vector<std::vector<MapPiece>> SplitPiecesAgainst(const std::vector<MapPiece>& pieces,
+// changes, and no roughness (a sub-piece's fit was never made). Errors
+// (INVALID_ARGUMENT, naming the piece): a piece whose pair series or point
+// positions are malformed (RegionMap::SetPieces validates them first).
+absl::StatusOr<std::vector<std::vector<MapPiece>>> SplitPiecesAgainst(const std::vector<MapPiece>& pieces,
                                                       const std::vector<SeriesTexture>& textures,
                                                       const KnownTextureSplitOptions& options);
 

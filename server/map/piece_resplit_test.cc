@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numeric>
+#include <string>
 
 #include <gtest/gtest.h>
 #include "server/estimate/series_for_test.h"
@@ -109,6 +110,33 @@ TEST(PieceResplitTest, APlanAddingDragsKeepsTheSplit) {
   ASSERT_TRUE(map->SetPieces(pieces).ok());
   EXPECT_EQ(map->split_pieces(), 1);
   EXPECT_EQ(map->pieces().size(), 11u);
+}
+
+}  // namespace
+}  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
+  const SurfaceLevel level = testing::Plate();
+  auto map = RegionMap::Create(level);
+  ASSERT_TRUE(map.ok());
+  auto refused = [&](auto&& damage, const std::string& expected) {
+    std::vector<MapPiece> pieces = HalvesAndOneMixedDrag();
+    damage(pieces[8]);
+    const absl::Status status = map->SetPieces(pieces);
+    EXPECT_EQ(status.code(), absl::StatusCode::kInvalidArgument) << expected;
+    EXPECT_NE(status.message().find(expected), std::string::npos) << status;
+  };
+  refused([](MapPiece& p) { p.point_s_mm.push_back(20.0); }, "map piece 8: 3 point positions but 2 points");
+  refused([](MapPiece& p) { p.point_s_mm.clear(); }, "map piece 8: has a pair series but no point positions");
+  refused([](MapPiece& p) { p.point_s_mm = {5.0, 1.0}; }, "map piece 8: point position 1 is not increasing");
+  refused([](MapPiece& p) { p.pair_mu[3] = std::nan(""); }, "map piece 8: pair 3 is not finite");
+  refused([](MapPiece& p) { p.pair_mu.pop_back(); }, "map piece 8: 160 pair positions but 159 pair values");
+  // Nothing was lost: the good pieces still build the map.
+  EXPECT_TRUE(map->SetPieces(HalvesAndOneMixedDrag()).ok());
+  EXPECT_EQ(map->split_pieces(), 1);
 }
 
 }  // namespace

@@ -117,12 +117,21 @@ absl::Status RegionMap::Validate(const std::vector<MapPiece>& pieces) const {
     for (std::size_t k = 0; k < p.points.size(); ++k) {
       if (!p.points[k].allFinite()) return bad(absl::StrCat("point ", k, " is not finite"));
     }
+    if (!p.pair_mu.empty() && p.point_s_mm.empty()) return bad("has a pair series but no point positions");
+    if (!p.point_s_mm.empty() && p.point_s_mm.size() != p.points.size()) {
+      return bad(absl::StrCat(p.point_s_mm.size(), " point positions but ", p.points.size(), " points"));
+    }
+    for (std::size_t k = 1; k < p.point_s_mm.size(); ++k) {
+      if (!(p.point_s_mm[k] >= p.point_s_mm[k - 1])) return bad(absl::StrCat("point position ", k, " is not increasing"));
+    }
     LineSample probe;
+    probe.pair_s_mm = p.pair_s_mm;  // the pair series by the line sample's rules
+    probe.pair_mu = p.pair_mu;
     probe.path_s_mm = {p.piece.start_mm, p.piece.end_mm};
     probe.path_points = {p.points.front(), p.points.back()};
     probe.pieces = {p.piece};
     if (absl::Status s = probe.Validate(); !s.ok()) {
-      return bad(std::string(absl::StripPrefix(s.message(), "line sample: piece 0: ")));
+      return bad(std::string(absl::StripPrefix(absl::StripPrefix(s.message(), "line sample: piece 0: "), "line sample: ")));
     }
   }
   return absl::OkStatus();
@@ -154,18 +163,20 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   }
   given_placed_ = std::move(placed);
   split_pieces_ = 0;
+  parts_placed_.clear();
   pieces_ = std::move(pieces);
-  placed_ = given_placed_;
-  if (absl::Status s = Rebuild(); !s.ok()) return s;
-  if (!options_.split_against_materials) return absl::OkStatus();
+  GroupPieces();
+  if (!options_.split_against_materials) return SpreadRegions();
 
   // Test every piece again against the materials just found, and build the
   // map again from the split pieces where any was split.
   std::vector<int> piece_material(pieces_.size());
   for (std::size_t i = 0; i < pieces_.size(); ++i) piece_material[i] = regions_[piece_region_[i]].material;
   const std::vector<SeriesTexture> textures = MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
-  std::vector<std::vector<MapPiece>> splits = SplitPiecesAgainst(pieces_, textures, options_.known_split);
-  if (std::all_of(splits.begin(), splits.end(), [](const auto& s) { return s.empty(); })) return absl::OkStatus();
+  absl::StatusOr<std::vector<std::vector<MapPiece>>> found = SplitPiecesAgainst(pieces_, textures, options_.known_split);
+  if (!found.ok()) return found.status();  // SetPieces validated the pieces: a broken invariant
+  std::vector<std::vector<MapPiece>>& splits = *found;
+  if (std::all_of(splits.begin(), splits.end(), [](const auto& s) { return s.empty(); })) return SpreadRegions();
   std::vector<MapPiece> split_pieces;
   std::vector<PlacedPiece> split_placed;
   for (std::size_t i = 0; i < pieces_.size(); ++i) {
@@ -184,9 +195,10 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
     }
   }
   pieces_ = std::move(split_pieces);
-  placed_ = std::move(split_placed);
+  parts_placed_ = std::move(split_placed);
   split_pieces_ = static_cast<int>(std::count_if(splits.begin(), splits.end(), [](const auto& s) { return !s.empty(); }));
-  return Rebuild();
+  GroupPieces();
+  return SpreadRegions();
 }
 
 absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
@@ -240,11 +252,11 @@ std::vector<int> RegionMap::Materials(const std::vector<PieceStatistics>& own) c
   return MergeIntoRegions(own, every_pair, {}, options_.merge);
 }
 
-absl::Status RegionMap::Rebuild() {
+void RegionMap::GroupPieces() {
   const int n = static_cast<int>(pieces_.size());
   const int nv = vertex_count();
   std::vector<LabelledSeed> seeds;
-  for (const PlacedPiece& p : placed_) seeds.insert(seeds.end(), p.seeds.begin(), p.seeds.end());
+  for (const PlacedPiece& p : placed()) seeds.insert(seeds.end(), p.seeds.begin(), p.seeds.end());
 
   // Which pieces touch: Voronoi cells that meet across an edge, the two
   // nearest pieces of a vertex, and neighbours along one drag.
@@ -328,6 +340,18 @@ absl::Status RegionMap::Rebuild() {
     region.reflection = of_material.reflection;
     region.sigma = of_material.sigma;
   }
+}
+
+absl::Status RegionMap::SpreadRegions() {
+  const int n = static_cast<int>(pieces_.size());
+  const int nv = vertex_count();
+  std::vector<LabelledSeed> seeds;
+  for (const PlacedPiece& p : placed()) seeds.insert(seeds.end(), p.seeds.begin(), p.seeds.end());
+  const int region_count = static_cast<int>(regions_.size());
+  int order = 0;
+  for (const MapPiece& p : pieces_) {
+    if (p.piece.has_roughness()) order = std::max<int>(order, p.piece.texture.reflection.size());
+  }
 
   // The region diagram.
   seed_points_.clear();
@@ -346,7 +370,7 @@ absl::Status RegionMap::Rebuild() {
 
   // Regions spread from their pieces' points.
   std::vector<SurfaceSeed> surface_seeds;
-  for (const PlacedPiece& p : placed_) {
+  for (const PlacedPiece& p : placed()) {
     for (SurfaceSeed s : p.surface_seeds) {
       s.label = piece_region_[s.label];
       surface_seeds.push_back(s);
@@ -374,7 +398,7 @@ absl::Status RegionMap::Rebuild() {
   }
   std::vector<LabelledPoint> data;
   for (int i = 0; i < n; ++i) {
-    for (const Eigen::Vector3d& p : placed_[i].data_points) data.push_back({p, piece_region_[i]});
+    for (const Eigen::Vector3d& p : placed()[i].data_points) data.push_back({p, piece_region_[i]});
   }
   links_ = 0;
   corners_ = 0;

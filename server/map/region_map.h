@@ -98,8 +98,8 @@ struct RegionMapOptions {
   double near_data_mm = 0.0;
   // Pieces are tested again against the textures of the map's materials
   // (server/map/piece_resplit.h): a piece whose series shows a change between
-  // two of them that its drag's own test missed is split there, and the map
-  // is built again from the split pieces. A material's texture is fitted
+  // two of them that its drag's own test missed is split there, and its pieces
+  // are grouped into regions again with the parts. A material's texture is fitted
   // only from at least min_texture_rows pairs.
   bool split_against_materials = true;
   KnownTextureSplitOptions known_split;
@@ -215,7 +215,12 @@ class RegionMap {
   };
   absl::Status Validate(const std::vector<MapPiece>& pieces) const;
   PlacedPiece Place(const MapPiece& piece, int index) const;
-  absl::Status Rebuild();
+  // Building the map from pieces_: grouping them into regions and materials
+  // (merge rule, estimates), then spreading the regions over the surface
+  // (diagram, random walker, links, corners, values). A split against the
+  // materials groups twice and spreads once.
+  void GroupPieces();
+  absl::Status SpreadRegions();
   // `out`'s estimates (statistics, roughness) from pieces `piece_indices`.
   void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
                  TextureRegion* out) const;
@@ -247,8 +252,10 @@ class RegionMap {
   // ones, split where a known texture test found a change.
   std::vector<PlacedPiece> given_placed_;
   int split_pieces_ = 0;
+  std::vector<PlacedPiece> parts_placed_;  // only when split_pieces_ > 0
   std::vector<MapPiece> pieces_;
-  std::vector<PlacedPiece> placed_;
+  // The placements of pieces_ (no copy of the given ones when none was split).
+  const std::vector<PlacedPiece>& placed() const { return split_pieces_ > 0 ? parts_placed_ : given_placed_; }
   std::vector<Eigen::Vector3d> pending_;
   std::vector<TextureRegion> regions_;
   std::vector<int> piece_region_;

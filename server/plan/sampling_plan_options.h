@@ -74,7 +74,7 @@ struct SamplingPlanOptions {
   Reachability reach;
   // kBoundary: the map that scores candidate sites and orients the drags.
   // It does not split pieces against its materials' textures (the served map
-  // does): it is rebuilt after every drag and the split builds it twice, and
+  // does): it is rebuilt after every drag and the split groups its pieces twice, and
   // measured through the service over six seeds a plan that split chose other
   // drags for no gain beyond the plans' own chaos (docs/method.md). So the
   // plan issues the drags it issued before the split existed.
