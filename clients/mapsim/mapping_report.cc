@@ -78,6 +78,7 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
   absl::StrAppendFormat(&out, "  boundaries: %d crossings between regions, %d links and %d corners drawn through them\n",
                         run.map_changes, run.map_links, run.map_corners);
   absl::StrAppendFormat(&out, "  pieces split against the materials' textures: %d\n", run.map_split_pieces);
+  absl::StrAppendFormat(&out, "  regions moved to the material whose texture fits them: %d\n", run.map_moved_regions);
   return out;
 }
 

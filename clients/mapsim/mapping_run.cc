@@ -83,6 +83,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.continuation_prior = options.continuation_prior;
   plan_options.coverage_skip_share = options.coverage_skip_share;
   plan_options.regions.split_against_materials = options.plan_split_against_materials;
+  plan_options.regions.assign_by_texture = options.plan_assign_by_texture;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
@@ -288,6 +289,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
   if (options.map == MapKind::kRegions) {
     RegionMapOptions map_options;
     map_options.split_against_materials = options.map_split_against_materials;
+    map_options.assign_by_texture = options.map_assign_by_texture;
     absl::StatusOr<RegionMap> map = RegionMap::Create(map_level, map_options);
     if (!map.ok()) return map.status();
     std::vector<MapPiece> pieces;
@@ -303,6 +305,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     result.map_links = map->boundary_links();
     result.map_corners = map->boundary_corners();
     result.map_split_pieces = map->split_pieces();
+    result.map_moved_regions = map->regions_moved_by_texture();
     regions = std::move(*map);
     reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
       absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);

@@ -67,6 +67,9 @@ struct MappingRunOptions {
   // alone differing compares the two on the same drags.
   bool plan_split_against_materials = false;
   bool map_split_against_materials = true;
+  // RegionMapOptions::assign_by_texture, likewise.
+  bool plan_assign_by_texture = false;
+  bool map_assign_by_texture = true;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;
@@ -114,6 +117,7 @@ struct MappingRunResult {
   int map_links = 0;                           // links drawn between them,
   int map_corners = 0;                         // and corners (boundary_corners.h)
   int map_split_pieces = 0;                    // pieces split against the materials (piece_resplit.h)
+  int map_moved_regions = 0;                   // regions moved by texture (texture_assignment.h)
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
   int measured() const;
 };

@@ -69,6 +69,8 @@ int Main(int argc, char** argv) {
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   bool plan_split = MappingRunOptions{}.plan_split_against_materials;
   bool map_split = MappingRunOptions{}.map_split_against_materials;
+  bool plan_assign = MappingRunOptions{}.plan_assign_by_texture;
+  bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -104,6 +106,13 @@ int Main(int argc, char** argv) {
                  "the scored map splits pieces against its materials' textures (true|false); "
                  "differing from --plan-split alone compares the two on the same drags")
       ->capture_default_str();
+  app.add_option("--plan-assign", plan_assign,
+                 "the plan's map moves regions to the material whose texture fits them best (true|false)")
+      ->capture_default_str();
+  app.add_option("--map-assign", map_assign,
+                 "the scored map moves regions to the material whose texture fits them best (true|false); "
+                 "differing from --plan-assign alone compares the two on the same drags")
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -122,6 +131,8 @@ int Main(int argc, char** argv) {
   base.coverage_skip_share = coverage_skip_share;
   base.plan_split_against_materials = plan_split;
   base.map_split_against_materials = map_split;
+  base.plan_assign_by_texture = plan_assign;
+  base.map_assign_by_texture = map_assign;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

@@ -10,21 +10,23 @@
 namespace surfmap {
 namespace {
 
+// log p_t(x_i | x_(i-1), x_(i-2)) for a row i >= 2.
+double RowLogDensity(std::span<const double> x, int i, const SeriesTexture& t, double log_norm) {
+  const double e = (x[i] - t.mean) - t.a1 * (x[i - 1] - t.mean) - t.a2 * (x[i - 2] - t.mean);
+  return log_norm - 0.5 * e * e / t.innovation_variance;
+}
+
+double LogNorm(const SeriesTexture& t) { return -0.5 * std::log(2.0 * std::numbers::pi * t.innovation_variance); }
+
 // rows[m][i]: sum of log p_m(x_j | x_(j-1), x_(j-2)) over rows j < i (rows
 // start at 2).
 std::vector<std::vector<double>> RowPrefixSums(std::span<const double> x, const std::vector<SeriesTexture>& textures) {
   const int n = static_cast<int>(x.size());
   std::vector<std::vector<double>> sums(textures.size(), std::vector<double>(n + 1, 0.0));
   for (std::size_t m = 0; m < textures.size(); ++m) {
-    const SeriesTexture& t = textures[m];
-    const double log_norm = -0.5 * std::log(2.0 * std::numbers::pi * t.innovation_variance);
+    const double log_norm = LogNorm(textures[m]);
     for (int i = 0; i < n; ++i) {
-      double ld = 0.0;
-      if (i >= 2) {
-        const double e = (x[i] - t.mean) - t.a1 * (x[i - 1] - t.mean) - t.a2 * (x[i - 2] - t.mean);
-        ld = log_norm - 0.5 * e * e / t.innovation_variance;
-      }
-      sums[m][i + 1] = sums[m][i] + ld;
+      sums[m][i + 1] = sums[m][i] + (i >= 2 ? RowLogDensity(x, i, textures[m], log_norm) : 0.0);
     }
   }
   return sums;
@@ -164,6 +166,13 @@ absl::StatusOr<std::vector<ChangePoint>> FindKnownTextureChanges(std::span<const
   Search{s_mm, sums, options, out}.Segment(0, static_cast<int>(mu.size()));
   static_assert(kChangeGuardPairs == 1, "the rows left out next to a change assume one transitional pair a side");
   return out;
+}
+
+double SeriesLogLikelihood(std::span<const double> x, const SeriesTexture& texture) {
+  const double log_norm = LogNorm(texture);
+  double sum = 0.0;
+  for (int i = 2; i < static_cast<int>(x.size()); ++i) sum += RowLogDensity(x, i, texture, log_norm);
+  return sum;
 }
 
 }  // namespace surfmap

@@ -56,6 +56,11 @@ struct SeriesTexture {
 absl::StatusOr<SeriesTexture> FitSeriesTexture(const std::vector<std::span<const double>>& stretches,
                                                int min_rows = 100);
 
+// The conditional log-likelihood of a series under a texture: the sum of
+// log p(x_i | x_(i-1), x_(i-2)) over its rows i = 2..n-1 (0 for fewer than
+// three values). The texture's innovation variance must be > 0.
+double SeriesLogLikelihood(std::span<const double> x, const SeriesTexture& texture);
+
 struct KnownTextureSplitOptions {
   // Bound on the family-wise chance of a false split per piece tested (see
   // above). The bound is loose: measured on 16 mm series of the paper's four

@@ -49,8 +49,8 @@ absl::Status Named(const absl::Status& status, std::size_t piece) {
 
 }  // namespace
 
-std::vector<SeriesTexture> MaterialTextures(const std::vector<MapPiece>& pieces,
-                                            const std::vector<int>& piece_material, int min_rows) {
+std::vector<std::optional<SeriesTexture>> MaterialTextures(const std::vector<MapPiece>& pieces,
+                                                           const std::vector<int>& piece_material, int min_rows) {
   int materials = 0;
   for (int m : piece_material) materials = std::max(materials, m + 1);
   std::vector<std::vector<std::span<const double>>> stretches(materials);
@@ -58,9 +58,17 @@ std::vector<SeriesTexture> MaterialTextures(const std::vector<MapPiece>& pieces,
     if (piece_material[i] < 0 || pieces[i].pair_mu.size() < 3) continue;
     stretches[piece_material[i]].emplace_back(pieces[i].pair_mu);
   }
+  std::vector<std::optional<SeriesTexture>> out(materials);
+  for (int m = 0; m < materials; ++m) {
+    if (absl::StatusOr<SeriesTexture> t = FitSeriesTexture(stretches[m], min_rows); t.ok()) out[m] = *t;
+  }
+  return out;
+}
+
+std::vector<SeriesTexture> FittedTextures(const std::vector<std::optional<SeriesTexture>>& by_material) {
   std::vector<SeriesTexture> out;
-  for (const auto& s : stretches) {
-    if (absl::StatusOr<SeriesTexture> t = FitSeriesTexture(s, min_rows); t.ok()) out.push_back(*t);
+  for (const std::optional<SeriesTexture>& t : by_material) {
+    if (t.has_value()) out.push_back(*t);
   }
   return out;
 }

@@ -6,6 +6,7 @@
 // mu (twin_band_egg's masonite band read 0.325 for 0.36 from such pieces).
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include "absl/status/statusor.h"
@@ -15,10 +16,13 @@
 namespace surfmap {
 
 // The series texture of each material (piece_material[i] of pieces[i], 0..;
-// -1 = none), fitted from its pieces' pair series; materials with fewer than
-// `min_rows` rows (or whose fit fails) are left out.
-std::vector<SeriesTexture> MaterialTextures(const std::vector<MapPiece>& pieces,
-                                            const std::vector<int>& piece_material, int min_rows);
+// -1 = none), fitted from its pieces' pair series, indexed by material;
+// empty for materials with fewer than `min_rows` rows (or whose fit fails).
+std::vector<std::optional<SeriesTexture>> MaterialTextures(const std::vector<MapPiece>& pieces,
+                                                           const std::vector<int>& piece_material, int min_rows);
+
+// The textures that were fitted, in material order.
+std::vector<SeriesTexture> FittedTextures(const std::vector<std::optional<SeriesTexture>>& by_material);
 
 // Per piece: empty where it is kept whole (no series, too short, or no change
 // found), otherwise its sub-pieces in path order, with the friction

@@ -61,12 +61,18 @@ std::vector<MapPiece> HalvesAndOneMixedDrag() {
 TEST(PieceResplitTest, MaterialTexturesNeedEnoughRows) {
   const std::vector<MapPiece> pieces = HalvesAndOneMixedDrag();
   std::vector<int> material = {0, 0, 0, 0, 1, 1, 1, 1, -1};
-  const std::vector<SeriesTexture> textures = MaterialTextures(pieces, material, 300);
+  const std::vector<SeriesTexture> textures = FittedTextures(MaterialTextures(pieces, material, 300));
   ASSERT_EQ(textures.size(), 2u);
   // 632 rows of each: the means within the wander of a few drags' texture.
   EXPECT_NEAR(textures[0].mean, kRubber, 0.02);
   EXPECT_NEAR(textures[1].mean, kMasonite, 0.03);
-  EXPECT_EQ(MaterialTextures(pieces, material, 1000).size(), 0u);
+  EXPECT_EQ(FittedTextures(MaterialTextures(pieces, material, 1000)).size(), 0u);
+  // A material short of rows keeps its place, empty.
+  material = {0, 0, 0, 0, 1, -1, -1, -1, -1};
+  const std::vector<std::optional<SeriesTexture>> by_material = MaterialTextures(pieces, material, 300);
+  ASSERT_EQ(by_material.size(), 2u);
+  EXPECT_TRUE(by_material[0].has_value());
+  EXPECT_FALSE(by_material[1].has_value());
 }
 
 TEST(PieceResplitTest, TheMixedDragIsSplitWhereItCrossesAndTheMapFollows) {

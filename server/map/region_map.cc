@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "server/map/piece_resplit.h"
+#include "server/map/texture_assignment.h"
 
 namespace surfmap {
 namespace {
@@ -172,7 +173,8 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   // map again from the split pieces where any was split.
   std::vector<int> piece_material(pieces_.size());
   for (std::size_t i = 0; i < pieces_.size(); ++i) piece_material[i] = regions_[piece_region_[i]].material;
-  const std::vector<SeriesTexture> textures = MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
+  const std::vector<SeriesTexture> textures =
+      FittedTextures(MaterialTextures(pieces_, piece_material, options_.min_texture_rows));
   absl::StatusOr<std::vector<std::vector<MapPiece>>> found = SplitPiecesAgainst(pieces_, textures, options_.known_split);
   if (!found.ok()) return found.status();  // SetPieces validated the pieces: a broken invariant
   std::vector<std::vector<MapPiece>>& splits = *found;
@@ -252,6 +254,27 @@ std::vector<int> RegionMap::Materials(const std::vector<PieceStatistics>& own) c
   return MergeIntoRegions(own, every_pair, {}, options_.merge);
 }
 
+std::vector<int> RegionMap::AssignByTexture(const std::vector<PieceStatistics>& own, std::vector<int> material) {
+  const int n = static_cast<int>(pieces_.size());
+  const int region_count = static_cast<int>(own.size());
+  std::vector<int> piece_material(n);
+  for (int i = 0; i < n; ++i) piece_material[i] = material[piece_region_[i]];
+  std::vector<std::vector<int>> region_pieces(region_count);
+  for (int r = 0; r < region_count; ++r) region_pieces[r] = regions_[r].pieces;
+  const int materials = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
+  std::vector<std::vector<PieceStatistics>> members(materials);
+  for (int r = 0; r < region_count; ++r) members[material[r]].push_back(own[r]);
+  std::vector<PieceStatistics> pooled(materials);
+  for (int m = 0; m < materials; ++m) pooled[m] = PoolStatistics(members[m]);
+  auto may_join = [&](int r, int m) { return TexturesAlike(own[r], pooled[m], options_.merge); };
+  TextureAssignment assigned =
+      AssignRegionsByTexture(pieces_, region_pieces, material,
+                             MaterialTextures(pieces_, piece_material, options_.min_texture_rows), may_join,
+                             options_.known_split.false_alarm_probability);
+  regions_moved_by_texture_ = assigned.moved;
+  return std::move(assigned.material);
+}
+
 void RegionMap::GroupPieces() {
   const int n = static_cast<int>(pieces_.size());
   const int nv = vertex_count();
@@ -321,7 +344,9 @@ void RegionMap::GroupPieces() {
     for (int i : regions_[r].pieces) members.push_back(statistics[i]);
     own[r] = PoolStatistics(members);
   }
-  const std::vector<int> material = Materials(own);
+  regions_moved_by_texture_ = 0;
+  std::vector<int> material = Materials(own);
+  if (options_.assign_by_texture) material = AssignByTexture(own, std::move(material));
   const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
   std::vector<std::vector<int>> material_pieces(material_count);
   for (int r = 0; r < region_count; ++r) {

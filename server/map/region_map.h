@@ -104,6 +104,12 @@ struct RegionMapOptions {
   bool split_against_materials = true;
   KnownTextureSplitOptions known_split;
   int min_texture_rows = 300;
+  // Each region is tested against the textures of the materials (fitted
+  // from min_texture_rows pairs or more) and moves to the one that explains
+  // its pairs best, beyond chance at known_split's false-alarm probability
+  // (server/map/texture_assignment.h): the merge rule's tests accept a short
+  // noisy piece as alike to several materials.
+  bool assign_by_texture = true;
   // Regions alike by the merge rule, wherever they lie, are one material:
   // each reports the estimates (mu, its se, roughness) of all the
   // material's pieces. Their extents are unchanged.
@@ -174,6 +180,7 @@ class RegionMap {
   int roughness_order() const { return static_cast<int>(reflection_.size()); }
   int boundary_links() const { return links_; }      // links drawn between crossings
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
+  int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
   // Pieces given that were split against the map's materials
   // (RegionMapOptions::split_against_materials); pieces() holds their parts.
   int split_pieces() const { return split_pieces_; }
@@ -227,6 +234,9 @@ class RegionMap {
   // Each region's material (0..), given each region's own pool: alike
   // regions grouped, or each its own without pool_alike_regions.
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
+  // `material` with regions moved to the material whose texture fits them
+  // best (assign_by_texture, texture_assignment.h), renumbered 0...
+  std::vector<int> AssignByTexture(const std::vector<PieceStatistics>& own, std::vector<int> material);
   void RecomputeUncertainty();
   double PointVariance(int region, int second, double p, double d) const;
   double BoundaryVariance(int region, int second, double p) const;
@@ -239,6 +249,7 @@ class RegionMap {
   std::vector<std::vector<double>> probability_;  // [region][vertex]
   int links_ = 0;
   int corners_ = 0;
+  int regions_moved_by_texture_ = 0;
   std::vector<ChangeMark> marks_;
   // Data points (pieces' and links') by cell of near_data_mm, for the
   // near-data rule; empty when the rule is off.

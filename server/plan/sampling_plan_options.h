@@ -44,6 +44,7 @@ enum class PlanMode {
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
   options.split_against_materials = false;
+  options.assign_by_texture = false;
   return options;
 }
 
