@@ -70,6 +70,9 @@ struct MappingRunOptions {
   // RegionMapOptions::assign_by_texture, likewise.
   bool plan_assign_by_texture = false;
   bool map_assign_by_texture = true;
+  // BoundaryLinkOptions::max_extension_turn_deg of the map scored (the
+  // plan's map carries no chain on; 0 = off).
+  double map_extension_turn_deg = BoundaryLinkOptions{}.max_extension_turn_deg;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -71,6 +71,7 @@ int Main(int argc, char** argv) {
   bool map_split = MappingRunOptions{}.map_split_against_materials;
   bool plan_assign = MappingRunOptions{}.plan_assign_by_texture;
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
+  double map_extension_turn = MappingRunOptions{}.map_extension_turn_deg;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -113,6 +114,11 @@ int Main(int argc, char** argv) {
                  "the scored map moves regions to the material whose texture fits them best (true|false); "
                  "differing from --plan-assign alone compares the two on the same drags")
       ->capture_default_str();
+  app.add_option("--map-extension-turn", map_extension_turn,
+                 "the scored map carries chains of boundary links on through oblique crossings whose chord turns by "
+                 "at most this many degrees (0: off, the build before)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -133,6 +139,7 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
+  base.map_extension_turn_deg = map_extension_turn;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

@@ -11,35 +11,6 @@
 namespace surfmap {
 namespace {
 
-struct ChainEnd {
-  int mark = -1;
-  Eigen::Vector3d out = Eigen::Vector3d::Zero();  // unit, out of the chain
-  Eigen::Vector3d towards_a = Eigen::Vector3d::Zero();
-  int a = -1;
-  int b = -1;
-};
-
-std::vector<ChainEnd> ChainEnds(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
-                                double min_link_mm) {
-  std::vector<int> degree(marks.size(), 0), last(marks.size(), -1);
-  for (int k = 0; k < static_cast<int>(links.size()); ++k) {
-    for (int m : {links[k].from, links[k].to}) {
-      ++degree[m];
-      last[m] = k;
-    }
-  }
-  std::vector<ChainEnd> ends;
-  for (int m = 0; m < static_cast<int>(marks.size()); ++m) {
-    if (degree[m] != 1) continue;
-    const DrawnLink& link = links[last[m]];
-    const int other = link.from == m ? link.to : link.from;
-    const Eigen::Vector3d out = marks[m].position - marks[other].position;
-    if (out.norm() < min_link_mm) continue;
-    ends.push_back({m, out.normalized(), link.towards_a, link.a, link.b});
-  }
-  return ends;
-}
-
 Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
 
 struct Corner {

@@ -25,20 +25,11 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include "server/map/boundary_chains.h"
 #include "server/map/boundary_corridor.h"
 #include "server/map/boundary_links.h"
 
 namespace surfmap {
-
-// A link drawn between marks[from] and marks[to]: regions a < b, a on the
-// side of towards_a.
-struct DrawnLink {
-  int from = -1;
-  int to = -1;
-  int a = -1;
-  int b = -1;
-  Eigen::Vector3d towards_a = Eigen::Vector3d::Zero();
-};
 
 // The corners' labelled points; *corners (if given) receives how many.
 std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& marks,

@@ -6,17 +6,12 @@
 #include <set>
 
 #include <Eigen/Geometry>
+#include "server/map/boundary_chains.h"
 #include "server/map/boundary_corners.h"
+#include "server/map/boundary_extensions.h"
 #include "server/map/boundary_corridor.h"
 
 namespace surfmap {
-namespace {
-
-// Unit vector pointing to region `a`'s side at a mark, in its tangent plane.
-Eigen::Vector3d TowardsA(const ChangeMark& m, int a) { return m.before == a ? Eigen::Vector3d(-m.direction) : m.direction; }
-
-}  // namespace
-
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& o, int* links, int* corners) {
@@ -77,6 +72,12 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     if (SegmentContradicted(link, grid, o)) continue;
     drawn.push_back({i, j, a, b, towards_a});
     AppendSegmentSeeds(link, o, &out);
+  }
+  const std::size_t strict = drawn.size();
+  drawn = ExtendChains(marks, std::move(drawn), grid, o);
+  for (std::size_t k = strict; k < drawn.size(); ++k) {
+    const DrawnLink& e = drawn[k];
+    AppendSegmentSeeds({marks[e.from].position, marks[e.to].position, e.towards_a, e.a, e.b}, o, &out);
   }
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);

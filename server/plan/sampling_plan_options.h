@@ -45,6 +45,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
   options.split_against_materials = false;
   options.assign_by_texture = false;
+  options.links.max_extension_turn_deg = 0.0;
   return options;
 }
 

@@ -1,0 +1,41 @@
+// Chains of links (boundary_links.h): crossings of one boundary joined one
+// after another. A chain's end is a crossing with a link on one side only;
+// the boundary there runs on, to first order, along its last link.
+#pragma once
+
+#include <vector>
+
+#include <Eigen/Core>
+#include "server/map/boundary_links.h"
+
+namespace surfmap {
+
+// A link drawn between marks[from] and marks[to]: regions a < b, a on the
+// side of towards_a.
+struct DrawnLink {
+  int from = -1;
+  int to = -1;
+  int a = -1;
+  int b = -1;
+  Eigen::Vector3d towards_a = Eigen::Vector3d::Zero();
+};
+
+struct ChainEnd {
+  int mark = -1;
+  Eigen::Vector3d out = Eigen::Vector3d::Zero();  // unit, out of the chain along its last link
+  Eigen::Vector3d towards_a = Eigen::Vector3d::Zero();
+  int a = -1;
+  int b = -1;
+};
+
+// Unit vector pointing to region `a`'s side at a mark, in its tangent plane.
+inline Eigen::Vector3d TowardsA(const ChangeMark& m, int a) {
+  return m.before == a ? Eigen::Vector3d(-m.direction) : m.direction;
+}
+
+// The ends of the chains `links` make, skipping ends whose last link is
+// shorter than min_link_mm (its direction is too uncertain to carry on).
+std::vector<ChainEnd> ChainEnds(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
+                                double min_link_mm);
+
+}  // namespace surfmap
