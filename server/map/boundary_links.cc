@@ -4,14 +4,43 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <utility>
 
 #include <Eigen/Geometry>
+#include "absl/strings/str_cat.h"
 #include "server/map/boundary_chains.h"
 #include "server/map/boundary_corners.h"
 #include "server/map/boundary_extensions.h"
 #include "server/map/boundary_corridor.h"
 
 namespace surfmap {
+bool BoundaryLinkOptions::IsValid(std::string* why) const {
+  auto fail = [why](std::string m) {
+    if (why != nullptr) *why = std::move(m);
+    return false;
+  };
+  const std::pair<const char*, double> lengths[] = {{"max_length_mm", max_length_mm},
+                                                    {"corridor_mm", corridor_mm},
+                                                    {"seed_offset_mm", seed_offset_mm},
+                                                    {"corner_reach_mm", corner_reach_mm},
+                                                    {"min_corner_link_mm", min_corner_link_mm}};
+  for (const auto& [name, value] : lengths) {
+    if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
+  }
+  if (!(std::isfinite(seed_spacing_mm) && seed_spacing_mm > 0.0)) return fail("seed_spacing_mm must be > 0");
+  for (const auto& [name, value] : {std::pair<const char*, double>{"min_crossing_cos", min_crossing_cos},
+                                    {"min_extension_crossing_cos", min_extension_crossing_cos}}) {
+    if (!(value >= 0.0 && value <= 1.0)) return fail(absl::StrCat(name, " must be in [0, 1]"));
+  }
+  for (const auto& [name, value] : {std::pair<const char*, double>{"min_corner_turn_deg", min_corner_turn_deg},
+                                    {"max_corner_turn_deg", max_corner_turn_deg},
+                                    {"max_corner_normal_deg", max_corner_normal_deg},
+                                    {"max_extension_turn_deg", max_extension_turn_deg}}) {
+    if (!(value >= 0.0 && value <= 180.0)) return fail(absl::StrCat(name, " must be in [0, 180] degrees"));
+  }
+  return true;
+}
+
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& o, int* links, int* corners) {

@@ -30,6 +30,7 @@
 // B's side, every seed_spacing_mm.
 #pragma once
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -89,6 +90,9 @@ struct BoundaryLinkOptions {
   // corner lies within 20 degrees of the chain's line.
   double max_extension_turn_deg = 10.0;
   double min_extension_crossing_cos = 0.26;  // cos 75 degrees
+  // Every length finite (seed spacing > 0, the others >= 0), every cosine
+  // in [0, 1], every angle in [0, 180]; *why names the first that is not.
+  bool IsValid(std::string* why) const;
 };
 
 // The labelled points of every accepted link and corner (not yet on the

@@ -53,6 +53,7 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   std::string inner;
   if (!merge.IsValid(&inner)) return fail(absl::StrCat("merge: ", inner));
   if (!known_split.IsValid(&inner)) return fail(absl::StrCat("known_split: ", inner));
+  if (!links.IsValid(&inner)) return fail(absl::StrCat("links: ", inner));
   if (min_texture_rows < 3) return fail("min_texture_rows must be >= 3");
   if (!(std::isfinite(point_spacing_mm) && point_spacing_mm > 0.0)) return fail("point_spacing_mm must be > 0");
   if (!(std::isfinite(correlation_length_mm) && correlation_length_mm >= 0.0)) {

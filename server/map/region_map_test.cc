@@ -155,5 +155,33 @@ TEST(RegionMapTest, BadPiecesAreRefusedByNameAndTheMapKeepsItsState) {
   EXPECT_DOUBLE_EQ(At(*map, {40, 0, 0}).mu, kSandpaper);
 }
 
+TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
+  const SurfaceLevel level = Plate();
+  // A zero seed spacing would ask for infinitely many link points; a NaN
+  // limit would compare false and let every crossing through.
+  struct Case {
+    void (*set)(BoundaryLinkOptions&);
+    const char* name;
+  };
+  const Case cases[] = {
+      {[](BoundaryLinkOptions& o) { o.seed_spacing_mm = 0.0; }, "links: seed_spacing_mm"},
+      {[](BoundaryLinkOptions& o) { o.corridor_mm = -1.0; }, "links: corridor_mm"},
+      {[](BoundaryLinkOptions& o) { o.min_extension_crossing_cos = std::nan(""); }, "links: min_extension_crossing_cos"},
+      {[](BoundaryLinkOptions& o) { o.max_extension_turn_deg = 200.0; }, "links: max_extension_turn_deg"},
+      {[](BoundaryLinkOptions& o) { o.min_crossing_cos = 1.5; }, "links: min_crossing_cos"},
+  };
+  for (const Case& c : cases) {
+    RegionMapOptions options;
+    c.set(options.links);
+    const absl::StatusOr<RegionMap> map = RegionMap::Create(level, options);
+    EXPECT_EQ(map.status().code(), absl::StatusCode::kInvalidArgument) << c.name;
+    EXPECT_NE(map.status().message().find(c.name), std::string::npos) << map.status();
+  }
+  RegionMapOptions off;
+  off.links.max_extension_turn_deg = 0.0;  // off is valid
+  off.links.corner_reach_mm = 0.0;
+  EXPECT_TRUE(RegionMap::Create(level, off).ok());
+}
+
 }  // namespace
 }  // namespace surfmap

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <functional>
+#include <span>
 #include <optional>
 #include <vector>
 
@@ -30,10 +31,13 @@ MapPiece PieceOf(int pairs, double mean, const ArParams& texture, std::uint64_t 
 }
 
 // Materials 0..3 (glass, rubber, masonite, sandpaper), each from four 16 mm
-// drags, their textures fitted from those drags alone.
+// drags, their textures fitted from those drags alone; each drag is a region
+// of its material (regions 0..15), and more may be added.
 struct FourMaterials {
   std::vector<MapPiece> pieces;
   std::vector<std::optional<SeriesTexture>> textures;
+  std::vector<std::vector<int>> regions;
+  std::vector<int> material;
 
   explicit FourMaterials(std::uint64_t seed) {
     const double means[] = {kGlass, kRubber, kMasonite, kSandpaper};
@@ -44,32 +48,27 @@ struct FourMaterials {
       for (int d = 0; d < 4; ++d) stretches.emplace_back(pieces[pieces.size() - 4 + d].pair_mu);
       textures.push_back(*FitSeriesTexture(stretches));
     }
+    for (int i = 0; i < 16; ++i) Add(std::nullopt, i / 4);
   }
-  // Regions: one per drag above, each in its own material.
-  std::vector<std::vector<int>> Regions() const {
-    std::vector<std::vector<int>> r;
-    for (int i = 0; i < 16; ++i) r.push_back({i});
-    return r;
+  // A region of one piece (the next drag, or `piece` appended) in material m.
+  void Add(std::optional<MapPiece> piece, int m) {
+    if (piece.has_value()) pieces.push_back(*std::move(piece));
+    regions.push_back({static_cast<int>(regions.size())});
+    material.push_back(m);
   }
-  std::vector<int> Materials() const {
-    std::vector<int> m;
-    for (int i = 0; i < 16; ++i) m.push_back(i / 4);
-    return m;
+  TextureAssignment Assign(const std::function<bool(int, int)>& may_join = kAny) const {
+    return AssignRegionsByTexture(pieces, regions, material, textures, may_join, 0.05);
   }
 };
 
 TEST(TextureAssignmentTest, AShortMasonitePieceLeavesRubberForMasonite) {
   FourMaterials map(1);
-  std::vector<std::vector<int>> regions = map.Regions();
-  std::vector<int> material = map.Materials();
-  // A 4 mm masonite piece the merge rule put with rubber.
-  map.pieces.push_back(PieceOf(40, kMasonite, kMasoniteLike, 7));
-  regions.push_back({16});
-  material.push_back(1);
-  const TextureAssignment a = AssignRegionsByTexture(map.pieces, regions, material, map.textures, kAny, 0.05);
+  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 7), 1);  // 4 mm of masonite the merge rule put with rubber
+  const TextureAssignment a = map.Assign();
   EXPECT_EQ(a.moved, 1);
-  material.back() = 2;
-  EXPECT_EQ(a.material, material);
+  std::vector<int> expected = map.material;
+  expected.back() = 2;
+  EXPECT_EQ(a.material, expected);
 }
 
 // Over many seeds: how often a short piece leaves its own material (bounded
@@ -83,17 +82,11 @@ TEST(TextureAssignmentTest, RatesAtTheDefault) {
   int false_moves = 0, wrong_left = 0, wrong_trials = 0;
   for (int t = 0; t < kTrials; ++t) {
     FourMaterials map(1000 + t);
-    std::vector<std::vector<int>> regions = map.Regions();
-    std::vector<int> material = map.Materials();
     const int truth = t % 4;
     // 3 mm of `truth` in its own material, and 3 mm of it in the next one.
-    map.pieces.push_back(PieceOf(30, kMeans[truth], *kKinds[truth], 5000 + t));
-    map.pieces.push_back(PieceOf(30, kMeans[truth], *kKinds[truth], 9000 + t));
-    regions.push_back({16});
-    regions.push_back({17});
-    material.push_back(truth);
-    material.push_back((truth + 1) % 4);
-    const TextureAssignment a = AssignRegionsByTexture(map.pieces, regions, material, map.textures, kAny, 0.05);
+    map.Add(PieceOf(30, kMeans[truth], *kKinds[truth], 5000 + t), truth);
+    map.Add(PieceOf(30, kMeans[truth], *kKinds[truth], 9000 + t), (truth + 1) % 4);
+    const TextureAssignment a = map.Assign();
     false_moves += a.material[16] != truth;
     for (int r = 0; r < 16; ++r) false_moves += a.material[r] != r / 4;
     ++wrong_trials;
@@ -110,26 +103,20 @@ TEST(TextureAssignmentTest, RatesAtTheDefault) {
 
 TEST(TextureAssignmentTest, WithoutTexturesRegionsStayAndEmptyMaterialsAreDropped) {
   FourMaterials map(3);
-  std::vector<std::vector<int>> regions = map.Regions();
-  std::vector<int> material = map.Materials();
   // Masonite has no texture: its regions have nothing to be tested against,
   // and no region may move to it.
   map.textures[2].reset();
-  map.pieces.push_back(PieceOf(40, kMasonite, kMasoniteLike, 11));
-  regions.push_back({16});
-  material.push_back(2);
-  TextureAssignment a = AssignRegionsByTexture(map.pieces, regions, material, map.textures, kAny, 0.05);
+  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 11), 2);
+  TextureAssignment a = map.Assign();
   EXPECT_EQ(a.moved, 0);
-  EXPECT_EQ(a.material, material);
+  EXPECT_EQ(a.material, map.material);
 
-  // A material whose only region moves away is dropped from the numbering.
+  // A material whose only region moves away is dropped from the numbering:
+  // the masonite piece alone in a fifth material, whose texture is rubber's.
   map.textures[2] = *FitSeriesTexture({map.pieces[8].pair_mu, map.pieces[9].pair_mu, map.pieces[10].pair_mu});
-  std::vector<int> lone = material;
-  for (int r = 8; r < 12; ++r) lone[r] = 2;
-  lone.back() = 4;  // its own material, then 4 textures + a fifth: rubber's drags again
-  std::vector<std::optional<SeriesTexture>> five = map.textures;
-  five.push_back(map.textures[1]);
-  a = AssignRegionsByTexture(map.pieces, regions, lone, five, kAny, 0.05);
+  map.material.back() = 4;
+  map.textures.push_back(map.textures[1]);
+  a = map.Assign();
   EXPECT_EQ(a.moved, 1);
   EXPECT_EQ(a.material.back(), 2);
   EXPECT_EQ(*std::max_element(a.material.begin(), a.material.end()), 3);
@@ -137,33 +124,29 @@ TEST(TextureAssignmentTest, WithoutTexturesRegionsStayAndEmptyMaterialsAreDroppe
 
 TEST(TextureAssignmentTest, OnlyMaterialsTheMergeRuleAllowsAreCandidates) {
   FourMaterials map(5);
-  std::vector<std::vector<int>> regions = map.Regions();
-  std::vector<int> material = map.Materials();
-  map.pieces.push_back(PieceOf(40, kMasonite, kMasoniteLike, 13));
-  regions.push_back({16});
-  material.push_back(1);
-  // Masonite is ruled out: the piece goes nowhere else that fits better than
-  // rubber does by the margin, or to what is allowed.
+  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 13), 1);  // masonite put with rubber
+  // The merge rule rules masonite out: the piece may not go there, however
+  // well its texture fits.
   std::vector<int> asked;
-  const TextureAssignment a = AssignRegionsByTexture(
-      map.pieces, regions, material, map.textures,
-      [&](int r, int m) {
-        if (r == 16) asked.push_back(m);
-        return m != 2;
-      },
-      0.05);
+  const TextureAssignment a = map.Assign([&](int r, int m) {
+    if (r == 16) asked.push_back(m);
+    return m != 2;
+  });
   EXPECT_NE(a.material[16], 2);
   EXPECT_EQ(asked, (std::vector<int>{0, 2, 3}));  // never its own
 }
 
 TEST(TextureAssignmentTest, PiecesWithoutSeriesAndFewTexturesChangeNothing) {
   FourMaterials map(4);
-  std::vector<MapPiece> bare(map.pieces.size());  // no pair series at all
-  const TextureAssignment a = AssignRegionsByTexture(bare, map.Regions(), map.Materials(), map.textures, kAny, 0.05);
-  EXPECT_EQ(a.moved, 0);
-  EXPECT_EQ(a.material, map.Materials());
-  std::vector<std::optional<SeriesTexture>> one = {map.textures[0], std::nullopt, std::nullopt, std::nullopt};
-  EXPECT_EQ(AssignRegionsByTexture(map.pieces, map.Regions(), map.Materials(), one, kAny, 0.05).moved, 0);
+  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 17), 1);  // would move, with series and textures
+  ASSERT_EQ(map.Assign().moved, 1);
+  FourMaterials bare = map;
+  for (MapPiece& p : bare.pieces) p = MapPiece{};  // no pair series at all
+  EXPECT_EQ(bare.Assign().moved, 0);
+  EXPECT_EQ(bare.Assign().material, map.material);
+  FourMaterials one = map;
+  for (int m = 1; m < 4; ++m) one.textures[m].reset();  // a single texture: nothing to choose between
+  EXPECT_EQ(one.Assign().moved, 0);
 }
 
 }  // namespace
