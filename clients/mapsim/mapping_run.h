@@ -73,6 +73,9 @@ struct MappingRunOptions {
   // BoundaryLinkOptions::max_extension_turn_deg of the map scored (the
   // plan's map carries no chain on; 0 = off).
   double map_extension_turn_deg = BoundaryLinkOptions{}.max_extension_turn_deg;
+  // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
+  // plan's map pools every piece).
+  int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

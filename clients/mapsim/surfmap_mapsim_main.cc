@@ -72,6 +72,7 @@ int Main(int argc, char** argv) {
   bool plan_assign = MappingRunOptions{}.plan_assign_by_texture;
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   double map_extension_turn = MappingRunOptions{}.map_extension_turn_deg;
+  int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -119,6 +120,11 @@ int Main(int argc, char** argv) {
                  "at most this many degrees (0: off, the build before)")
       ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
+  app.add_option("--map-mu-pieces", map_mu_pieces,
+                 "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
+                 "least this many (0: from every piece, the build before)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -140,6 +146,7 @@ int Main(int argc, char** argv) {
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
   base.map_extension_turn_deg = map_extension_turn;
+  base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

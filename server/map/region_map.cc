@@ -55,6 +55,7 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   if (!known_split.IsValid(&inner)) return fail(absl::StrCat("known_split: ", inner));
   if (!links.IsValid(&inner)) return fail(absl::StrCat("links: ", inner));
   if (min_texture_rows < 3) return fail("min_texture_rows must be >= 3");
+  if (min_fitted_pieces_for_mu < 0) return fail("min_fitted_pieces_for_mu must be >= 0 (0 = every piece)");
   if (!(std::isfinite(point_spacing_mm) && point_spacing_mm > 0.0)) return fail("point_spacing_mm must be > 0");
   if (!(std::isfinite(correlation_length_mm) && correlation_length_mm >= 0.0)) {
     return fail("correlation_length_mm must be >= 0 (0 = automatic)");
@@ -217,17 +218,20 @@ absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
 
 void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics,
                           int order, TextureRegion* out) const {
-  std::vector<PieceStatistics> members;
+  std::vector<PieceStatistics> members, fitted;
   std::vector<std::vector<double>> k(order);
   std::vector<double> log_sigma;
   for (int i : piece_indices) {
     members.push_back(statistics[i]);
     const TextureParams& t = pieces_[i].piece.texture;
     if (!pieces_[i].piece.has_roughness()) continue;
+    fitted.push_back(statistics[i]);
     for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
     log_sigma.push_back(std::log(t.sigma));
   }
-  out->statistics = PoolStatistics(members);
+  const int min_fitted = options_.min_fitted_pieces_for_mu;
+  const bool from_fitted = min_fitted > 0 && static_cast<int>(fitted.size()) >= min_fitted;
+  out->statistics = PoolStatistics(from_fitted ? fitted : members);
   out->roughness_pieces = static_cast<int>(log_sigma.size());
   if (out->roughness_pieces > 0) {
     for (int j = 0; j < order; ++j) out->reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));

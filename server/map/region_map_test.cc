@@ -94,6 +94,40 @@ TEST(RegionMapTest, RoughnessComesOnlyFromPiecesThatHaveTheirOwnFit) {
   EXPECT_TRUE(saw_nan);
 }
 
+TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
+  // A patch read by three drags long enough for a roughness fit (0.36, se
+  // 0.02) and two short pieces at its rim without one (0.25, se 0.05: alike
+  // to the patch only for their large se, as a change's location error and
+  // a wandering texture leave such pieces). Pooled by precision the two
+  // would take the patch to 0.349; from its long pieces it reads 0.36.
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
+  for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
+  const double precision_pooled = (3 * 0.36 / (0.02 * 0.02) + 2 * 0.25 / (0.05 * 0.05)) / (3 / (0.02 * 0.02) + 2 / (0.05 * 0.05));
+  const SurfaceLevel level = Plate();
+  for (const int min_fitted : {3, 0, 4}) {
+    RegionMapOptions options;
+    options.min_fitted_pieces_for_mu = min_fitted;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    const TextureRegion& patch = map->regions()[map->piece_region()[2]];
+    ASSERT_EQ(map->regions()[map->piece_region()[5]].material, patch.material) << "the short pieces join the patch";
+    // Four long pieces asked for and three present: every piece, as with 0.
+    const double expected = min_fitted == 3 ? 0.36 : precision_pooled;
+    EXPECT_NEAR(patch.statistics.mu, expected, 1e-12) << min_fitted;
+    EXPECT_NEAR(At(*map, {25, 0, 0}).mu, expected, 1e-12) << min_fitted;
+  }
+  EXPECT_NEAR(precision_pooled, 0.3494, 1e-4);
+  RegionMapOptions negative;
+  negative.min_fitted_pieces_for_mu = -1;
+  absl::StatusOr<RegionMap> refused = RegionMap::Create(level, negative);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("min_fitted_pieces_for_mu"), std::string::npos) << refused.status();
+}
+
 TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
   // Without a crossing the boundary lies midway between the data (x = 0);
   // a drag along x that changed at x = 8 puts it there.

@@ -40,12 +40,15 @@ enum class PlanMode {
 };
 
 // The plan's own region map: RegionMapOptions without the split against
-// the materials' textures.
+// the materials' textures, the texture assignment, the chains carried on
+// and the materials' mu from long pieces (each measured on the served map
+// over the plan's drags, docs/method.md section 5).
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
   options.split_against_materials = false;
   options.assign_by_texture = false;
   options.links.max_extension_turn_deg = 0.0;
+  options.min_fitted_pieces_for_mu = 0;
   return options;
 }
 
