@@ -76,6 +76,10 @@ struct MappingRunOptions {
   // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
   // plan's map pools every piece).
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
+  // BoundaryLinkOptions::max_length_mm of the map scored (the plan's map
+  // keeps the default).
+  double map_link_length_mm = BoundaryLinkOptions{}.max_length_mm;
+  double map_extension_length_mm = BoundaryLinkOptions{}.max_extension_length_mm;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -73,6 +73,8 @@ int Main(int argc, char** argv) {
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   double map_extension_turn = MappingRunOptions{}.map_extension_turn_deg;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
+  double map_link_length = MappingRunOptions{}.map_link_length_mm;
+  double map_extension_length = MappingRunOptions{}.map_extension_length_mm;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -125,6 +127,14 @@ int Main(int argc, char** argv) {
                  "least this many (0: from every piece, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-link-length", map_link_length,
+                 "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  app.add_option("--map-extension-length", map_extension_length,
+                 "the scored map carries a chain of links on to a crossing at most this many mm from its end")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_flag("--details", details, "per-region scores of every run (evidence: of the default job only otherwise)");
   app.add_option("--png", png, "map image (grey scale, samples and drag paths), one per run when several");
   app.add_option("--ply", ply, "map as PLY, one per run when several");
@@ -147,6 +157,8 @@ int Main(int argc, char** argv) {
   base.map_assign_by_texture = map_assign;
   base.map_extension_turn_deg = map_extension_turn;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
+  base.map_link_length_mm = map_link_length;
+  base.map_extension_length_mm = map_extension_length;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

@@ -24,7 +24,7 @@ bool Extends(const std::vector<ChangeMark>& marks, const ChainEnd& end, int q, c
   if (e.normal.dot(m.normal) < std::cos(o.max_corner_normal_deg * std::numbers::pi / 180.0)) return false;
   const Eigen::Vector3d chord = m.position - e.position;
   const double length = chord.norm();
-  if (!(length > 1e-9) || length > o.max_length_mm) return false;
+  if (!(length > 1e-9) || length > o.max_extension_length_mm) return false;
   const Eigen::Vector3d along = InPlane(chord, e.normal);
   const Eigen::Vector3d out_dir = InPlane(end.out, e.normal);
   if (along.norm() < 1e-9 || out_dir.norm() < 1e-9) return false;

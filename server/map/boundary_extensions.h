@@ -17,7 +17,7 @@
 //  - Q's drag crossed the chord within acos(min_extension_crossing_cos) of
 //    perpendicular (it crossed the boundary, not grazed along it), with A
 //    on the same side as at E;
-//  - it is at most max_length_mm long, the two normals within
+//  - it is at most max_extension_length_mm long, the two normals within
 //    max_corner_normal_deg, and no data contradicts it (as a link).
 // Ends take their nearest such crossing first; Q is then the chain's end,
 // and the chain may be carried on again from it.

@@ -31,6 +31,18 @@ TEST(BoundaryExtensions, AChainIsCarriedOnThroughObliqueCrossingsOfItsBoundary) 
   EXPECT_EQ(LinksDrawn(both_ends), 3);
 }
 
+TEST(BoundaryExtensions, AChainIsCarriedOnFartherThanALinkReaches) {
+  // An oblique crossing 26 mm past the chain's end, on its line: beyond a
+  // link's 20 mm, within an extension's 30.
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0), Crossing(10.0, 1), Crossing(36.0, 2, 50.0)};
+  EXPECT_EQ(LinksDrawn(marks), 2);
+  BoundaryLinkOptions as_a_link;
+  as_a_link.max_extension_length_mm = as_a_link.max_length_mm;
+  EXPECT_EQ(LinksDrawn(marks, as_a_link), 1);
+  // Perpendicular crossings 26 mm apart with no chain are not linked.
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0), Crossing(26.0, 1)}), 0);
+}
+
 TEST(BoundaryExtensions, APatchCornerIsNotCutAcross) {
   // The boundary turns by 90 degrees at (0, 14) and runs on along y = 14;
   // a drag along -y crosses that side at (6, 14). The chord from the

@@ -23,7 +23,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"corridor_mm", corridor_mm},
                                                     {"seed_offset_mm", seed_offset_mm},
                                                     {"corner_reach_mm", corner_reach_mm},
-                                                    {"min_corner_link_mm", min_corner_link_mm}};
+                                                    {"min_corner_link_mm", min_corner_link_mm},
+                                                    {"max_extension_length_mm", max_extension_length_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
   }
