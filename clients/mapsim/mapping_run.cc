@@ -290,10 +290,8 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     RegionMapOptions map_options;
     map_options.split_against_materials = options.map_split_against_materials;
     map_options.assign_by_texture = options.map_assign_by_texture;
-    map_options.links.max_extension_turn_deg = options.map_extension_turn_deg;
+    map_options.links = options.map_link_options;
     map_options.min_fitted_pieces_for_mu = options.map_min_fitted_pieces_for_mu;
-    map_options.links.max_length_mm = options.map_link_length_mm;
-    map_options.links.max_extension_length_mm = options.map_extension_length_mm;
     absl::StatusOr<RegionMap> map = RegionMap::Create(map_level, map_options);
     if (!map.ok()) return map.status();
     std::vector<MapPiece> pieces;

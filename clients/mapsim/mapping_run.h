@@ -70,16 +70,12 @@ struct MappingRunOptions {
   // RegionMapOptions::assign_by_texture, likewise.
   bool plan_assign_by_texture = false;
   bool map_assign_by_texture = true;
-  // BoundaryLinkOptions::max_extension_turn_deg of the map scored (the
-  // plan's map carries no chain on; 0 = off).
-  double map_extension_turn_deg = BoundaryLinkOptions{}.max_extension_turn_deg;
+  // The links of the map scored (the plan's map carries no chain on,
+  // PlanRegionMapOptions).
+  BoundaryLinkOptions map_link_options;
   // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
   // plan's map pools every piece).
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
-  // BoundaryLinkOptions::max_length_mm of the map scored (the plan's map
-  // keeps the default).
-  double map_link_length_mm = BoundaryLinkOptions{}.max_length_mm;
-  double map_extension_length_mm = BoundaryLinkOptions{}.max_extension_length_mm;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -71,10 +71,8 @@ int Main(int argc, char** argv) {
   bool map_split = MappingRunOptions{}.map_split_against_materials;
   bool plan_assign = MappingRunOptions{}.plan_assign_by_texture;
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
-  double map_extension_turn = MappingRunOptions{}.map_extension_turn_deg;
+  BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
-  double map_link_length = MappingRunOptions{}.map_link_length_mm;
-  double map_extension_length = MappingRunOptions{}.map_extension_length_mm;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -117,7 +115,7 @@ int Main(int argc, char** argv) {
                  "the scored map moves regions to the material whose texture fits them best (true|false); "
                  "differing from --plan-assign alone compares the two on the same drags")
       ->capture_default_str();
-  app.add_option("--map-extension-turn", map_extension_turn,
+  app.add_option("--map-extension-turn", map_links.max_extension_turn_deg,
                  "the scored map carries chains of boundary links on through oblique crossings whose chord turns by "
                  "at most this many degrees (0: off, the build before)")
       ->check(CLI::Range(0.0, 90.0))
@@ -127,11 +125,11 @@ int Main(int argc, char** argv) {
                  "least this many (0: from every piece, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--map-link-length", map_link_length,
+  app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--map-extension-length", map_extension_length,
+  app.add_option("--map-extension-length", map_links.max_extension_length_mm,
                  "the scored map carries a chain of links on to a crossing at most this many mm from its end")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
@@ -155,10 +153,8 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
-  base.map_extension_turn_deg = map_extension_turn;
+  base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
-  base.map_link_length_mm = map_link_length;
-  base.map_extension_length_mm = map_extension_length;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;
