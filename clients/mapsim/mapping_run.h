@@ -76,6 +76,9 @@ struct MappingRunOptions {
   // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
   // plan's map pools every piece).
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
+  // RegionMapOptions::link_materials of the map scored (the plan's map
+  // links regions).
+  bool map_link_materials = RegionMapOptions{}.link_materials;
   FitOptions fit;
 
   bool IsValid(std::string* why) const;

@@ -73,6 +73,7 @@ int Main(int argc, char** argv) {
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
+  bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
       ->check(CLI::IsMember({"evidence", "boundary", "adaptive", "uncertainty", "uniform", "uniform-spread"}))
@@ -125,6 +126,10 @@ int Main(int argc, char** argv) {
                  "least this many (0: from every piece, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-link-materials", map_link_materials,
+                 "the scored map links crossings of one boundary between materials, not regions (true|false; false: "
+                 "the build before)")
+      ->capture_default_str();
   app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
@@ -155,6 +160,7 @@ int Main(int argc, char** argv) {
   base.map_assign_by_texture = map_assign;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
+  base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;

@@ -49,8 +49,9 @@ std::optional<Corner> CornerOf(const ChangeMark& m1, const ChainEnd& x, const Ch
   Corner corner;
   corner.reach = s + t;
   corner.normal = n;
-  corner.first = {m1.position, c, ta1, x.a, x.b};
-  corner.second = {c, m2.position, ta2, x.a, x.b};
+  // The corner's plane turns half-way between the ends' normals.
+  corner.first = {m1.position, c, ta1, x.a, x.b, ChordBow(m1.position, c, m1.normal, n)};
+  corner.second = {c, m2.position, ta2, x.a, x.b, ChordBow(c, m2.position, n, m2.normal)};
   corner.inside = gap.dot(ta1) > 0.0 ? x.a : x.b;
   return corner;
 }

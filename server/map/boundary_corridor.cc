@@ -16,18 +16,30 @@ std::uint64_t LabelledPointGrid::Key(const Eigen::Vector3i& c) {
          static_cast<std::uint64_t>(c.z() & 0x1fffff);
 }
 
+Eigen::Vector3d ChordBow(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n_p,
+                         const Eigen::Vector3d& n_q) {
+  const Eigen::Vector3d mean = n_p + n_q;
+  if (!(mean.norm() > 1e-9)) return Eigen::Vector3d::Zero();
+  const double theta = std::acos(std::clamp(n_p.normalized().dot(n_q.normalized()), -1.0, 1.0));
+  const double sagitta = 0.5 * (q - p).norm() * std::tan(0.25 * theta);
+  const double opens = (n_q - n_p).dot(q - p);
+  return (opens >= 0.0 ? sagitta : -sagitta) * mean.normalized();
+}
+
 bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
   const Eigen::Vector3d chord = s.q - s.p;
   const double length = chord.norm();
   if (!(length > 1e-9)) return false;
   const Eigen::Vector3d t = chord / length;
   bool contradicted = false;
-  data.ForEachNear(s.p, s.q, o.corridor_mm, [&](const LabelledPoint& x) {
+  data.ForEachNear(s.p, s.q, o.corridor_mm + s.bow.norm(), [&](const LabelledPoint& x) {
     if (contradicted) return;
     const Eigen::Vector3d r = x.point - s.p;
     const double along = r.dot(t);
     if (along < 0.0 || along > length) return;
-    const Eigen::Vector3d off = r - along * t;
+    // Off the surface's arc over the chord, not the chord itself.
+    const double u = along / length;
+    const Eigen::Vector3d off = r - along * t - 4.0 * u * (1.0 - u) * s.bow;
     if (off.norm() > o.corridor_mm) return;
     const double side = off.dot(s.towards_a);  // > 0: a's side
     if (x.label != s.a && x.label != s.b) {

@@ -60,8 +60,10 @@ std::vector<DrawnLink> ExtendChains(const std::vector<ChangeMark>& marks, std::v
         if (linked[q] || !Extends(marks, end, q, o, &link)) continue;
         const double d = (marks[q].position - marks[end.mark].position).norm();
         if (d >= best) continue;
-        if (SegmentContradicted({marks[end.mark].position, marks[q].position, link.towards_a, link.a, link.b}, data,
-                                o)) {
+        const ChangeMark& e = marks[end.mark];
+        const BoundarySegment segment{e.position, marks[q].position, link.towards_a, link.a, link.b,
+                                      ChordBow(e.position, marks[q].position, e.normal, marks[q].normal)};
+        if (SegmentContradicted(segment, data, o)) {
           continue;
         }
         best = d;

@@ -98,7 +98,8 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     Eigen::Vector3d towards_a;
     int a, b;
     if (!consistent(i, j, &towards_a, &a, &b)) continue;
-    const BoundarySegment link{marks[i].position, marks[j].position, towards_a, a, b};
+    const BoundarySegment link{marks[i].position, marks[j].position, towards_a, a, b,
+                               ChordBow(marks[i].position, marks[j].position, marks[i].normal, marks[j].normal)};
     if (SegmentContradicted(link, grid, o)) continue;
     drawn.push_back({i, j, a, b, towards_a});
     AppendSegmentSeeds(link, o, &out);

@@ -406,12 +406,16 @@ absl::Status RegionMap::SpreadRegions() {
       surface_seeds.push_back(s);
     }
   }
-  // Boundaries through neighbouring crossings.
+  // Boundaries through neighbouring crossings, of materials or of regions.
+  auto side = [&](int piece) {
+    const int region = piece_region_[piece];
+    return options_.link_materials ? regions_[region].material : region;
+  };
   std::vector<ChangeMark> marks;
   for (int i = 0; i + 1 < n; ++i) {
     const MapPiece& a = pieces_[i];
     const MapPiece& b = pieces_[i + 1];
-    if (a.drag != b.drag || !a.piece.ends_at_change || piece_region_[i] == piece_region_[i + 1]) continue;
+    if (a.drag != b.drag || !a.piece.ends_at_change || side(i) == side(i + 1)) continue;
     if (a.points.size() < 2 || b.points.size() < 2) continue;
     ChangeMark m;
     const SurfacePoint hit = locator_->Closest(b.points.front());
@@ -421,23 +425,44 @@ absl::Status RegionMap::SpreadRegions() {
     direction -= direction.dot(m.normal) * m.normal;
     if (direction.norm() < 1e-9) continue;
     m.direction = direction.normalized();
-    m.before = piece_region_[i];
-    m.after = piece_region_[i + 1];
+    m.before = side(i);
+    m.after = side(i + 1);
     m.drag = a.drag;
     marks.push_back(m);
   }
-  std::vector<LabelledPoint> data;
+  std::vector<LabelledPoint> data, side_data;
   for (int i = 0; i < n; ++i) {
-    for (const Eigen::Vector3d& p : placed()[i].data_points) data.push_back({p, piece_region_[i]});
+    for (const Eigen::Vector3d& p : placed()[i].data_points) {
+      data.push_back({p, piece_region_[i]});
+      side_data.push_back({p, side(i)});
+    }
   }
   links_ = 0;
   corners_ = 0;
   marks_ = std::move(marks);
-  for (const LabelledPoint& p : BoundaryLinkPoints(marks_, data, options_.links, &links_, &corners_)) {
+  const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, side_data, options_.links, &links_, &corners_);
+  const LabelledPointGrid region_data(options_.link_materials ? data : std::vector<LabelledPoint>{}, 4.0);
+  // The region of `material` whose data lies nearest: searched in growing
+  // boxes, since a link's middle can lie a link's length from its ends.
+  auto nearest_region_of_material = [&](const Eigen::Vector3d& point, int material) {
+    for (double reach = 4.0; reach <= 4.0 * options_.links.max_length_mm; reach *= 2.0) {
+      int best = -1;
+      double best_d2 = std::numeric_limits<double>::infinity();
+      region_data.ForEachNear(point, point, reach, [&](const LabelledPoint& x) {
+        const double d2 = (x.point - point).squaredNorm();
+        if (regions_[x.label].material == material && d2 < best_d2) best_d2 = d2, best = x.label;
+      });
+      if (best >= 0) return best;
+    }
+    return -1;
+  };
+  for (const LabelledPoint& p : link_points) {
     const SurfacePoint hit = locator_->Closest(p.point);
     if (hit.triangle < 0) continue;
-    surface_seeds.push_back({hit.triangle, hit.barycentric, p.label});
-    data.push_back({hit.position, p.label});
+    const int region = options_.link_materials ? nearest_region_of_material(p.point, p.label) : p.label;
+    if (region < 0) continue;
+    surface_seeds.push_back({hit.triangle, hit.barycentric, region});
+    data.push_back({hit.position, region});
   }
   near_data_ = near_data_mm_ > 0.0 ? LabelledPointGrid(std::move(data), near_data_mm_) : LabelledPointGrid();
   absl::StatusOr<std::vector<std::vector<double>>> fields = propagation_->Propagate(surface_seeds, region_count);

@@ -114,6 +114,14 @@ struct RegionMapOptions {
   // each reports the estimates (mu, its se, roughness) of all the
   // material's pieces. Their extents are unchanged.
   bool pool_alike_regions = true;
+  // Boundaries are linked between materials, not regions
+  // (boundary_links.h): one material met in several places is several
+  // regions (a band cut into stretches by pieces that straddle its
+  // neighbour), and crossings into two stretches of one band are crossings
+  // of one boundary; a stretch of the same material in a link's corridor
+  // does not contradict it. A link's points take the region of their
+  // material whose data lies nearest.
+  bool link_materials = true;
   // A material's mu (and its se and spread) is pooled from its pieces long
   // enough for their own roughness fit (FitOptions::min_roughness_piece_mm)
   // when it has at least this many; from all its pieces otherwise; 0 = always

@@ -145,6 +145,41 @@ TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
   EXPECT_EQ(At(*map, {8.5, 0, 0}).region, 1);
 }
 
+TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
+  // Glass at x < 0, sandpaper at x > 0: drags cross the boundary at y = -8
+  // and y = 8, and a rubber piece at y = 0 keeps the two sandpaper pieces
+  // from touching, so they are two regions of one material. Their crossings
+  // are crossings of one boundary.
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double y : {-8.0, 8.0}) {
+    for (MapPiece& p : CrossingDrag(drag++, {-8, y, 0}, {0, y, 0}, {8, y, 0}, kGlass, kSandpaper)) {
+      pieces.push_back(p);
+    }
+  }
+  pieces.push_back(StraightPiece(drag++, {4, 0, 0}, {12, 0, 0}, 0.3));
+  const SurfaceLevel level = Plate();
+  RegionMapOptions by_region;
+  by_region.link_materials = false;
+  for (const bool materials : {true, false}) {
+    auto map = RegionMap::Create(level, materials ? RegionMapOptions{} : by_region);
+    ASSERT_TRUE(map.ok());
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    const std::vector<int>& region = map->piece_region();
+    const int first = region[3], second = region[5];  // the two sandpaper pieces
+    ASSERT_NE(first, second);
+    ASSERT_EQ(map->regions()[first].material, map->regions()[second].material);
+    EXPECT_EQ(map->boundary_links(), materials ? 1 : 0) << (materials ? "by material" : "by region");
+    if (materials) {
+      // The link's points on the sandpaper side belong to the stretch nearer them.
+      EXPECT_EQ(At(*map, {0.5, -6, 0}).region, first);
+      EXPECT_EQ(At(*map, {0.5, 6, 0}).region, second);
+      EXPECT_NEAR(At(*map, {-0.5, 0, 0}).mu, kGlass, 1e-9);
+    }
+  }
+}
+
 TEST(RegionMapTest, UncertaintyIsTheStandardErrorAtDataAndRisesAwayFromIt) {
   const SurfaceLevel level = Plate();
   auto map = RegionMap::Create(level);

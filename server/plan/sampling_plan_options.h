@@ -49,6 +49,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.assign_by_texture = false;
   options.links.max_extension_turn_deg = 0.0;
   options.min_fitted_pieces_for_mu = 0;
+  options.link_materials = false;
   return options;
 }
 
