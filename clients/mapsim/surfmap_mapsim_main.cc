@@ -100,7 +100,7 @@ int Main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--coverage-skip-share", coverage_skip_share,
                  "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
-                 "length of (0: drag every one, the build before)")
+                 "length of (0: drag every one; 0.25 the build before)")
       ->capture_default_str();
   app.add_option("--plan-split", plan_split,
                  "the plan's map splits pieces against its materials' textures (true|false)")
