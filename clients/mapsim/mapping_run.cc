@@ -82,6 +82,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.follow_boundaries = options.follow_boundaries;
   plan_options.continuation_prior = options.continuation_prior;
   plan_options.coverage_skip_share = options.coverage_skip_share;
+  plan_options.quiet_coverage_skip_share = options.quiet_coverage_skip_share;
   plan_options.regions.split_against_materials = options.plan_split_against_materials;
   plan_options.regions.assign_by_texture = options.plan_assign_by_texture;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());

@@ -62,6 +62,7 @@ struct MappingRunOptions {
   bool follow_boundaries = false;  // kBoundary: SamplingPlanOptions::follow_boundaries
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;  // kBoundary
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;  // kBoundary
+  double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;  // kBoundary
   // RegionMapOptions::split_against_materials for the plan's own map and for
   // the map scored: as in a job, the plan's off and the map's on; the map's
   // alone differing compares the two on the same drags.

@@ -67,6 +67,7 @@ int Main(int argc, char** argv) {
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
+  double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
   bool plan_split = MappingRunOptions{}.plan_split_against_materials;
   bool map_split = MappingRunOptions{}.map_split_against_materials;
   bool plan_assign = MappingRunOptions{}.plan_assign_by_texture;
@@ -100,7 +101,11 @@ int Main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--coverage-skip-share", coverage_skip_share,
                  "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
-                 "length of (0: drag every one; 0.25 the build before)")
+                 "length of (0: drag every one)")
+      ->capture_default_str();
+  app.add_option("--quiet-coverage-skip-share", quiet_coverage_skip_share,
+                 "... and within this share of one that found no change along it (at most --coverage-skip-share: "
+                 "off, the build before)")
       ->capture_default_str();
   app.add_option("--plan-split", plan_split,
                  "the plan's map splits pieces against its materials' textures (true|false)")
@@ -154,6 +159,7 @@ int Main(int argc, char** argv) {
   base.follow_boundaries = follow;
   base.continuation_prior = continuation_prior;
   base.coverage_skip_share = coverage_skip_share;
+  base.quiet_coverage_skip_share = quiet_coverage_skip_share;
   base.plan_split_against_materials = plan_split;
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;

@@ -217,7 +217,11 @@ void SamplingPlan::SkipAllPending(std::string_view reason) {
 void SamplingPlan::SkipCoveredBy(int measured_vertex) {
   const LineSample& line = *sites_.at(measured_vertex).line;
   const SurfaceLevel& finest = *levels_.back();
-  const double skip_mm = options_.coverage_skip_share * options_.probe.segment_length_mm;
+  // A drag that found no change settles its surroundings farther.
+  const bool quiet = line.pieces.size() <= 1;
+  const double share = quiet ? std::max(options_.coverage_skip_share, options_.quiet_coverage_skip_share)
+                             : options_.coverage_skip_share;
+  const double skip_mm = share * options_.probe.segment_length_mm;
   for (auto it = pending_.begin(); it != pending_.end();) {
     SiteRecord& r = sites_.at(std::get<3>(*it));
     bool covered = false;
@@ -321,7 +325,10 @@ absl::Status SamplingPlan::RecordMeasurement(std::uint64_t sequence, const Textu
   map_stale_ = true;
   region_map_stale_ = true;
   if (BudgetUsedUpByMeasured()) SkipAllPending(kBudgetUsedUp);
-  if (options_.mode == PlanMode::kBoundary && options_.coverage_skip_share > 0.0) SkipCoveredBy(*vertex);
+  if (options_.mode == PlanMode::kBoundary &&
+      (options_.coverage_skip_share > 0.0 || options_.quiet_coverage_skip_share > 0.0)) {
+    SkipCoveredBy(*vertex);
+  }
   if (options_.mode == PlanMode::kAdaptive) CompareEdgesOf(*vertex);
   if (auto status = RefreshSelection(); !status.ok()) return status;
   return RefreshBoundarySelection();

@@ -241,8 +241,9 @@ class SamplingPlan {
   bool BudgetUsedUpByMeasured() const;
   void AddSite(SiteRecord record);  // queues it, or skips it if the plan is cancelled or out of budget
   void SkipAllPending(std::string_view reason);
-  // kBoundary with coverage_skip_share: skips the pending coarsest-level
-  // sites the drag just measured at `measured_vertex` passed near.
+  // kBoundary with coverage_skip_share (quiet_coverage_skip_share for a drag
+  // that found no change): skips the pending coarsest-level sites the drag
+  // just measured at `measured_vertex` passed near.
   void SkipCoveredBy(int measured_vertex);
   absl::StatusOr<int> OutstandingVertex(std::uint64_t sequence) const;
   void CompareEdgesOf(int vertex);

@@ -160,6 +160,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"lookahead", o.lookahead},
       {"follow_boundaries", o.follow_boundaries},
       {"coverage_skip_share", o.coverage_skip_share},
+      {"quiet_coverage_skip_share", o.quiet_coverage_skip_share},
       {"continuation_prior", o.continuation_prior},
   };
 }
@@ -238,6 +239,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.follow_boundaries = j.contains("follow_boundaries") && in.Bool(j, "options", "follow_boundaries");
   // Added later: a plan saved before goes on dragging every coarsest-level site.
   o.coverage_skip_share = j.contains("coverage_skip_share") ? in.Double(j, "options", "coverage_skip_share") : 0.0;
+  o.quiet_coverage_skip_share =
+      j.contains("quiet_coverage_skip_share") ? in.Double(j, "options", "quiet_coverage_skip_share") : 0.0;
   o.continuation_prior = j.contains("continuation_prior") ? in.Double(j, "options", "continuation_prior") : 0.0;
   return o;
 }

@@ -188,6 +188,13 @@ TEST(SaveRestoreTest, APlanSavedBeforeCoverageSkipRestoresDraggingEverySite) {
   ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::coverage_skip_share, "coverage_skip_share", 0.0);
 }
 
+TEST(SaveRestoreTest, APlanSavedBeforeTheQuietCoverageSkipRestoresWithout) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.quiet_coverage_skip_share = 0.5;
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::quiet_coverage_skip_share, "quiet_coverage_skip_share",
+                                  0.0);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

@@ -40,6 +40,9 @@ bool SamplingPlanOptions::IsValid(std::string* why) const {
   if (!(coverage_skip_share >= 0.0 && coverage_skip_share <= 1.0)) {
     return fail(absl::StrCat("coverage_skip_share must be in [0, 1], got ", coverage_skip_share));
   }
+  if (!(quiet_coverage_skip_share >= 0.0 && quiet_coverage_skip_share <= 1.0)) {
+    return fail(absl::StrCat("quiet_coverage_skip_share must be in [0, 1], got ", quiet_coverage_skip_share));
+  }
   if (lookahead < 1) return fail(absl::StrCat("lookahead must be >= 1, got ", lookahead));
   return true;
 }

@@ -107,18 +107,25 @@ struct SamplingPlanOptions {
   // without the key restore with 0.
   double continuation_prior = 0.0;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
-  // measured drag's path passed within this share of the drag length of it:
-  // half the length is the reach the selector itself counts as covered by a
-  // drag (boundary_selection.h), so the coarse pass and the selector agree
-  // on what a drag has settled, and the drags the pass would have spent
-  // there go where the map is uncertain. 0 = every coarsest-level site is
-  // dragged. The service issues a kBoundary job's commands only as rigs ask
-  // (server/jobs/command_lookahead.h), so coarse sites are still pending
-  // when drags come in. Measured in docs/method.md section 5 (0.25, the
-  // selector's corridor, before; 0.5: goals met on 43 of 60 scene-seeds
-  // in-process instead of 36). Plans stored without the key restore with 0
-  // (what they were made with).
-  double coverage_skip_share = 0.5;
+  // measured drag's data window passed within this share of the drag length
+  // of it: within a quarter of the length either side of its path the map
+  // is that drag's data (the selector's corridor, boundary_selection.h), so
+  // dragging there again measures what is known. 0 = every coarsest-level
+  // site is dragged. The service issues a kBoundary job's commands only as
+  // rigs ask (server/jobs/command_lookahead.h), so coarse sites are still
+  // pending when drags come in. Measured in docs/method.md section 5. Plans
+  // stored without the key restore with 0 (what they were made with).
+  double coverage_skip_share = 0.25;
+  // kBoundary: ... and within this (larger) share of the drag length when
+  // that drag found no change along it. Half the length is the reach the
+  // selector itself counts as covered by a drag (boundary_selection.h): a
+  // drag that saw one material all along settles that much round it, while
+  // near one that crossed a boundary the coarse pass goes on looking (the
+  // boundary may turn, or a band beside it begin). Measured in
+  // docs/method.md section 5 (in-process and through the service, six
+  // seeds). Below coverage_skip_share it changes nothing; plans stored
+  // without the key restore with 0.
+  double quiet_coverage_skip_share = 0.5;
 
   bool IsValid(std::string* why) const;
 };

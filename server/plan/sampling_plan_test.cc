@@ -402,12 +402,16 @@ LineSample StraightDrag(const ProbeCommand& c, const Eigen::Vector3d& direction,
 
 // The coarsest-level sites still pending after the first drag is measured,
 // and those skipped as covered by it.
-void FirstDragSkips(double share, std::set<int>* skipped, std::set<int>* expected) {
+// With `change`, the drag found a change half-way along (two pieces), and
+// only `share` applies; without, `quiet_share` does too.
+void FirstDragSkips(double share, std::set<int>* skipped, std::set<int>* expected, double quiet_share = 0.0,
+                    bool change = false) {
   const auto levels = TwoMaterialPlate(1);
   SamplingPlanOptions o;
   o.mode = PlanMode::kBoundary;
   o.max_level = 1;
   o.coverage_skip_share = share;
+  o.quiet_coverage_skip_share = quiet_share;
   auto plan = SamplingPlan::Create(Pointers(levels), o);
   ASSERT_TRUE(plan.ok()) << plan.status();
   const std::optional<ProbeCommand> c = plan->NextCommand();
@@ -422,14 +426,21 @@ void FirstDragSkips(double share, std::set<int>* skipped, std::set<int>* expecte
   }
   ASSERT_GE(nearest, 0);
   const Eigen::Vector3d direction = (levels[1].limit_positions[nearest] - c->position).normalized();
-  const LineSample line = StraightDrag(*c, direction, SynthesiseFit(c->position, c->site.vertex));
-  // Expected from the geometry: within share x 20 mm of the 16 mm window.
+  LineSample line = StraightDrag(*c, direction, SynthesiseFit(c->position, c->site.vertex));
+  if (change) {
+    LinePiece second = line.pieces[0];
+    line.pieces[0].end_mm = second.start_mm = 8.0;
+    second.texture.mu += 0.2;
+    line.pieces.push_back(second);
+  }
+  const double reach = change ? share : std::max(share, quiet_share);
+  // Expected from the geometry: within reach x 20 mm of the 16 mm window.
   const Eigen::Vector3d a = line.path_points.front(), b = line.path_points.back();
   for (const SiteRecord& r : plan->Sites()) {
     if (r.state != SiteState::kPending) continue;
     const Eigen::Vector3d p = levels[1].limit_positions[r.site.vertex];
     const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-    if ((p - (a + t * (b - a))).norm() <= share * o.probe.segment_length_mm) expected->insert(r.site.vertex);
+    if ((p - (a + t * (b - a))).norm() <= reach * o.probe.segment_length_mm) expected->insert(r.site.vertex);
   }
   ASSERT_TRUE(plan->RecordLineSample(c->sequence, line).ok());
   for (const SiteRecord& r : plan->Sites()) {
@@ -445,6 +456,21 @@ TEST(CoverageSkip, ACoarseSiteAMeasuredDragPassedNearIsSkippedAsCovered) {
   // The drag's window ends 3.1 mm from the nearest site: within 5 mm.
   EXPECT_FALSE(expected.empty());
   EXPECT_EQ(skipped, expected);
+}
+
+TEST(CoverageSkip, ADragThatFoundNoChangeCoversFartherThanOneThatCrossedABoundary) {
+  std::set<int> quiet, quiet_expected, crossed, crossed_expected, near, near_expected;
+  // A whole drag length for the quiet one: the plate's coarse sites lie
+  // 11.1 mm apart, so 5 and 10 mm of the window reach the same two.
+  FirstDragSkips(0.25, &quiet, &quiet_expected, 1.0, /*change=*/false);
+  FirstDragSkips(0.25, &crossed, &crossed_expected, 1.0, /*change=*/true);
+  FirstDragSkips(0.25, &near, &near_expected);
+  EXPECT_EQ(quiet, quiet_expected);
+  EXPECT_EQ(crossed, crossed_expected);
+  // The quiet drag skips more than the corridor's share; the one that
+  // crossed a boundary only that.
+  EXPECT_GT(quiet.size(), near.size());
+  EXPECT_EQ(crossed, near);
 }
 
 TEST(CoverageSkip, ShareZeroDragsEveryCoarseSite) {
