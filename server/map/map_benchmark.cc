@@ -132,17 +132,20 @@ BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark:
 // and masonite in turn, every fourth drag across a boundary between them as
 // one piece (no change detected). Arg: the plan's own map (0: no split, no
 // texture assignment, no chains carried on: PlanRegionMapOptions in
-// server/plan) / the served map's defaults (1) / the split alone (2); with
+// server/plan) / the served map's defaults (1) / the split alone (2) / the
+// served map's defaults linking regions instead of materials (3); with
 // the split the pieces are grouped twice (once to find the materials, once
 // with the parts) and spread once.
 void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   const SurfaceLevel level = testing::MakeFlatGrid(100, 100, 1.0);
   RegionMapOptions options;
-  if (state.range(0) != 1) {
+  if (state.range(0) == 0 || state.range(0) == 2) {
     options.split_against_materials = state.range(0) == 2;
     options.assign_by_texture = false;
     options.links.max_extension_turn_deg = 0.0;
+    options.link_materials = false;
   }
+  if (state.range(0) == 3) options.link_materials = false;
   auto map = RegionMap::Create(level, options);
   if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
   const testing::Stretch rubber{0, 0.305, testing::kRubberLike}, masonite{0, 0.36, testing::kMasoniteLike};
@@ -187,8 +190,9 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   }
   state.counters["split"] = map->split_pieces();
   state.counters["regions"] = static_cast<double>(map->regions().size());
+  state.counters["links"] = map->boundary_links();
 }
-BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace surfmap
