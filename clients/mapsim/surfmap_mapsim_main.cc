@@ -104,8 +104,8 @@ int Main(int argc, char** argv) {
                  "length of (0: drag every one)")
       ->capture_default_str();
   app.add_option("--quiet-coverage-skip-share", quiet_coverage_skip_share,
-                 "... and within this share of one that found no change along it (at most --coverage-skip-share: "
-                 "off, the build before)")
+                 "... and within this share of one that found no change along it (at or below "
+                 "--coverage-skip-share: off, the build before)")
       ->capture_default_str();
   app.add_option("--plan-split", plan_split,
                  "the plan's map splits pieces against its materials' textures (true|false)")

@@ -430,22 +430,30 @@ absl::Status RegionMap::SpreadRegions() {
     m.drag = a.drag;
     marks.push_back(m);
   }
-  std::vector<LabelledPoint> data, side_data;
+  std::vector<LabelledPoint> data;
   for (int i = 0; i < n; ++i) {
-    for (const Eigen::Vector3d& p : placed()[i].data_points) {
-      data.push_back({p, piece_region_[i]});
-      side_data.push_back({p, side(i)});
-    }
+    for (const Eigen::Vector3d& p : placed()[i].data_points) data.push_back({p, piece_region_[i]});
   }
   links_ = 0;
   corners_ = 0;
   marks_ = std::move(marks);
-  const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, side_data, options_.links, &links_, &corners_);
-  const LabelledPointGrid region_data(options_.link_materials ? data : std::vector<LabelledPoint>{}, 4.0);
-  // The region of `material` whose data lies nearest: searched in growing
-  // boxes, since a link's middle can lie a link's length from its ends.
+  // Linking materials, the links see the data by material; the plan's map
+  // (rebuilt after every drag) links regions and copies nothing.
+  std::vector<LabelledPoint> material_data;
+  if (options_.link_materials) {
+    material_data = data;
+    for (LabelledPoint& p : material_data) p.label = regions_[p.label].material;
+  }
+  const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(
+      marks_, options_.link_materials ? material_data : data, options_.links, &links_, &corners_);
+  // The region of `material` whose data lies nearest a link point: searched
+  // in growing boxes, since a link's middle can lie a link's length from its
+  // ends.
+  constexpr double kRegionSearchCellMm = 4.0;
+  const LabelledPointGrid region_data(
+      options_.link_materials && !link_points.empty() ? data : std::vector<LabelledPoint>{}, kRegionSearchCellMm);
   auto nearest_region_of_material = [&](const Eigen::Vector3d& point, int material) {
-    for (double reach = 4.0; reach <= 4.0 * options_.links.max_length_mm; reach *= 2.0) {
+    for (double reach = kRegionSearchCellMm; reach <= 4.0 * options_.links.max_length_mm; reach *= 2.0) {
       int best = -1;
       double best_d2 = std::numeric_limits<double>::infinity();
       region_data.ForEachNear(point, point, reach, [&](const LabelledPoint& x) {
