@@ -208,6 +208,39 @@ TEST_F(JobCoordinatorTest, AFailedStateWriteLeavesTheStoredState) {
   EXPECT_EQ(paused->progress.skipped, 0) << "the failed cancel's skipped sites came back";
 }
 
+TEST_F(JobCoordinatorTest, AnOperatorsCancelWaitsOutTheReReadInsteadOfBeingToldToRetry) {
+  // Found by the chaos soak: a rig's trace was refused by the store (its lease
+  // had been taken over), the job was being re-read, and the operator's
+  // CancelJob in that window was answered UNAVAILABLE. Rigs retry; an
+  // operator's cancel should simply happen once the job is re-read.
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
+  ASSERT_TRUE(lease.ok() && lease->record) << lease.status();
+  const int64_t trace_write = faults_->writes_submitted() + 1;
+  const int64_t reread_barrier = trace_write + 1;  // MarkWriteFailed's SyncAsync
+  faults_->FailWrite(trace_write, absl::FailedPreconditionError("command is leased to 'rig-b', not to 'rig-a'"));
+  faults_->HoldWrite(reread_barrier);
+  absl::StatusOr<SubmitOutcome> refused = Submit(lease->record->id, "rig-a", TraceFor(*lease));
+  EXPECT_EQ(refused.status().code(), absl::StatusCode::kFailedPrecondition) << refused.status();
+  ASSERT_TRUE(faults_->WaitUntilHeld(reread_barrier, absl::Seconds(10)));
+
+  Awaited<absl::StatusOr<JobSnapshot>> cancelled;
+  coordinator_->SetJobState(job.record.id, JobState::kCancelled, cancelled.Callback());
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(cancelled.Ready()) << "answered while the job was still waiting to be re-read";
+
+  faults_->ReleaseWrite(reread_barrier);
+  std::optional<absl::StatusOr<JobSnapshot>> answer = cancelled.Get("cancel behind the re-read");
+  ASSERT_TRUE(answer.has_value());
+  ASSERT_TRUE(answer->ok()) << answer->status();
+  EXPECT_EQ((*answer)->record.state, JobState::kCancelled);
+  EXPECT_EQ((*answer)->progress.measured, 0) << "the refused trace came back into the plan";
+  absl::StatusOr<JobRecord> stored = sqlite_->GetJob(job.record.id);
+  ASSERT_TRUE(stored.ok()) << stored.status();
+  EXPECT_EQ(stored->state, JobState::kCancelled) << "the cancel answered OK but is not in the database";
+}
+
 TEST_F(JobCoordinatorTest, ListenersRunWithNoLockHeldAndMayCallBack) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object, /*budget=*/4);

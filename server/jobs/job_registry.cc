@@ -144,6 +144,11 @@ absl::Status JobRegistry::CheckWritableLocked(JobRuntime& runtime) {
                                              " is being re-read from the database after a failed write; retry"));
 }
 
+void JobRegistry::DeferUntilReloadedLocked(JobRuntime& runtime, std::function<void(absl::Status reloaded)> then) {
+  runtime.after_reload.push_back(std::move(then));
+  StartReloadLocked(runtime);
+}
+
 absl::Status JobRegistry::CheckTakesAnswersLocked(JobRuntime& runtime, const char* answers) {
   SURFMAP_RETURN_IF_ERROR(CheckWritableLocked(runtime));
   if (!IsFinalJobState(runtime.state)) return absl::OkStatus();
@@ -171,19 +176,30 @@ void JobRegistry::Reload(const std::shared_ptr<JobRuntime>& runtime) {
   absl::StatusOr<SamplingPlan> plan = plan_record.ok()
                                           ? RestoreStoredPlan(*plan_record, JobPlanLevels(*runtime->surface, runtime->params))
                                           : absl::StatusOr<SamplingPlan>(plan_record.status());
+  std::vector<std::function<void(absl::Status)>> waiting;
   {
     MutexLock lock(&runtime->mu);
     runtime->reloading = false;
-    if (!plan.ok()) return;  // still needs_reload: the next request tries again
-    runtime->plan = std::move(*plan);
-    if (record->state == JobState::kCancelled) runtime->plan.Cancel();
-    runtime->state = runtime->durable_state = record->state;
-    runtime->plan_revision = plan_record->revision;
-    runtime->journal_entries = static_cast<int>(plan_record->journal.size());
-    runtime->measured_revision++;
-    runtime->needs_reload = false;
+    waiting.swap(runtime->after_reload);
+    if (plan.ok()) {
+      runtime->plan = std::move(*plan);
+      if (record->state == JobState::kCancelled) runtime->plan.Cancel();
+      runtime->state = runtime->durable_state = record->state;
+      runtime->plan_revision = plan_record->revision;
+      runtime->journal_entries = static_cast<int>(plan_record->journal.size());
+      runtime->measured_revision++;
+      runtime->needs_reload = false;
+    }  // else still needs_reload: the next request tries again
   }
-  NotifyListeners(*runtime);
+  const absl::Status reloaded =
+      plan.ok() ? absl::OkStatus()
+                : absl::UnavailableError(absl::StrCat("job ", runtime->job_id,
+                                                      " could not be re-read from the database after a failed write (",
+                                                      plan.status().message(), "); nothing was changed; retry"));
+  for (std::function<void(absl::Status)>& then : waiting) {
+    executors_.completions->Post([then = std::move(then), reloaded]() mutable { then(reloaded); });
+  }
+  if (plan.ok()) NotifyListeners(*runtime);
 }
 
 }  // namespace surfmap

@@ -3,8 +3,9 @@
 // for and kept among the `retained_finished` most recently used ones.
 //
 // It also restores a job after a failed write: the write's completion marks
-// the runtime (needs_reload), requests that would change the job are refused
-// UNAVAILABLE meanwhile, and the job is re-read from the store behind a
+// the runtime (needs_reload), rigs' requests that would change the job are
+// refused UNAVAILABLE meanwhile (they retry), operators' state changes wait
+// for the re-read (DeferUntilReloadedLocked), and the job is re-read from the store behind a
 // barrier through the store's write queue (Store::SyncAsync), so the re-read
 // sees every write queued before it.
 #pragma once
@@ -51,6 +52,11 @@ class JobRegistry {
   // Under runtime.mu, before a request changes the job: UNAVAILABLE (and a
   // reload started) while the job waits to be re-read after a failed write.
   absl::Status CheckWritableLocked(JobRuntime& runtime) ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
+  // Under runtime.mu, while CheckWritableLocked would refuse: runs `then` on
+  // the completion executor once the job has been re-read (OK), or the
+  // re-read failed (UNAVAILABLE saying why). Never blocks.
+  void DeferUntilReloadedLocked(JobRuntime& runtime, std::function<void(absl::Status reloaded)> then)
+      ABSL_EXCLUSIVE_LOCKS_REQUIRED(runtime.mu);
   // CheckWritableLocked, and FAILED_PRECONDITION once the job is finished:
   // "job 7 is cancelled: it takes no more <answers>" (traces, failure
   // reports, imported traces: every answer that changes the plan).

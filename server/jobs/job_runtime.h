@@ -17,8 +17,10 @@
 #include <optional>
 #include <set>
 #include <string>
+#include <vector>
 
 #include "absl/base/thread_annotations.h"
+#include "absl/status/status.h"
 #include "server/base/mutex.h"
 #include "server/jobs/job_params.h"
 #include "server/map/region_map.h"
@@ -85,6 +87,10 @@ struct JobRuntime : std::enable_shared_from_this<JobRuntime> {
   // reloaded. While set, requests that change the job are refused UNAVAILABLE.
   bool needs_reload ABSL_GUARDED_BY(mu) = false;
   bool reloading ABSL_GUARDED_BY(mu) = false;
+  // Operator requests that arrived while the job waited to be re-read: each
+  // is posted once the re-read ends, with OK or why it failed. An operator's
+  // pause or cancel waits out the re-read instead of being told to retry.
+  std::vector<std::function<void(absl::Status reloaded)>> after_reload ABSL_GUARDED_BY(mu);
   // SHA-256s of imported files whose write is queued, not yet durable: a
   // second import of the same file meanwhile is refused UNAVAILABLE before it
   // changes the plan (the writer would store it once, leaving memory one

@@ -111,13 +111,22 @@ void JobSteering::SetJobState(int64_t job_id, JobState target, SnapshotCallback 
                                                            std::string(JobStateName(record->state)),
                                                            "; cannot become ", std::string(JobStateName(target)))));
   }
-  absl::Status refused = QueueStateChange(runtime, target, done);
+  absl::Status refused = QueueStateChange(runtime, target, /*may_wait=*/true, done);
   if (!refused.ok()) done(refused);  // after the job's lock is released
 }
 
-absl::Status JobSteering::QueueStateChange(const std::shared_ptr<JobRuntime>& runtime, JobState target,
+absl::Status JobSteering::QueueStateChange(const std::shared_ptr<JobRuntime>& runtime, JobState target, bool may_wait,
                                            SnapshotCallback& done) {
   MutexLock lock(&runtime->mu);
+  if (runtime->needs_reload && may_wait) {
+    registry_->DeferUntilReloadedLocked(
+        *runtime, [this, runtime, target, done = std::move(done)](absl::Status reloaded) mutable {
+          if (!reloaded.ok()) return done(reloaded);
+          absl::Status refused = QueueStateChange(runtime, target, /*may_wait=*/false, done);
+          if (!refused.ok()) done(refused);
+        });
+    return absl::OkStatus();
+  }
   SURFMAP_RETURN_IF_ERROR(registry_->CheckWritableLocked(*runtime));
   const JobState from = runtime->state;
   if (!IsJobTransitionAllowed(from, target)) {

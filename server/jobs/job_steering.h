@@ -47,7 +47,9 @@ class JobSteering {
   absl::StatusOr<std::vector<JobSnapshot>> ListJobs(int64_t object_id);
 
   // Never waits: `done` runs once the change is durable (on the completion
-  // queue or a pool thread), or at once with the refusal.
+  // queue or a pool thread), or at once with the refusal. While the job is
+  // being re-read after a failed write the change is queued behind the
+  // re-read (once), not refused: an operator's cancel is not told to retry.
   using SnapshotCallback = std::function<void(absl::StatusOr<JobSnapshot>)>;
   void SetJobState(int64_t job_id, JobState target, SnapshotCallback done);
 
@@ -61,7 +63,8 @@ class JobSteering {
   absl::StatusOr<JobSnapshot> WithLeasedCount(JobSnapshot snapshot);
   // Under the job's lock: checks, moves memory, queues the write. `done` is
   // moved into the write's completion when the change is queued.
-  absl::Status QueueStateChange(const std::shared_ptr<JobRuntime>& runtime, JobState target, SnapshotCallback& done);
+  absl::Status QueueStateChange(const std::shared_ptr<JobRuntime>& runtime, JobState target, bool may_wait,
+                                SnapshotCallback& done);
   // On the completion queue, once the write finished.
   void ApplyStoredState(const std::shared_ptr<JobRuntime>& runtime, absl::StatusOr<JobRecord> stored,
                         SnapshotCallback done);

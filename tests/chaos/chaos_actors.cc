@@ -4,6 +4,7 @@
 #include <optional>
 #include <thread>
 
+#include "absl/strings/match.h"
 #include "absl/strings/str_cat.h"
 #include "server/codec/trace_samples_proto.h"
 #include "tests/support/server_process.h"
@@ -214,6 +215,10 @@ void RunOperator(const ActorEnv& env, uint64_t seed) {
     });
     if (status.ok()) {
       paused = !paused;
+    } else if (status.error_code() == grpc::StatusCode::UNAVAILABLE &&
+               absl::StrContains(status.error_message(), "re-read")) {
+      // The server is up: an operator's change waits out a job's re-read.
+      env.ledger->Violation(absl::StrCat(paused ? "ResumeJob" : "PauseJob", ": ", itest::Describe(status)));
     } else if (status.error_code() == grpc::StatusCode::FAILED_PRECONDITION) {
       // The job completed (or our view is stale after a failed call): re-read it.
       pb::GetJobRequest get;
