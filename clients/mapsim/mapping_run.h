@@ -77,8 +77,8 @@ struct MappingRunOptions {
   // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
   // plan's map pools every piece).
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
-  // RegionMapOptions::link_materials of the map scored (the plan's map
-  // links regions).
+  // RegionMapOptions::link_materials of the plan's map and of the map scored.
+  bool plan_link_materials = PlanRegionMapOptions().link_materials;
   bool map_link_materials = RegionMapOptions{}.link_materials;
   FitOptions fit;
 

@@ -10,6 +10,7 @@
 // the default job's sample count (farthest-point spread, region map and
 // harmonic map). It prints one table row per run and the per-region score
 // of the default job.
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -58,6 +59,7 @@ int Main(int argc, char** argv) {
   std::string mode = "evidence";
   std::string map = "regions";
   int coarsest = 0, finest = -1, budget = 0, points = 5000;
+  int min_region_points = SurfaceScoreOptions{}.min_region_points;
   double threshold = 4.0;
   std::uint64_t seed = 1;
   std::string property = "friction";
@@ -74,6 +76,7 @@ int Main(int argc, char** argv) {
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
+  bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -89,6 +92,11 @@ int Main(int argc, char** argv) {
   app.add_option("--budget", budget, "sample budget (0: the mode's default)")->capture_default_str();
   app.add_option("--seed", seed, "plan order and rig noise")->capture_default_str();
   app.add_option("--points", points, "random points on the true surface to score on")->capture_default_str();
+  app.add_option("--min-region-points", min_region_points,
+                 "each region's row is scored on at least this many of its points (extra points drawn inside small "
+                 "regions; the overall share uses --points alone; 0: none)")
+      ->check(CLI::Range(0, 100'000))
+      ->capture_default_str();
   app.add_option("--property", property, "what the texture distance compares: friction | roughness | both")
       ->check(CLI::IsMember({"friction", "roughness", "both"}))
       ->capture_default_str();
@@ -131,6 +139,9 @@ int Main(int argc, char** argv) {
                  "least this many (0: from every piece, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--plan-link-materials", plan_link_materials,
+                 "the plan's map links crossings of one boundary between materials, not regions (true|false)")
+      ->capture_default_str();
   app.add_option("--map-link-materials", map_link_materials,
                  "the scored map links crossings of one boundary between materials, not regions (true|false; false: "
                  "the build before)")
@@ -138,6 +149,12 @@ int Main(int argc, char** argv) {
   app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  double map_link_crossing_deg = std::acos(map_links.min_crossing_cos) * 180.0 / M_PI;
+  CLI::Option* crossing_option = app.add_option("--map-link-crossing-deg", map_link_crossing_deg,
+                 "the scored map links two crossings only when both drags ran within this many degrees of "
+                 "perpendicular to the link (boundary_links.h)")
+      ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
   app.add_option("--map-extension-length", map_links.max_extension_length_mm,
                  "the scored map carries a chain of links on to a crossing at most this many mm from its end")
@@ -164,13 +181,16 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
+  if (crossing_option->count() > 0) map_links.min_crossing_cos = std::cos(map_link_crossing_deg * M_PI / 180.0);
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
+  base.plan_link_materials = plan_link_materials;
   base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
   SurfaceScoreOptions score_options;
   score_options.points = points;
+  score_options.min_region_points = min_region_points;
 
   nlohmann::json all = nlohmann::json::array();
   std::string table;

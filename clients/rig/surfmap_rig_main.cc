@@ -3,7 +3,8 @@
 //   surfmap-rig --server ADDR (--sim SCENE | --driver "CMD ARGS") [--job ID] [--rig-id NAME]
 //               [--token T] [--ca-file CA.pem] [--spool DIR] [--retry-for 5min] [--max-commands N] [--quiet]
 //   surfmap-rig simulate-drag --sim SCENE [--sim-seed N]   # the simulated rig as a driver program
-//   surfmap-rig score --sim SCENE (--job JOB | --map MAP.json) [--points N] [--json OUT.json|-]
+//   surfmap-rig score --sim SCENE (--job JOB | --map MAP.json) [--points N] [--min-region-points N]
+//                     [--json OUT.json|-]
 //
 // The rig leases probe commands, executes them on a RigDriver, spools each
 // trace and returns it (RigLoop). `--sim SCENE` drives the simulated rig on a
@@ -337,6 +338,7 @@ struct ScoreArgs {
   std::string map;
   int64_t job_id = 0;
   int points = 5000;
+  int min_region_points = surfmap::SurfaceScoreOptions{}.min_region_points;
   std::uint64_t seed = 1;
   std::string json;
 };
@@ -364,6 +366,7 @@ int ReportScore(const ScoreArgs& args, const nlohmann::json& result, const std::
 int RunServedScore(const ScoreArgs& args, const surfmap::Scene& scene, const surfmap::cli::RemoteOptions& remote) {
   surfmap::SurfaceScoreOptions options;
   options.points = args.points;
+  options.min_region_points = args.min_region_points;
   options.seed = args.seed;
   absl::StatusOr<surfmap::SurfaceScore> score =
       surfmap::rig::ScoreServedMap(scene, surfmap::cli::ConnectChannel(remote), remote, args.job_id, options);
@@ -478,6 +481,11 @@ int main(int argc, char** argv) {
   map_option->excludes(job_option);
   score_cmd->add_option("--points", score.points, "--job: random points on the true surface")
       ->check(CLI::Range(100, 1'000'000))
+      ->capture_default_str();
+  score_cmd->add_option("--min-region-points", score.min_region_points,
+                         "--job: each region's row is scored on at least this many of its points (extra points "
+                         "drawn inside small regions; the overall share uses --points alone; 0: none)")
+      ->check(CLI::Range(0, 100'000))
       ->capture_default_str();
   score_cmd->add_option("--seed", score.seed, "--job: which points")->capture_default_str();
   score_cmd->add_option("--json", score.json, "Also write the score as JSON to this file ('-': JSON on stdout only)");

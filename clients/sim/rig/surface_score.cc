@@ -90,6 +90,10 @@ bool SurfaceScoreOptions::IsValid(std::string* why) const {
     return false;
   };
   if (points < 1) return fail(absl::StrCat("points ", points, " must be >= 1"));
+  if (min_region_points < 0) return fail(absl::StrCat("min_region_points ", min_region_points, " must be >= 0"));
+  if (max_region_draws_per_point < 0 || max_region_draws_per_point > 10000) {
+    return fail(absl::StrCat("max_region_draws_per_point ", max_region_draws_per_point, " is not in 0..10000"));
+  }
   if (truth_level < 1 || truth_level > 6) return fail(absl::StrCat("truth_level ", truth_level, " is not in 1..6"));
   if (boundary_bisections < 0 || boundary_bisections > 30) {
     return fail(absl::StrCat("boundary_bisections ", boundary_bisections, " is not in 0..30"));
@@ -125,24 +129,49 @@ absl::StatusOr<SurfaceScorer> SurfaceScorer::Create(const Scene& scene, const Su
   }
   std::mt19937_64 rng(options.seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
-  for (int i = 0; i < options.points; ++i) {
+  auto draw = [&]() {
     const double r = unit(rng) * total;
     const std::size_t t = std::min<std::size_t>(std::upper_bound(cumulative.begin(), cumulative.end(), r) - cumulative.begin(),
                                                 cumulative.size() - 1);
     const double u = std::sqrt(unit(rng)), v = unit(rng);
     const auto& tri = level.triangles[t];
     const auto& p = level.limit_positions;
-    const Eigen::Vector3d point = (1.0 - u) * p[tri[0]] + u * (1.0 - v) * p[tri[1]] + u * v * p[tri[2]];
-    scorer.points_.push_back(point);
-    int region = -1;
+    return Eigen::Vector3d((1.0 - u) * p[tri[0]] + u * (1.0 - v) * p[tri[1]] + u * v * p[tri[2]]);
+  };
+  auto region_of = [&](const Eigen::Vector3d& point) {
     for (std::size_t k = 0; k < scene.regions.size(); ++k) {
-      if (scene.regions[k].Contains(point)) {
-        region = static_cast<int>(k);
-        break;
-      }
+      if (scene.regions[k].Contains(point)) return static_cast<int>(k);
     }
+    return -1;
+  };
+  auto keep = [&](const Eigen::Vector3d& point, int region) {
+    scorer.points_.push_back(point);
     scorer.point_region_.push_back(region);
     scorer.point_material_.push_back(region < 0 ? scene.default_material : scene.regions[region].material);
+  };
+  const int slots = static_cast<int>(scene.regions.size()) + 1;  // the regions, then the default material
+  auto slot_of = [&](int region) { return region < 0 ? slots - 1 : region; };
+  std::vector<int> in_slot(slots, 0);
+  for (int i = 0; i < options.points; ++i) {
+    const Eigen::Vector3d point = draw();
+    const int region = region_of(point);
+    keep(point, region);
+    ++in_slot[slot_of(region)];
+  }
+  scorer.uniform_points_ = options.points;
+  // Regions the sample left thin, topped up from the same distribution.
+  // A region no uniform point fell in is topped up too, when the draws find it.
+  const auto short_of_points = [&](int slot) { return in_slot[slot] < options.min_region_points; };
+  int thin = 0;
+  for (int k = 0; k < slots; ++k) thin += short_of_points(k);
+  const int64_t max_draws = static_cast<int64_t>(options.max_region_draws_per_point) * options.points;
+  for (int64_t d = 0; thin > 0 && d < max_draws; ++d) {
+    const Eigen::Vector3d point = draw();
+    const int region = region_of(point);
+    const int slot = slot_of(region);
+    if (!short_of_points(slot)) continue;
+    keep(point, region);
+    if (++in_slot[slot] == options.min_region_points) --thin;
   }
 
   // True boundary points: bisection of the edges whose ends differ.
@@ -181,7 +210,7 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   };
 
   SurfaceScore score;
-  score.points = static_cast<int>(points_.size());
+  score.points = uniform_points_;
   const int region_count = static_cast<int>(scene_.regions.size());
   score.regions.resize(region_count + 1);
   for (int r = 0; r <= region_count; ++r) {
@@ -209,18 +238,23 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
     const int slot = point_region_[i] < 0 ? region_count : point_region_[i];
     const int m = point_material_[i];
     const double error = r->mu - scene_.materials[m].mu;
+    const bool uniform = static_cast<int>(i) < uniform_points_;
     RegionScore& rs = score.regions[slot];
     ++rs.points;
+    rs.extra_points += !uniform;
     sum[slot] += r->mu;
     sum_sq[slot] += error * error;
-    total_sq += error * error;
-    score.mu_max_abs_error = std::max(score.mu_max_abs_error, std::abs(error));
-    if (NearestMaterial(r->mu) == m) {
-      ++right[slot];
-      ++total_right;
-    } else {
-      misclassified.push_back(points_[i]);
-      misclassified_truth.emplace_back(m, r->mu);
+    const bool is_right = NearestMaterial(r->mu) == m;
+    right[slot] += is_right;
+    if (uniform) {
+      total_sq += error * error;
+      score.mu_max_abs_error = std::max(score.mu_max_abs_error, std::abs(error));
+      if (is_right) {
+        ++total_right;
+      } else {
+        misclassified.push_back(points_[i]);
+        misclassified_truth.emplace_back(m, r->mu);
+      }
     }
     if (r->has_roughness) {
       a1[slot].push_back(r->a1);
@@ -283,7 +317,11 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
 }
 
 std::string FormatSurfaceScore(const SurfaceScore& s, const std::string& title) {
-  std::string out = absl::StrFormat("%s: %d points on the true surface\n", title, s.points);
+  int extra = 0;
+  for (const RegionScore& r : s.regions) extra += r.extra_points;
+  std::string out = absl::StrFormat("%s: %d points on the true surface", title, s.points);
+  if (extra > 0) absl::StrAppendFormat(&out, " (+%d inside small regions, for their rows only)", extra);
+  out += "\n";
   absl::StrAppendFormat(&out, "  classified right %.2f %%, mu RMSE %.4f (max |error| %.3f)\n", 100.0 * s.classified_right,
                         s.mu_rmse, s.mu_max_abs_error);
   absl::StrAppendFormat(&out,
@@ -315,6 +353,7 @@ nlohmann::json SurfaceScoreToJson(const SurfaceScore& s) {
                         {"material", r.material},
                         {"truth_mu", r.truth_mu},
                         {"points", r.points},
+                        {"extra_points", r.extra_points},
                         {"classified_right", Number(r.classified_right)},
                         {"map_mu_mean", Number(r.map_mu_mean)},
                         {"map_mu_rmse", Number(r.map_mu_rmse)},

@@ -93,6 +93,43 @@ TEST(SurfaceScoreTest, AMapWithoutTheStripeMissesItsBoundaries) {
   EXPECT_TRUE(std::isnan(score->regions[0].a1_median));
 }
 
+// A 4 mm stripe: 2 % of the plate, ~100 of the 5,000 points.
+Scene NarrowStripePlate() {
+  Scene scene = StripePlate();
+  scene.regions[0].shape = BoxRegion{Eigen::Vector3d(-14, -100, -5), Eigen::Vector3d(-10, 100, 5)};
+  return scene;
+}
+
+TEST(SurfaceScoreTest, ASmallRegionIsScoredOnEnoughPointsOfItsOwn) {
+  auto scorer = SurfaceScorer::Create(NarrowStripePlate());
+  ASSERT_TRUE(scorer.ok()) << scorer.status();
+  // The map puts the stripe's edges 0.6 mm to the right: 3.4 of its 4 mm,
+  // 85 %, are right.
+  auto score = scorer->Score(StripeMap(-13.4, -9.4));
+  ASSERT_TRUE(score.ok()) << score.status();
+  const RegionScore& stripe = score->regions[0];
+  EXPECT_EQ(stripe.points, 400);
+  EXPECT_GT(stripe.extra_points, 250);  // ~100 of the uniform 5,000 fell in it (se 10)
+  EXPECT_EQ(score->regions[1].extra_points, 0);
+  // 400 points: a binomial se of 1.8 % at 85 %; 3.3 se.
+  EXPECT_NEAR(stripe.classified_right, 0.85, 0.06);
+  // The overall share and the RMSE stay the area-uniform sample's: a 0.6 mm
+  // band on each side of 200 mm of width is 0.6 % wrong (se ~0.1 %).
+  EXPECT_EQ(score->points, 5000);
+  EXPECT_NEAR(score->classified_right, 1.0 - 1.2 / 200.0, 0.004);
+  EXPECT_EQ(static_cast<int>(scorer->points().size()), 5000 + stripe.extra_points);
+
+  SurfaceScoreOptions uniform_only;
+  uniform_only.min_region_points = 0;
+  auto plain = SurfaceScorer::Create(NarrowStripePlate(), uniform_only);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain->points().size(), 5000u);
+  auto plain_score = plain->Score(StripeMap(-13.4, -9.4));
+  ASSERT_TRUE(plain_score.ok());
+  EXPECT_EQ(plain_score->regions[0].extra_points, 0);
+  EXPECT_EQ(plain_score->classified_right, score->classified_right) << "extra points changed the overall share";
+}
+
 TEST(SurfaceScoreTest, ReaderErrorsAndBadValuesAreNamed) {
   auto scorer = SurfaceScorer::Create(StripePlate());
   ASSERT_TRUE(scorer.ok());
