@@ -9,7 +9,8 @@
 //
 // Await: absl-style conditional waits. The predicate runs with the lock held
 // and is re-checked whenever the lock is released by another thread (every
-// Unlock wakes the waiters, which costs nothing without waiters).
+// Unlock, and every wait, wakes the waiters, which costs nothing without
+// waiters).
 #pragma once
 
 #include <chrono>
@@ -33,8 +34,14 @@ class ABSL_LOCKABLE Mutex {
   }
 
   // Waits, with the lock released meanwhile, until pred() is true.
+  // The wait releases the lock without Unlock(), so it first wakes the
+  // other waiters itself: the caller may have changed what they wait for in
+  // this same critical section (the fault-injecting store marks a write
+  // held, then waits for its release; without this, a test waiting to see
+  // it held slept until its 10 s timeout).
   template <typename Predicate>
   void Await(Predicate pred) ABSL_EXCLUSIVE_LOCKS_REQUIRED(this) {
+    changed_.notify_all();
     std::unique_lock<std::mutex> lock(mu_, std::adopt_lock);
     changed_.wait(lock, pred);
     lock.release();  // still held: the caller unlocks
@@ -42,6 +49,7 @@ class ABSL_LOCKABLE Mutex {
   // Same, for at most `timeout`; returns pred().
   template <typename Predicate, typename Rep, typename Period>
   bool AwaitWithTimeout(Predicate pred, std::chrono::duration<Rep, Period> timeout) ABSL_EXCLUSIVE_LOCKS_REQUIRED(this) {
+    changed_.notify_all();
     std::unique_lock<std::mutex> lock(mu_, std::adopt_lock);
     const bool met = changed_.wait_for(lock, timeout, pred);
     lock.release();
