@@ -52,7 +52,15 @@ struct LabelledPoint {
 };
 
 struct BoundaryLinkOptions {
-  double max_length_mm = 20.0;
+  // A little over a drag length: the planner spaces its drags about a drag
+  // length apart along a boundary, so neighbouring crossings land 20-22 mm
+  // apart as often as 18-20 (the bottle's patch sides: 20.5 mm). With the
+  // corridor following the surface's bow (boundary_corridor.h) a 25 mm link
+  // no longer cuts the torus scenes' curved boundaries, as it did before the
+  // bow (docs/method.md, measured on the same drags: 25 mm, 11 runs of 60
+  // better and 1 worse; 22 mm, 7 and 1; 30 mm, 10 and 5). The plan's own map
+  // keeps 20 mm (PlanRegionMapOptions).
+  double max_length_mm = 25.0;
   double min_crossing_cos = 0.866;  // cos 30 degrees
   // Half-width of the strip checked for contradicting data: the map's
   // points lie every RegionMapOptions::point_spacing_mm along a drag, so a
@@ -91,9 +99,9 @@ struct BoundaryLinkOptions {
   double max_extension_turn_deg = 10.0;
   double min_extension_crossing_cos = 0.26;  // cos 75 degrees
   // An extension may be longer than a link: the chain's line says where the
-  // boundary runs, where a lone link's chord has only its two ends (a link
-  // longer than a drag cuts curved boundaries: at 25 or 30 mm the torus
-  // scenes lost on 7-9 runs of 12). Measured on the same drags
+  // boundary runs, where a lone link's chord has only its two ends (before
+  // the corridor followed the bow, links of 25 or 30 mm cut curved
+  // boundaries: the torus scenes lost on 7-9 runs of 12). Measured on the same drags
   // (docs/method.md): 30 mm, 14 runs of 60 better and 3 worse, torus scenes
   // unchanged; 40 mm the same.
   double max_extension_length_mm = 30.0;
