@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <numbers>
 #include <fstream>
 #include <iostream>
 #include <optional>
@@ -150,7 +151,7 @@ int Main(int argc, char** argv) {
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  double map_link_crossing_deg = std::acos(map_links.min_crossing_cos) * 180.0 / M_PI;
+  double map_link_crossing_deg = std::acos(map_links.min_crossing_cos) * 180.0 / std::numbers::pi;
   CLI::Option* crossing_option = app.add_option("--map-link-crossing-deg", map_link_crossing_deg,
                  "the scored map links two crossings only when both drags ran within this many degrees of "
                  "perpendicular to the link (boundary_links.h)")
@@ -181,7 +182,7 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
-  if (crossing_option->count() > 0) map_links.min_crossing_cos = std::cos(map_link_crossing_deg * M_PI / 180.0);
+  if (crossing_option->count() > 0) map_links.min_crossing_cos = std::cos(map_link_crossing_deg * std::numbers::pi / 180.0);
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.plan_link_materials = plan_link_materials;
