@@ -90,11 +90,9 @@ void ExpectExactlyOnceAndNothingLost(Stubs& stubs, int64_t job_id, const RigFlee
   for (int64_t command : record.reported_failures) {
     ++reports[{site_of_command[command].level(), site_of_command[command].vertex()}];
   }
-  int failed_reports = 0;
   for (const pb::PlanSite& site : plan.sites()) {
     const int n = reports[{site.site().level(), site.site().vertex()}];
     if (site.state() == pb::SITE_STATE_FAILED) {
-      failed_reports += n;
       EXPECT_EQ(site.attempts(), 3) << "failed site vertex " << site.site().vertex() << " (max_retries 2)";
       EXPECT_EQ(n, 3) << "failed site vertex " << site.site().vertex() << ": failures reported by the rigs";
       EXPECT_FALSE(site.failure_reason().empty());
