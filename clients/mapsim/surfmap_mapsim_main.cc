@@ -78,6 +78,7 @@ int Main(int argc, char** argv) {
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
+  double plan_link_length_mm = MappingRunOptions{}.plan_link_length_mm;
   bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -147,6 +148,10 @@ int Main(int argc, char** argv) {
                  "the scored map links crossings of one boundary between materials, not regions (true|false; false: "
                  "the build before)")
       ->capture_default_str();
+  app.add_option("--plan-link-length", plan_link_length_mm,
+                 "the plan's map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
   app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
@@ -156,6 +161,11 @@ int Main(int argc, char** argv) {
                  "the scored map links two crossings only when both drags ran within this many degrees of "
                  "perpendicular to the link (boundary_links.h)")
       ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  app.add_option("--map-curve-turn-deg", map_links.max_curve_turn_deg,
+                 "the scored map draws a link as a curve through its chain where the chain turns by at most this "
+                 "many degrees at its ends (boundary_curves.h; 0: every link a chord, the build before)")
+      ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
   app.add_option("--map-extension-length", map_links.max_extension_length_mm,
                  "the scored map carries a chain of links on to a crossing at most this many mm from its end")
@@ -186,6 +196,7 @@ int Main(int argc, char** argv) {
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.plan_link_materials = plan_link_materials;
+  base.plan_link_length_mm = plan_link_length_mm;
   base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name

@@ -12,6 +12,7 @@
 #include "server/map/boundary_corners.h"
 #include "server/map/boundary_extensions.h"
 #include "server/map/boundary_corridor.h"
+#include "server/map/boundary_curves.h"
 
 namespace surfmap {
 bool BoundaryLinkOptions::IsValid(std::string* why) const {
@@ -36,7 +37,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_corner_turn_deg", min_corner_turn_deg},
                                     {"max_corner_turn_deg", max_corner_turn_deg},
                                     {"max_corner_normal_deg", max_corner_normal_deg},
-                                    {"max_extension_turn_deg", max_extension_turn_deg}}) {
+                                    {"max_extension_turn_deg", max_extension_turn_deg},
+                                    {"max_curve_turn_deg", max_curve_turn_deg}}) {
     if (!(value >= 0.0 && value <= 180.0)) return fail(absl::StrCat(name, " must be in [0, 180] degrees"));
   }
   return true;
@@ -102,14 +104,9 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
                                ChordBow(marks[i].position, marks[j].position, marks[i].normal, marks[j].normal)};
     if (SegmentContradicted(link, grid, o)) continue;
     drawn.push_back({i, j, a, b, towards_a});
-    AppendSegmentSeeds(link, o, &out);
   }
-  const std::size_t strict = drawn.size();
   drawn = ExtendChains(marks, std::move(drawn), grid, o);
-  for (std::size_t k = strict; k < drawn.size(); ++k) {
-    const DrawnLink& e = drawn[k];
-    AppendSegmentSeeds({marks[e.from].position, marks[e.to].position, e.towards_a, e.a, e.b}, o, &out);
-  }
+  out = LinkSeeds(marks, drawn, grid, o);
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);
   out.insert(out.end(), corner_points.begin(), corner_points.end());

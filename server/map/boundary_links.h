@@ -105,6 +105,11 @@ struct BoundaryLinkOptions {
   // (docs/method.md): 30 mm, 14 runs of 60 better and 3 worse, torus scenes
   // unchanged; 40 mm the same.
   double max_extension_length_mm = 30.0;
+  // Links drawn as curves through their chain (boundary_curves.h): a link
+  // end takes the chain's direction where the chain turns there by at most
+  // this (0 = every link a chord, the build before). Links pass at most
+  // 2 x acos(min_crossing_cos) = 60 degrees of turn between crossings.
+  double max_curve_turn_deg = 60.0;
   // Every length finite (seed spacing > 0, the others >= 0), every cosine
   // in [0, 1], every angle in [0, 180]; *why names the first that is not.
   bool IsValid(std::string* why) const;

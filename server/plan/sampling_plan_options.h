@@ -51,6 +51,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
+  options.links.max_curve_turn_deg = 0.0;  // chords: the plan issues the drags it issued before curves
   return options;
 }
 
