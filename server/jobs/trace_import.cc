@@ -96,10 +96,15 @@ void TraceImporter::Import(TraceImportRequest request, std::shared_ptr<const std
                            Callback done) {
   if (absl::Status s = ValidateTraceImportRequest(request); !s.ok()) return done(s);
   if (csv == nullptr || csv->empty()) return done(absl::InvalidArgumentError("csv is empty (0 bytes)"));
+  SubmitImport(std::move(request), std::move(csv), max_samples, /*may_wait=*/true, std::move(done));
+}
+
+void TraceImporter::SubmitImport(TraceImportRequest request, std::shared_ptr<const std::string> csv, int max_samples,
+                                 bool may_wait, Callback done) {
   auto shared_done = std::make_shared<Callback>(std::move(done));
   const bool queued = executors_.probes->Submit(
-      [this, request = std::move(request), csv = std::move(csv), max_samples, shared_done]() mutable {
-        LocateFitAndQueue(std::move(request), *csv, max_samples, std::move(*shared_done));
+      [this, request = std::move(request), csv = std::move(csv), max_samples, may_wait, shared_done]() mutable {
+        LocateFitAndQueue(std::move(request), std::move(csv), max_samples, may_wait, std::move(*shared_done));
       });
   if (!queued) (*shared_done)(absl::UnavailableError("server busy: work queue full, retry the import later"));
 }
@@ -123,8 +128,9 @@ void TraceImporter::AnswerStored(int64_t trace_id, Callback done) {
   done(std::move(outcome));
 }
 
-void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::string& csv, int max_samples,
-                                      Callback done) {
+void TraceImporter::LocateFitAndQueue(TraceImportRequest request, std::shared_ptr<const std::string> csv_bytes,
+                                      int max_samples, bool may_wait, Callback done) {
+  const std::string& csv = *csv_bytes;
   request.file_sha256 = Sha256Hex(csv);
   // The same file again: the stored import, before any work (one indexed read).
   absl::StatusOr<int64_t> stored = store_->FindImportedTrace(request.job_id, request.file_sha256);
@@ -137,6 +143,18 @@ void TraceImporter::LocateFitAndQueue(TraceImportRequest request, const std::str
   if (!runtime.ok()) return done(runtime.status());
   {
     MutexLock lock(&(*runtime)->mu);
+    if ((*runtime)->needs_reload && may_wait) {
+      // An import is an operator's call, like a pause or a cancel: it waits
+      // out the job's re-read after a failed write (before any work, since
+      // the job's state is not known until then) instead of being told to
+      // retry. Once: a second re-read is answered UNAVAILABLE.
+      registry_->DeferUntilReloadedLocked(
+          **runtime, [this, request, csv_bytes, max_samples, done = std::move(done)](absl::Status reloaded) mutable {
+            if (!reloaded.ok()) return done(reloaded);
+            SubmitImport(std::move(request), std::move(csv_bytes), max_samples, /*may_wait=*/false, std::move(done));
+          });
+      return;
+    }
     if (absl::Status takes = registry_->CheckTakesAnswersLocked(**runtime, "traces, imported or not"); !takes.ok()) {
       return done(takes);
     }

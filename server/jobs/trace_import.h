@@ -81,11 +81,19 @@ class TraceImporter {
   // On the probe pool: hashes the file, answers a file already imported into
   // the job, bounds (CheckCsvSize) and reads it (ParseTraceCsv), locates,
   // checks and fits it, queues one write under the job's lock and answers
-  // once it is durable. UNAVAILABLE when the pool is full.
+  // once it is durable. UNAVAILABLE when the pool is full. While the job is
+  // being re-read after a failed write, the import waits for the re-read.
   void Import(TraceImportRequest request, std::shared_ptr<const std::string> csv, int max_samples, Callback done);
 
  private:
-  void LocateFitAndQueue(TraceImportRequest request, const std::string& csv, int max_samples, Callback done);
+  // Runs LocateFitAndQueue on the probe pool; UNAVAILABLE when it is full.
+  void SubmitImport(TraceImportRequest request, std::shared_ptr<const std::string> csv, int max_samples, bool may_wait,
+                    Callback done);
+  // With may_wait, an import that finds its job waiting to be re-read after
+  // a failed write is submitted again once the re-read ends (or answered
+  // why it failed); without, it is answered UNAVAILABLE.
+  void LocateFitAndQueue(TraceImportRequest request, std::shared_ptr<const std::string> csv, int max_samples,
+                         bool may_wait, Callback done);
   void KeepRejected(const TraceImportRequest& request, const std::shared_ptr<JobRuntime>& runtime,
                     const ProbeCommand& implied, const DragTrace& trace, const absl::Status& refusal, Callback done);
   absl::Status QueueImport(const TraceImportRequest& request, const std::shared_ptr<JobRuntime>& runtime,

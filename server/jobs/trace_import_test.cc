@@ -217,6 +217,38 @@ TEST_F(TraceImportTest, TheSameFileTwiceAtOnceIsRefusedWhileTheFirstIsStored) {
   EXPECT_EQ(samples->size(), 2u);
 }
 
+TEST_F(TraceImportTest, AnImportWaitsOutTheJobsReReadInsteadOfBeingToldToRetry) {
+  // A rig's trace refused by the store (its lease taken over) sends the job
+  // to be re-read. An import is an operator's call, like a cancel: it is
+  // stored once the job is re-read, not answered UNAVAILABLE.
+  const int64_t object = UploadPlate();
+  const JobSnapshot job = CreateUniformJob(object);
+  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
+  ASSERT_TRUE(lease.ok() && lease->record) << lease.status();
+  const int64_t trace_write = faults_->writes_submitted() + 1;
+  const int64_t reread_barrier = trace_write + 1;  // MarkWriteFailed's SyncAsync
+  faults_->FailWrite(trace_write, absl::FailedPreconditionError("command is leased to 'rig-b', not to 'rig-a'"));
+  faults_->HoldWrite(reread_barrier);
+  absl::StatusOr<SubmitOutcome> refused = Submit(lease->record->id, "rig-a", TraceFor(*lease));
+  EXPECT_EQ(refused.status().code(), absl::StatusCode::kFailedPrecondition) << refused.status();
+  ASSERT_TRUE(faults_->WaitUntilHeld(reread_barrier, absl::Seconds(10)));
+
+  Awaited<absl::StatusOr<TraceImportOutcome>> imported;
+  StartImport(job.record.id, PlateDragCsv({0, -30, 0}, {0, 1, 0}, 5), "during_reread.csv", imported);
+  std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  EXPECT_FALSE(imported.Ready()) << "answered while the job was still waiting to be re-read";
+
+  faults_->ReleaseWrite(reread_barrier);
+  std::optional<absl::StatusOr<TraceImportOutcome>> answer = imported.Get("import behind the re-read");
+  ASSERT_TRUE(answer.has_value());
+  ASSERT_THAT(answer->status(), IsOk());
+  EXPECT_FALSE((*answer)->already_imported);
+  // In memory and in the database: the import, and not the refused trace.
+  EXPECT_EQ(ImportedPiecesAndMeasured(job.record.id), std::make_pair(1, 0));
+  Reopen();
+  EXPECT_EQ(ImportedPiecesAndMeasured(job.record.id), std::make_pair(1, 0));
+}
+
 TEST_F(TraceImportTest, ATwoSampleFileAboveTheSurfaceIsMalformedNotKept) {
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);
