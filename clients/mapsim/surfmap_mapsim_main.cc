@@ -167,6 +167,11 @@ int Main(int argc, char** argv) {
                  "many degrees at its ends (boundary_curves.h; 0: every link a chord, the build before)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
+  app.add_option("--map-corner-reach", map_links.corner_reach_mm,
+                 "the scored map draws a corner where two chain ends, carried straight on, meet within this many mm "
+                 "of both (boundary_corners.h; 0: no corners)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-extension-length", map_links.max_extension_length_mm,
                  "the scored map carries a chain of links on to a crossing at most this many mm from its end")
       ->check(CLI::PositiveNumber)
