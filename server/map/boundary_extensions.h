@@ -1,6 +1,6 @@
 // Chains of links carried on through crossings that drags made obliquely.
 //
-// A link needs both drags within 30 degrees of perpendicular to it
+// A link needs both drags within ~30 degrees of perpendicular to it
 // (boundary_links.h): a chord between the two sides of a patch's corner
 // looks, from the two crossings alone, like a side crossed obliquely, and
 // would cut the corner off. A chain's end knows more: the boundary's

@@ -14,7 +14,7 @@
 //    for a 20 mm link on a 100 mm radius);
 //  - A lies on the same side of the line PQ at both (the drags crossed the
 //    same boundary the same way round), and each drag ran within
-//    acos(min_crossing_cos) = 30 degrees of perpendicular to the line. The
+//    acos(min_crossing_cos) = 32 degrees of perpendicular to the line. The
 //    planner drags across boundaries, so where the boundary itself turns by
 //    more than ~60 degrees between two crossings (a patch's corner, a dot
 //    smaller than a drag) the drags are not both near-perpendicular to the
@@ -61,7 +61,13 @@ struct BoundaryLinkOptions {
   // better and 1 worse; 22 mm, 7 and 1; 30 mm, 10 and 5). The plan's own map
   // keeps 20 mm (PlanRegionMapOptions).
   double max_length_mm = 25.0;
-  double min_crossing_cos = 0.866;  // cos 30 degrees
+  // 30 degrees and the crossings' own location error: the planner scans
+  // directions in 15-degree steps and often drags exactly 30 degrees off a
+  // boundary, and a crossing located 0.3 mm off turns a 10-20 mm chord by
+  // 1-2 degrees, so at 30 such pairs were linked or not by that noise (the
+  // bottle's patch sides, docs/method.md). 35 degrees cuts corners. The
+  // plan's own map keeps 30 (PlanRegionMapOptions), as measured.
+  double min_crossing_cos = 0.848;  // cos 32 degrees
   // Half-width of the strip checked for contradicting data: the map's
   // points lie every RegionMapOptions::point_spacing_mm along a drag, so a
   // drag that crosses the chord puts at least one point within this of it.
@@ -108,7 +114,7 @@ struct BoundaryLinkOptions {
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
-  // 2 x acos(min_crossing_cos) = 60 degrees of turn between crossings.
+  // 2 x acos(min_crossing_cos) = 64 degrees of turn between crossings.
   double max_curve_turn_deg = 60.0;
   // Every length finite (seed spacing > 0, the others >= 0), every cosine
   // in [0, 1], every angle in [0, 180]; *why names the first that is not.
