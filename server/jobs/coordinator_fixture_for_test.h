@@ -151,6 +151,25 @@ class CoordinatorFixture : public ::testing::Test {
     return *got;
   }
 
+  // Sends the job to be re-read and holds it there: a rig's trace is
+  // refused by the store (its lease taken over), which starts the re-read
+  // behind a barrier write that is held. Returns that write's number, for
+  // faults_->ReleaseWrite; 0 (with a test failure) when it went otherwise.
+  int64_t HoldJobInReRead(int64_t job_id) {
+    absl::StatusOr<LeaseOutcome> lease = Lease(job_id, "rig-a");
+    EXPECT_TRUE(lease.ok() && lease->record) << lease.status();
+    if (!lease.ok() || !lease->record) return 0;
+    const int64_t trace_write = faults_->writes_submitted() + 1;
+    const int64_t reread_barrier = trace_write + 1;  // MarkWriteFailed's SyncAsync
+    faults_->FailWrite(trace_write, absl::FailedPreconditionError("command is leased to 'rig-b', not to 'rig-a'"));
+    faults_->HoldWrite(reread_barrier);
+    absl::StatusOr<SubmitOutcome> refused = Submit(lease->record->id, "rig-a", TraceFor(*lease));
+    EXPECT_EQ(refused.status().code(), absl::StatusCode::kFailedPrecondition) << refused.status();
+    const bool held = faults_->WaitUntilHeld(reread_barrier, absl::Seconds(10));
+    EXPECT_TRUE(held) << "the re-read's barrier write never came";
+    return held ? reread_barrier : 0;
+  }
+
   // Leases and measures commands of the job until it completes (or `limit`
   // commands), retrying UNAVAILABLE. Returns the traces acknowledged.
   int MeasureUntilDone(int64_t job_id, const std::string& rig, int limit = 1000) {

@@ -223,15 +223,8 @@ TEST_F(TraceImportTest, AnImportWaitsOutTheJobsReReadInsteadOfBeingToldToRetry) 
   // stored once the job is re-read, not answered UNAVAILABLE.
   const int64_t object = UploadPlate();
   const JobSnapshot job = CreateUniformJob(object);
-  absl::StatusOr<LeaseOutcome> lease = Lease(job.record.id, "rig-a");
-  ASSERT_TRUE(lease.ok() && lease->record) << lease.status();
-  const int64_t trace_write = faults_->writes_submitted() + 1;
-  const int64_t reread_barrier = trace_write + 1;  // MarkWriteFailed's SyncAsync
-  faults_->FailWrite(trace_write, absl::FailedPreconditionError("command is leased to 'rig-b', not to 'rig-a'"));
-  faults_->HoldWrite(reread_barrier);
-  absl::StatusOr<SubmitOutcome> refused = Submit(lease->record->id, "rig-a", TraceFor(*lease));
-  EXPECT_EQ(refused.status().code(), absl::StatusCode::kFailedPrecondition) << refused.status();
-  ASSERT_TRUE(faults_->WaitUntilHeld(reread_barrier, absl::Seconds(10)));
+  const int64_t reread_barrier = HoldJobInReRead(job.record.id);
+  ASSERT_NE(reread_barrier, 0);
 
   Awaited<absl::StatusOr<TraceImportOutcome>> imported;
   StartImport(job.record.id, PlateDragCsv({0, -30, 0}, {0, 1, 0}, 5), "during_reread.csv", imported);

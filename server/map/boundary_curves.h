@@ -32,10 +32,12 @@
 
 namespace surfmap {
 
-// The labelled points of every link in `links`: along its curve where a
-// neighbouring link gives an end its direction and the curve is not
-// contradicted by `data`, along its chord otherwise (AppendSegmentSeeds).
-// *curved (if given) receives how many links were drawn curved.
+// The labelled points of every link in `links`: along its curve where both
+// ends take their chain's direction, the chain turns the same way at both
+// and `data` does not contradict the curve; along its chord otherwise
+// (AppendSegmentSeeds).
+// *curved (if given) receives how many links were drawn through their
+// chain's tangents (a straight chain's links too) rather than as chords.
 std::vector<LabelledPoint> LinkSeeds(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
                                      const LabelledPointGrid& data, const BoundaryLinkOptions& options,
                                      int* curved = nullptr);
