@@ -86,7 +86,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.regions.split_against_materials = options.plan_split_against_materials;
   plan_options.regions.assign_by_texture = options.plan_assign_by_texture;
   plan_options.regions.link_materials = options.plan_link_materials;
-  plan_options.regions.links.max_length_mm = options.plan_link_length_mm;
+  plan_options.regions.links = options.plan_link_options;
   std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);

@@ -79,8 +79,9 @@ struct MappingRunOptions {
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
   // RegionMapOptions::link_materials of the plan's map and of the map scored.
   bool plan_link_materials = PlanRegionMapOptions().link_materials;
-  // BoundaryLinkOptions::max_length_mm of the plan's map.
-  double plan_link_length_mm = PlanRegionMapOptions().links.max_length_mm;
+  // The links of the plan's own map (PlanRegionMapOptions: 20 mm, 30
+  // degrees, chords, no chain carried on).
+  BoundaryLinkOptions plan_link_options = PlanRegionMapOptions().links;
   bool map_link_materials = RegionMapOptions{}.link_materials;
   FitOptions fit;
 

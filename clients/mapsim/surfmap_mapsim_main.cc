@@ -78,7 +78,8 @@ int Main(int argc, char** argv) {
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
-  double plan_link_length_mm = MappingRunOptions{}.plan_link_length_mm;
+  BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
+  double change_guard_mm = FitOptions{}.change_guard_mm;
   bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -148,9 +149,28 @@ int Main(int argc, char** argv) {
                  "the scored map links crossings of one boundary between materials, not regions (true|false; false: "
                  "the build before)")
       ->capture_default_str();
-  app.add_option("--plan-link-length", plan_link_length_mm,
+  app.add_option("--plan-link-length", plan_links.max_length_mm,
                  "the plan's map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
+      ->capture_default_str();
+  double plan_link_crossing_deg = std::acos(plan_links.min_crossing_cos) * 180.0 / std::numbers::pi;
+  CLI::Option* plan_crossing_option =
+      app.add_option("--plan-link-crossing-deg", plan_link_crossing_deg,
+                     "the plan's map links two crossings only when both drags ran within this many degrees of "
+                     "perpendicular to the link")
+          ->check(CLI::Range(0.0, 90.0))
+          ->capture_default_str();
+  app.add_option("--change-guard-mm", change_guard_mm,
+                 "a piece's roughness fit leaves this many mm out next to each change it ends at (FitOptions)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--plan-curve-turn-deg", plan_links.max_curve_turn_deg,
+                 "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
+  app.add_option("--plan-extension-turn", plan_links.max_extension_turn_deg,
+                 "the plan's map carries chains of links on (as --map-extension-turn; 0: off)")
+      ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
   app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
@@ -201,7 +221,11 @@ int Main(int argc, char** argv) {
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.plan_link_materials = plan_link_materials;
-  base.plan_link_length_mm = plan_link_length_mm;
+  if (plan_crossing_option->count() > 0) {
+    plan_links.min_crossing_cos = std::cos(plan_link_crossing_deg * std::numbers::pi / 180.0);
+  }
+  base.plan_link_options = plan_links;
+  base.fit.change_guard_mm = change_guard_mm;
   base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name
