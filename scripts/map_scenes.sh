@@ -71,11 +71,14 @@ map_scene() {
   for _ in $(seq 1 300); do [ -s "$out/$scene.port" ] && break; sleep 0.1; done
   [ -s "$out/$scene.port" ] || { echo "map_scenes: surfmapd did not start (log $out/$scene.surfmapd.log)" >&2; exit 1; }
   export SURFMAP_SERVER=127.0.0.1:$(cat "$out/$scene.port")
-  local start end mesh object job samples cvs
+  local start end mesh units object job samples cvs
   start=$(date +%s%N)
-  # The scene's mesh as its JSON names it (several scenes may share one mesh).
-  mesh=clients/sim/scenes/$(python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["mesh"])' "clients/sim/scenes/$scene.json")
-  object=$("$SURFMAP" object upload "$mesh" --name "$scene" 2>"$out/$scene.upload.txt")
+  # The scene's mesh and its units as its JSON names them (several scenes may
+  # share one mesh; big_block_m's is in metres, as a lab's scan would be).
+  read -r mesh units < <(python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print(j["mesh"], j.get("units", "mm"))' \
+    "clients/sim/scenes/$scene.json")
+  mesh=clients/sim/scenes/$mesh
+  object=$("$SURFMAP" object upload "$mesh" --name "$scene" --units "$units" 2>"$out/$scene.upload.txt")
   job=$("$SURFMAP" job create --object "$object" --property friction --seed "$seed" 2>"$out/$scene.job.txt")
   local pids=()
   for i in $(seq 1 "$RIGS"); do
