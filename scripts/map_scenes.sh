@@ -26,7 +26,7 @@ SCENES=()
 CHECK=0
 while [ $# -gt 0 ]; do
   case "$1" in
-    --rigs) RIGS=$2; shift 2 ;;
+    --rigs) RIGS=${2:-}; shift $(($# > 1 ? 2 : 1)) ;;
     --seed) SEEDS=("$2"); shift 2 ;;
     --seeds)
       if [[ "$2" =~ ^([0-9]+)-([0-9]+)$ ]]; then
@@ -40,6 +40,7 @@ while [ $# -gt 0 ]; do
     *) SCENES+=("$1"); shift ;;
   esac
 done
+[[ "$RIGS" =~ ^[1-9][0-9]*$ ]] || { echo "map_scenes: --rigs '$RIGS' is not a whole number >= 1" >&2; exit 2; }
 [ ${#SEEDS[@]} -gt 0 ] || { echo "map_scenes: --seeds names no seed" >&2; exit 2; }
 for s in "${SEEDS[@]}"; do
   [[ "$s" =~ ^[0-9]+$ ]] || { echo "map_scenes: seed '$s' is not a whole number" >&2; exit 2; }
@@ -93,6 +94,8 @@ map_scene() {
   cvs=$(grep -c '^v ' "$mesh")
   python3 - "$out/$scene.score.json" "$scene" "$seed" "$samples" "$cvs" "$start" "$end" "$CHECK" "$ROWS" <<'PY' || FAILED=1
 import json, sys
+sys.path.insert(0, "scripts")
+from map_scenes_summary import missed_goals  # the goals, written once
 s = json.load(open(sys.argv[1]))
 scene, seed, samples, cvs = sys.argv[2], int(sys.argv[3]), int(sys.argv[4]), int(sys.argv[5])
 start, end = int(sys.argv[6]), int(sys.argv[7])
@@ -104,11 +107,7 @@ with open(sys.argv[9], "a") as rows:
     rows.write(f"{scene}\t{seed}\t{samples}\t{cvs}\t{s['classified_right']}\t{worst}\t{s['mu_rmse']}\t"
                f"{s['boundary_error_mm'] or float('nan')}\t{s['missed_boundary_mm'] or float('nan')}\n")
 if sys.argv[8] == "1":
-    right_goal = 0.995 if scene == "bottle" else 0.97
-    missed = [name for name, ok in ((f"right% >= {100 * right_goal:g}", s["classified_right"] >= right_goal),
-                                    ("worst% >= 85", worst >= 0.85), ("mu RMSE <= 0.03", s["mu_rmse"] <= 0.03),
-                                    ("samples/CVs <= 1.5", samples <= 1.5 * cvs))
-              if not ok]
+    missed = missed_goals(scene, s["classified_right"], worst, s["mu_rmse"], samples, cvs)
     if missed:
         print(f"{scene}: goal missed: {', '.join(missed)}")
         sys.exit(1)

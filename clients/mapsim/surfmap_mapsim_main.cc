@@ -53,6 +53,17 @@ std::string PathFor(const std::string& path, const std::string& scene, int index
       .string();
 }
 
+// --NAME-link-crossing-deg: BoundaryLinkOptions::min_crossing_cos given in
+// degrees off perpendicular (its default shown in degrees; set only when given).
+void AddCrossingDegOption(CLI::App& app, const std::string& name, BoundaryLinkOptions& links,
+                          const std::string& help) {
+  const double default_deg = std::acos(links.min_crossing_cos) * 180.0 / std::numbers::pi;
+  app.add_option_function<double>(
+         name, [&links](double deg) { links.min_crossing_cos = std::cos(deg * std::numbers::pi / 180.0); }, help)
+      ->check(CLI::Range(0.0, 90.0))
+      ->default_str(absl::StrFormat("%.1f", default_deg));
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"surfmap-mapsim: map scenes in-process with the simulated rig and score the maps on the true surface"};
   app.set_version_flag("--version", std::string("surfmap-mapsim ") + surfmap::kSurfmapVersion);
@@ -153,17 +164,9 @@ int Main(int argc, char** argv) {
                  "the plan's map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  double plan_link_crossing_deg = std::acos(plan_links.min_crossing_cos) * 180.0 / std::numbers::pi;
-  CLI::Option* plan_crossing_option =
-      app.add_option("--plan-link-crossing-deg", plan_link_crossing_deg,
-                     "the plan's map links two crossings only when both drags ran within this many degrees of "
-                     "perpendicular to the link")
-          ->check(CLI::Range(0.0, 90.0))
-          ->capture_default_str();
-  app.add_option("--change-guard-mm", change_guard_mm,
-                 "a piece's roughness fit leaves this many mm out next to each change it ends at (FitOptions)")
-      ->check(CLI::NonNegativeNumber)
-      ->capture_default_str();
+  AddCrossingDegOption(app, "--plan-link-crossing-deg", plan_links,
+                       "the plan's map links two crossings only when both drags ran within this many degrees of "
+                       "perpendicular to the link");
   app.add_option("--plan-curve-turn-deg", plan_links.max_curve_turn_deg,
                  "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)")
       ->check(CLI::Range(0.0, 180.0))
@@ -172,16 +175,17 @@ int Main(int argc, char** argv) {
                  "the plan's map carries chains of links on (as --map-extension-turn; 0: off)")
       ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
+  app.add_option("--change-guard-mm", change_guard_mm,
+                 "a piece's roughness fit leaves this many mm out next to each change it ends at (FitOptions)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-link-length", map_links.max_length_mm,
                  "the scored map joins crossings of a boundary at most this many mm apart (boundary_links.h)")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  double map_link_crossing_deg = std::acos(map_links.min_crossing_cos) * 180.0 / std::numbers::pi;
-  CLI::Option* crossing_option = app.add_option("--map-link-crossing-deg", map_link_crossing_deg,
-                 "the scored map links two crossings only when both drags ran within this many degrees of "
-                 "perpendicular to the link (boundary_links.h)")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
+  AddCrossingDegOption(app, "--map-link-crossing-deg", map_links,
+                       "the scored map links two crossings only when both drags ran within this many degrees of "
+                       "perpendicular to the link (boundary_links.h)");
   app.add_option("--map-curve-turn-deg", map_links.max_curve_turn_deg,
                  "the scored map draws a link as a curve through its chain where the chain turns by at most this "
                  "many degrees at its ends (boundary_curves.h; 0: every link a chord, the build before)")
@@ -217,13 +221,9 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
-  if (crossing_option->count() > 0) map_links.min_crossing_cos = std::cos(map_link_crossing_deg * std::numbers::pi / 180.0);
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.plan_link_materials = plan_link_materials;
-  if (plan_crossing_option->count() > 0) {
-    plan_links.min_crossing_cos = std::cos(plan_link_crossing_deg * std::numbers::pi / 180.0);
-  }
   base.plan_link_options = plan_links;
   base.fit.change_guard_mm = change_guard_mm;
   base.map_link_materials = map_link_materials;

@@ -48,6 +48,15 @@ class MapScenesSummaryTest(unittest.TestCase):
         self.assertIn("Goals met on 1 of 5 scene-seeds.", out.stdout)
         self.assertIn("Missed: bottle seed 3, plate seed 1, plate seed 2, plate seed 3.", out.stdout)
 
+    def test_a_malformed_row_is_an_error_naming_its_line(self):
+        short = summarise([row("plate", 1, 148, 99, 0.9958, 0.9907, 0.0091), "plate\t2\t148\n"])
+        self.assertNotEqual(short.returncode, 0)
+        self.assertIn(":2: 3 fields, expected 9", short.stderr)
+        not_a_number = summarise([row("plate", 1, 148, 99, "abc", 0.9907, 0.0091)])
+        self.assertNotEqual(not_a_number.returncode, 0)
+        self.assertIn(":1: could not convert string to float: 'abc'", not_a_number.stderr)
+        self.assertNotIn("Traceback", not_a_number.stderr)
+
     def test_no_rows_is_an_error(self):
         out = summarise([])
         self.assertNotEqual(out.returncode, 0)
