@@ -91,7 +91,10 @@ map_scene() {
   end=$(date +%s%N)
   "$RIG" score --sim "$scene" --job "$job" --json "$out/$scene.score.json" >"$out/$scene.score.txt"
   samples=$("$SURFMAP" job show "$job" --json | python3 -c 'import json,sys; print(json.load(sys.stdin)["progress"]["measured"])')
-  cvs=$(grep -c '^v ' "$mesh")
+  # Control vertices: the plan's level-0 sites (a scan is simplified to the
+  # job's spacing, so its own vertex count is not the control mesh's).
+  cvs=$("$SURFMAP" job plan "$job" --json |
+    python3 -c 'import json,sys; print(sum(s["site"].get("level", 0) == 0 for s in json.load(sys.stdin)["sites"]))')
   python3 - "$out/$scene.score.json" "$scene" "$seed" "$samples" "$cvs" "$start" "$end" "$CHECK" "$ROWS" <<'PY' || FAILED=1
 import json, sys
 sys.path.insert(0, "scripts")

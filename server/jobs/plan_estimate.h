@@ -47,7 +47,8 @@ struct PlanEstimate {
 // FAILED_PRECONDITION when the drag is longer than the object's largest
 // extent (it cannot fit on it). Warnings: a drag longer than half the
 // object's largest extent; level-0 sites closer together than kOverlapFraction
-// of the drag (their drags overlap).
+// of the drag (their drags overlap; not for BOUNDARY, whose default spacing is
+// closer).
 absl::StatusOr<PlanEstimate> EstimatePlan(const JobParams& params, const LoopSurface& surface);
 
 }  // namespace surfmap

@@ -124,11 +124,13 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     if (spec.probe().speed_mm_s() != 0) p.probe.speed_mm_per_s = spec.probe().speed_mm_s();
     if (spec.probe().normal_force_n() != 0) p.probe.normal_force_n = spec.probe().normal_force_n();
   }
-  // Sites about a drag apart by default: closer, neighbouring drags overlap.
   if (!std::isfinite(spec.site_spacing_mm()) || spec.site_spacing_mm() < 0) {
-    return absl::InvalidArgumentError("spec.site_spacing_mm must be >= 0 (0 = the drag length)");
+    return absl::InvalidArgumentError(
+        "spec.site_spacing_mm must be >= 0 (0 = the mode's default: BOUNDARY 0.65 x the drag length, others the drag "
+        "length)");
   }
-  p.site_spacing_mm = spec.site_spacing_mm() > 0 ? spec.site_spacing_mm() : p.probe.segment_length_mm;
+  p.site_spacing_mm = spec.site_spacing_mm() > 0 ? spec.site_spacing_mm()
+                                                 : DefaultSiteSpacingMm(p.mode, p.probe.segment_length_mm);
   p.seed = spec.seed() != 0 ? spec.seed() : 1;
   p.max_retries = spec.max_retries() != 0 ? spec.max_retries() : p.max_retries;
   p.lease_ms = default_lease_ms;

@@ -146,6 +146,20 @@ TEST(ScannedMesh, UploadsWithUnitsAreRepairedAndPlannedAtTheSpacing) {
   ITEST_ASSERT_OK_AND_ASSIGN(warned, CreateJobFull(stubs, close));
   ASSERT_EQ(warned.warnings_size(), 1);
   EXPECT_NE(warned.warnings(0).find("closer than 3/4 of the drag"), std::string::npos) << warned.warnings(0);
+  // BOUNDARY's default spacing is 0.65 of the drag (13 mm): its budget is 1.5
+  // drags per level-0 site, and a drag apart the scan-like held-out scenes
+  // lost whole features. Its drags overlap on purpose: no warning.
+  JobSpecOptions boundary_options = options;
+  boundary_options.mode = pb::SAMPLING_MODE_BOUNDARY;
+  ITEST_ASSERT_OK_AND_ASSIGN(boundary, CreateJobFull(stubs, MakeJobSpec(dense.object().object_id(), boundary_options)));
+  EXPECT_DOUBLE_EQ(boundary.job().spec().site_spacing_mm(), 13.0);
+  const double boundary_sites = dense.area_mm2() / (13.0 * 13.0);
+  EXPECT_NEAR(boundary.estimate().level0_sites(), boundary_sites, 0.15 * boundary_sites);
+  EXPECT_TRUE(boundary.estimate().simplified());
+  EXPECT_EQ(boundary.estimate().max_sites(), boundary.estimate().level0_sites() * 3 / 2);
+  EXPECT_TRUE(boundary.warnings().empty()) << boundary.warnings(0);
+  EXPECT_DOUBLE_EQ(created.job().spec().site_spacing_mm(), 20.0);  // ADAPTIVE: the drag length
+
   pb::JobSpec long_drag = MakeJobSpec(dense.object().object_id(), options);
   long_drag.mutable_probe()->set_segment_length_mm(150.0);
   absl::StatusOr<pb::CreateJobResponse> refused = CreateJobFull(stubs, long_drag);

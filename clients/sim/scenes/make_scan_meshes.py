@@ -1,0 +1,132 @@
+#!/usr/bin/env python3
+"""Writes the scan-like held-out scenes' meshes (scan_pebble_m.obj, scan_vase_m.obj).
+
+Meshes of the kind a scanner hands a lab: dense (thousands of vertices, far
+denser than the job's site spacing, so the server simplifies them to a control
+mesh of its own), irregular, with smooth bumps and 0.05 mm noise, written in
+metres. Seeded, so the committed files are this script's output:
+
+    python3 clients/sim/scenes/make_scan_meshes.py clients/sim/scenes
+
+(needs python3-numpy).
+"""
+import sys
+
+import numpy as np
+
+
+def icosphere(subdivisions):
+    t = (1 + 5 ** 0.5) / 2
+    vertices = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+                (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+             (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+             (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    vertices = [np.array(v, float) / np.linalg.norm(v) for v in vertices]
+    for _ in range(subdivisions):
+        midpoints, finer = {}, []
+
+        def midpoint(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in midpoints:
+                m = vertices[a] + vertices[b]
+                vertices.append(m / np.linalg.norm(m))
+                midpoints[key] = len(vertices) - 1
+            return midpoints[key]
+
+        for a, b, c in faces:
+            ab, bc, ca = midpoint(a, b), midpoint(b, c), midpoint(c, a)
+            finer += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = finer
+    return vertices, faces
+
+
+def pebble():
+    """An ellipsoid 124 x 88 x 72 mm with bumps: an icosphere subdivided 4 times
+    (2,562 vertices), turned off the axes first so no vertex sits on one."""
+    directions, faces = icosphere(4)
+    rng = np.random.default_rng(7)
+    radii = np.array([62.0, 44.0, 36.0])
+    angle, axis = 0.61, np.array([0.3, -0.5, 0.8]) / np.linalg.norm([0.3, -0.5, 0.8])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    turn = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    vertices = []
+    for u in directions:
+        u = turn @ u
+        bump = 1.8 * (np.sin(3 * u[0] + 1) * np.cos(2 * u[1]) + 0.5 * np.sin(4 * u[2] + 2 * u[0]))
+        vertices.append(u * radii + u * (bump + rng.normal(0, 0.05)))
+    return np.array(vertices), faces
+
+
+def vase():
+    """A vase of revolution 150 mm tall, radius 30-45 mm: 56 rings at jittered
+    heights, 60 vertices each at a random start angle (3,362 vertices), joined
+    ring to ring by angle, with bumps and noise."""
+    rng = np.random.default_rng(11)
+    profile = np.array([(0, 0), (30, 0), (38, 8), (44, 30), (45, 55), (41, 80), (34, 105), (30, 125), (32, 140),
+                        (34, 150), (0, 150)], float)
+    length = np.r_[0, np.cumsum(np.linalg.norm(np.diff(profile, axis=0), axis=1))]
+    rings, around = 58, 60
+    s = np.linspace(0, length[-1], rings)
+    s[1:-1] += rng.uniform(-0.3, 0.3, rings - 2) * (length[-1] / rings)
+    r, z = np.interp(s, length, profile[:, 0]), np.interp(s, length, profile[:, 1])
+    vertices = [(0, 0, 0)]
+    for i in range(1, rings - 1):
+        start = rng.uniform(0, 2 * np.pi)
+        for j in range(around):
+            a = start + 2 * np.pi * j / around
+            bump = 1.2 * np.sin(3 * a + z[i] / 20) * np.cos(z[i] / 35)
+            radius = r[i] + bump + rng.normal(0, 0.05)
+            vertices.append((radius * np.cos(a), radius * np.sin(a), z[i] + rng.normal(0, 0.05)))
+    vertices.append((0, 0, z[-1]))
+    vertices = np.array(vertices)
+
+    def ring(i):
+        return list(range(1 + (i - 1) * around, 1 + i * around))
+
+    faces = [(0, ring(1)[(j + 1) % around], ring(1)[j]) for j in range(around)]
+    for i in range(1, rings - 2):
+        # Zip two rings by angle: each step advances the one whose next vertex
+        # comes first.
+        lower, upper = ring(i), ring(i + 1)
+        angle_lower = np.mod(np.arctan2(vertices[lower, 1], vertices[lower, 0]), 2 * np.pi)
+        angle_upper = np.mod(np.arctan2(vertices[upper, 1], vertices[upper, 0]), 2 * np.pi)
+        order_lower, order_upper = np.argsort(angle_lower), np.argsort(angle_upper)
+        lower, upper = [lower[k] for k in order_lower], [upper[k] for k in order_upper]
+        angle_lower, angle_upper = angle_lower[order_lower], angle_upper[order_upper]
+        a = b = 0
+        while a < around or b < around:
+            next_lower = angle_lower[(a + 1) % around] + (2 * np.pi if a + 1 >= around else 0)
+            next_upper = angle_upper[(b + 1) % around] + (2 * np.pi if b + 1 >= around else 0)
+            if b >= around or (a < around and next_lower < next_upper):
+                faces.append((lower[a % around], lower[(a + 1) % around], upper[b % around]))
+                a += 1
+            else:
+                faces.append((lower[a % around], upper[(b + 1) % around], upper[b % around]))
+                b += 1
+    top, last = len(vertices) - 1, ring(rings - 2)
+    faces += [(top, last[j], last[(j + 1) % around]) for j in range(around)]
+    # Counter-clockwise seen from outside: away from a point on the axis.
+    outward = []
+    for a, b, c in faces:
+        normal = np.cross(vertices[b] - vertices[a], vertices[c] - vertices[a])
+        away = (vertices[a] + vertices[b] + vertices[c]) / 3 - np.array([0, 0, 75])
+        outward.append((a, b, c) if normal @ away > 0 else (a, c, b))
+    return vertices, outward
+
+
+def write_obj(path, title, vertices, faces):
+    with open(path, "w") as out:
+        out.write(f"# {title}: written by make_scan_meshes.py; units m\n")
+        for p in vertices:
+            out.write("v %.7f %.7f %.7f\n" % tuple(np.asarray(p) / 1000))
+        for a, b, c in faces:
+            out.write("f %d %d %d\n" % (a + 1, b + 1, c + 1))
+    print(f"{path}: {len(vertices)} vertices, {len(faces)} triangles")
+
+
+if __name__ == "__main__":
+    if len(sys.argv) != 2:
+        sys.exit("usage: make_scan_meshes.py OUTPUT_DIR")
+    write_obj(f"{sys.argv[1]}/scan_pebble_m.obj", "scan-like pebble", *pebble())
+    write_obj(f"{sys.argv[1]}/scan_vase_m.obj", "scan-like vase", *vase())
