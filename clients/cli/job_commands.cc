@@ -216,8 +216,8 @@ void AddJobCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   create->add_option("--max-retries", a->max_retries, "Attempts per site after a failure (default 2)")
       ->check(CLI::NonNegativeNumber);
   create->add_option("--spacing-mm", a->spacing_mm,
-                     "Target distance between level-0 sites, mm (default: the drag length); a denser mesh is "
-                     "simplified to it")
+                     "Target distance between level-0 sites, mm (default: boundary 0.65 x the drag length, other "
+                     "modes the drag length); a denser mesh is simplified to it")
       ->check(CLI::PositiveNumber);
   AddProvenanceOptions(create, &a->provenance);
   create->add_flag("--json", a->json, "Print the JobInfo as JSON instead of the id");
