@@ -295,6 +295,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     map_options.assign_by_texture = options.map_assign_by_texture;
     map_options.links = options.map_link_options;
     map_options.min_fitted_pieces_for_mu = options.map_min_fitted_pieces_for_mu;
+    map_options.min_mu_piece_mm = options.map_min_mu_piece_mm;
     map_options.link_materials = options.map_link_materials;
     absl::StatusOr<RegionMap> map = RegionMap::Create(map_level, map_options);
     if (!map.ok()) return map.status();

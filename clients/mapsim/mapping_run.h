@@ -77,6 +77,7 @@ struct MappingRunOptions {
   // RegionMapOptions::min_fitted_pieces_for_mu of the map scored (the
   // plan's map pools every piece).
   int map_min_fitted_pieces_for_mu = RegionMapOptions{}.min_fitted_pieces_for_mu;
+  double map_min_mu_piece_mm = RegionMapOptions{}.min_mu_piece_mm;  // of the map scored
   // RegionMapOptions::link_materials of the plan's map and of the map scored.
   bool plan_link_materials = PlanRegionMapOptions().link_materials;
   // The links of the plan's own map (PlanRegionMapOptions: 20 mm, 30

@@ -88,6 +88,7 @@ int Main(int argc, char** argv) {
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
+  double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
   double change_guard_mm = FitOptions{}.change_guard_mm;
@@ -151,6 +152,11 @@ int Main(int argc, char** argv) {
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--map-mu-min-mm", map_mu_min_mm,
+                 "... counting a piece as long enough when its extent is at least this many mm (0: when it has its "
+                 "own roughness fit, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--plan-link-materials", plan_link_materials,
@@ -223,6 +229,7 @@ int Main(int argc, char** argv) {
   base.map_assign_by_texture = map_assign;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
+  base.map_min_mu_piece_mm = map_mu_min_mm;
   base.plan_link_materials = plan_link_materials;
   base.plan_link_options = plan_links;
   base.fit.change_guard_mm = change_guard_mm;

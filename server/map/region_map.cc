@@ -56,6 +56,7 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   if (!links.IsValid(&inner)) return fail(absl::StrCat("links: ", inner));
   if (min_texture_rows < 3) return fail("min_texture_rows must be >= 3");
   if (min_fitted_pieces_for_mu < 0) return fail("min_fitted_pieces_for_mu must be >= 0 (0 = every piece)");
+  if (!(std::isfinite(min_mu_piece_mm) && min_mu_piece_mm >= 0.0)) return fail("min_mu_piece_mm must be >= 0");
   if (!(std::isfinite(point_spacing_mm) && point_spacing_mm > 0.0)) return fail("point_spacing_mm must be > 0");
   if (!(std::isfinite(correlation_length_mm) && correlation_length_mm >= 0.0)) {
     return fail("correlation_length_mm must be >= 0 (0 = automatic)");
@@ -223,9 +224,12 @@ void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vect
   std::vector<double> log_sigma;
   for (int i : piece_indices) {
     members.push_back(statistics[i]);
-    const TextureParams& t = pieces_[i].piece.texture;
-    if (!pieces_[i].piece.has_roughness()) continue;
-    fitted.push_back(statistics[i]);
+    const LinePiece& piece = pieces_[i].piece;
+    const TextureParams& t = piece.texture;
+    const bool long_enough = options_.min_mu_piece_mm > 0.0 ? piece.end_mm - piece.start_mm >= options_.min_mu_piece_mm
+                                                            : piece.has_roughness();
+    if (long_enough) fitted.push_back(statistics[i]);
+    if (!piece.has_roughness()) continue;
     for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
     log_sigma.push_back(std::log(t.sigma));
   }

@@ -132,6 +132,13 @@ struct RegionMapOptions {
   // large se, joined its material and took it from 0.340 to 0.331, past the
   // midpoint to rubber: the whole dot mapped rubber.
   int min_fitted_pieces_for_mu = 3;
+  // "Long enough" above: a piece's extent of at least this many mm; 0 = its
+  // own roughness fit (5 mm less a guard at each change, the build before).
+  // A drag across a 6 mm strip leaves 4-5 mm pieces, too short to fit but
+  // not biased (over twelve scan jobs, strip pieces of 4-6 mm read 0.354-0.367
+  // for masonite's 0.36; under 4 mm, rim slivers, 0.14-0.26); leaving them
+  // out pooled a strip's mu from three crossings (docs/method.md).
+  double min_mu_piece_mm = 4.0;
   // Floors on a piece's mu_se and spread: synthetic or noise-free data can
   // report 0, which the merge statistics divide by.
   double min_mu_se = 1e-4;

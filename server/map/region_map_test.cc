@@ -128,6 +128,37 @@ TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   EXPECT_NE(refused.status().message().find("min_fitted_pieces_for_mu"), std::string::npos) << refused.status();
 }
 
+TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
+  // The patch above plus a 4.5 mm crossing without a roughness fit (0.38, se
+  // 0.03), as a drag across a 6 mm strip leaves: at 4 mm and up a piece is
+  // long enough for the material's mu (min_mu_piece_mm), the 2 mm rim
+  // slivers are not. With 0 the rule is the roughness fit, as before.
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
+  for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
+  pieces.push_back(StraightPiece(drag++, {27.5, -8, 0}, {27.5, -3.5, 0}, 0.38, 0.0, false, 0.03));
+  const double with_crossing = (3 * 0.36 / (0.02 * 0.02) + 0.38 / (0.03 * 0.03)) / (3 / (0.02 * 0.02) + 1 / (0.03 * 0.03));
+  const SurfaceLevel level = Plate();
+  for (const double min_mm : {4.0, 0.0}) {
+    RegionMapOptions options;
+    options.min_mu_piece_mm = min_mm;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    const TextureRegion& patch = map->regions()[map->piece_region()[2]];
+    ASSERT_EQ(map->regions()[map->piece_region()[7]].material, patch.material) << "the crossing joins the patch";
+    EXPECT_NEAR(patch.statistics.mu, min_mm > 0 ? with_crossing : 0.36, 1e-12) << min_mm;
+  }
+  EXPECT_NEAR(with_crossing, 0.3626, 1e-4);
+  RegionMapOptions negative;
+  negative.min_mu_piece_mm = -1.0;
+  absl::StatusOr<RegionMap> refused = RegionMap::Create(level, negative);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_NE(refused.status().message().find("min_mu_piece_mm"), std::string::npos) << refused.status();
+}
+
 TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
   // Without a crossing the boundary lies midway between the data (x = 0);
   // a drag along x that changed at x = 8 puts it there.
