@@ -219,7 +219,7 @@ absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
 
 void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics,
                           int order, TextureRegion* out) const {
-  std::vector<PieceStatistics> members, fitted;
+  std::vector<PieceStatistics> members, long_pieces;
   std::vector<std::vector<double>> k(order);
   std::vector<double> log_sigma;
   for (int i : piece_indices) {
@@ -228,14 +228,14 @@ void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vect
     const TextureParams& t = piece.texture;
     const bool long_enough = options_.min_mu_piece_mm > 0.0 ? piece.end_mm - piece.start_mm >= options_.min_mu_piece_mm
                                                             : piece.has_roughness();
-    if (long_enough) fitted.push_back(statistics[i]);
+    if (long_enough) long_pieces.push_back(statistics[i]);
     if (!piece.has_roughness()) continue;
     for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
     log_sigma.push_back(std::log(t.sigma));
   }
   const int min_fitted = options_.min_fitted_pieces_for_mu;
-  const bool from_fitted = min_fitted > 0 && static_cast<int>(fitted.size()) >= min_fitted;
-  out->statistics = PoolStatistics(from_fitted ? fitted : members);
+  const bool from_long = min_fitted > 0 && static_cast<int>(long_pieces.size()) >= min_fitted;
+  out->statistics = PoolStatistics(from_long ? long_pieces : members);
   out->roughness_pieces = static_cast<int>(log_sigma.size());
   if (out->roughness_pieces > 0) {
     for (int j = 0; j < order; ++j) out->reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));

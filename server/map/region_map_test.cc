@@ -94,17 +94,25 @@ TEST(RegionMapTest, RoughnessComesOnlyFromPiecesThatHaveTheirOwnFit) {
   EXPECT_TRUE(saw_nan);
 }
 
+// Glass at x < -20 (two drags); a patch read by three drags long enough for
+// a roughness fit (0.36, se 0.02) with two 2 mm pieces at its rim without
+// one (0.25, se 0.05). One drag per piece, numbered in order.
+std::vector<MapPiece> PatchWithRimSlivers() {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
+  for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
+  return pieces;
+}
+
 TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   // A patch read by three drags long enough for a roughness fit (0.36, se
   // 0.02) and two short pieces at its rim without one (0.25, se 0.05: alike
   // to the patch only for their large se, as a change's location error and
   // a wandering texture leave such pieces). Pooled by precision the two
   // would take the patch to 0.349; from its long pieces it reads 0.36.
-  std::vector<MapPiece> pieces;
-  int drag = 0;
-  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
-  for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
-  for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
+  const std::vector<MapPiece> pieces = PatchWithRimSlivers();
   const double precision_pooled = (3 * 0.36 / (0.02 * 0.02) + 2 * 0.25 / (0.05 * 0.05)) / (3 / (0.02 * 0.02) + 2 / (0.05 * 0.05));
   const SurfaceLevel level = Plate();
   for (const int min_fitted : {3, 0, 4}) {
@@ -133,12 +141,9 @@ TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
   // 0.03), as a drag across a 6 mm strip leaves: at 4 mm and up a piece is
   // long enough for the material's mu (min_mu_piece_mm), the 2 mm rim
   // slivers are not. With 0 the rule is the roughness fit, as before.
-  std::vector<MapPiece> pieces;
-  int drag = 0;
-  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
-  for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
-  for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
-  pieces.push_back(StraightPiece(drag++, {27.5, -8, 0}, {27.5, -3.5, 0}, 0.38, 0.0, false, 0.03));
+  std::vector<MapPiece> pieces = PatchWithRimSlivers();
+  const int drag = static_cast<int>(pieces.size());
+  pieces.push_back(StraightPiece(drag, {27.5, -8, 0}, {27.5, -3.5, 0}, 0.38, 0.0, false, 0.03));
   const double with_crossing = (3 * 0.36 / (0.02 * 0.02) + 0.38 / (0.03 * 0.03)) / (3 / (0.02 * 0.02) + 1 / (0.03 * 0.03));
   const SurfaceLevel level = Plate();
   for (const double min_mm : {4.0, 0.0}) {

@@ -125,9 +125,8 @@ absl::StatusOr<JobParams> JobParamsFromProto(const pb::JobSpec& spec, int64_t de
     if (spec.probe().normal_force_n() != 0) p.probe.normal_force_n = spec.probe().normal_force_n();
   }
   if (!std::isfinite(spec.site_spacing_mm()) || spec.site_spacing_mm() < 0) {
-    return absl::InvalidArgumentError(
-        "spec.site_spacing_mm must be >= 0 (0 = the mode's default: BOUNDARY 0.65 x the drag length, others the drag "
-        "length)");
+    return absl::InvalidArgumentError(absl::StrCat("spec.site_spacing_mm must be >= 0 (0 = the mode's default: BOUNDARY ",
+                                                   kBoundarySiteSpacingShare, " x the drag length, others the drag length)"));
   }
   p.site_spacing_mm = spec.site_spacing_mm() > 0 ? spec.site_spacing_mm()
                                                  : DefaultSiteSpacingMm(p.mode, p.probe.segment_length_mm);
