@@ -24,6 +24,16 @@ void AddSymmetric(GraphLaplacian& g, int a, int b, double w) {
   g.weights[ba] += w;
 }
 
+// A corner's cotangent is kept within +-cot(1 degree). A sliver (a scan's
+// fine level moved onto its bumps, dense_surface.h, folds a few triangles
+// flat) has cotangents up to ~1e299: one such edge outweighs the rest of
+// the mesh, and the random walker, whose seed stiffness scales with the mean
+// weight, solves a system so badly conditioned that its fields are noise
+// (scanned_mesh_test's pebble: 920 of 68,610 vertices, 5-15 mm from any
+// boundary, took the region of the other side). Every corner above 1 degree
+// is unchanged: the Loop levels of the bundled meshes have none below 20.
+constexpr double kMaxCotangent = 57.28996163075943;  // cot(1 degree)
+
 }  // namespace
 
 GraphLaplacian BuildGraphLaplacian(const SurfaceLevel& level, LaplacianWeights kind) {
@@ -53,7 +63,7 @@ GraphLaplacian BuildGraphLaplacian(const SurfaceLevel& level, LaplacianWeights k
       const Eigen::Vector3d ab = p[b] - p[a], ac = p[c] - p[a];
       const double area2 = ab.cross(ac).norm();
       if (!(area2 > 0.0)) continue;  // degenerate corner: contributes nothing
-      AddSymmetric(g, b, c, 0.5 * ab.dot(ac) / area2);
+      AddSymmetric(g, b, c, 0.5 * std::clamp(ab.dot(ac) / area2, -kMaxCotangent, kMaxCotangent));
     }
   }
   if (kind == LaplacianWeights::kCotangentClamped) {

@@ -244,15 +244,16 @@ TEST(ScannedMesh, DenseObjectIsMappedEndToEndOnItsTrueSurface) {
   std::cout << FormatSurfaceScore(score, "dense pebble, adaptive L0-1, default spacing") << "\n";
   std::cout << "samples " << done.progress().measured() << " (level-0 sites " << created.estimate().level0_sites()
             << ")\n";
-  // Measured 2026-11-24: 99.05 % classified right, mu RMSE 0.049 with 105
-  // samples (69 level-0 sites); 2026-11-28: 97.80 %, 0.058 (map changes
-  // since; the boundary error's p90 is 10 mm, not traced yet). The floors leave room for the seeds' noise
-  // but fail a map whose sites are off the surface (drags refused or on the
-  // wrong side) or a plan that missed the cap's boundary: 95 % (the bottle
-  // reaches 99.7 %) and the bottle test's 0.075 map tolerance (a 20 mm drag
-  // across the boundary reads a mix, carried into the map near it).
-  EXPECT_GE(score.classified_right, 0.95);
-  EXPECT_LE(score.mu_rmse, 0.075);
+  // Measured 2026-11-29: 99.65 % classified right, mu RMSE 0.023 with 105
+  // samples (69 level-0 sites). The map level moved onto this scan's bumps
+  // has slivers; before cotangents were capped (mesh_laplacian.cc) their
+  // weights (~1e299) scrambled the random walker and 920 vertices 5-15 mm
+  // from the boundary took the other side: 97.80 %, 0.058, boundary error
+  // p90 10 mm. The floors fail that, a map whose sites are off the surface
+  // (drags refused or on the wrong side) or a plan that missed the cap's
+  // boundary, and leave the rigs' interleaving ~1 % of room.
+  EXPECT_GE(score.classified_right, 0.985);
+  EXPECT_LE(score.mu_rmse, 0.04);
 }
 
 }  // namespace

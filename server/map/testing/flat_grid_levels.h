@@ -60,6 +60,20 @@ inline SurfaceLevel MakeFlatGrid(int nx, int ny, double h, double x0 = 0.0, doub
   return level;
 }
 
+// MakeFlatGrid(nx, ny, 1 mm) with the corner (nx - 5, 1) moved onto the
+// plate's bottom edge, 1e-150 mm above the middle of the cell edge from
+// (nx - 6, 0) to (nx - 5, 0): the triangle it makes with them is a sliver
+// whose cotangents are ~1e150, and its other triangles fold over their
+// neighbours, as a fine level moved onto a bumpy scan does (dense_surface.h;
+// the scan test's pebble had cotangents of 1.8e299).
+inline SurfaceLevel MakeFlatGridWithSliver(int nx, int ny) {
+  SurfaceLevel level = MakeFlatGrid(nx, ny, 1.0);
+  const int moved = 1 * (nx + 1) + (nx - 5);
+  level.limit_positions[moved] = Eigen::Vector3d(nx - 5.5, 1e-150, 0.0);
+  level.positions[moved] = level.limit_positions[moved];
+  return level;
+}
+
 // Midpoint (1-to-4) refinement of `coarse`; fills coarse.edge_child_vertex
 // and the child's parent_edge.
 inline SurfaceLevel RefineMidpoint(SurfaceLevel& coarse) {
