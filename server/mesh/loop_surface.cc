@@ -23,9 +23,6 @@ namespace Sdc = OpenSubdiv::Sdc;
 namespace {
 
 constexpr int kMaxLevel = 6;
-// Refinement output cap: the finest level costs ~250 bytes per triangle with
-// its topology, limit data and search tree, so 4M triangles is ~1 GB.
-constexpr std::int64_t kMaxFinestTriangles = std::int64_t{1} << 22;
 // A path step never needs more than this many points.
 constexpr double kMaxPathSteps = 1e6;
 // A stepped-to point whose projection moved it sideways along an open
@@ -122,6 +119,14 @@ const SurfaceLevel& LoopSurface::level(int k) const {
 
 absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level) {
   return Create(control, max_level, LimitProjection());
+}
+
+int LevelWithinTriangleLimit(const ControlMesh& control, int wanted) {
+  int level = std::clamp(wanted, 0, kMaxLevel);
+  while (level > 0 && (static_cast<std::int64_t>(control.triangles.size()) << (2 * level)) > kMaxFinestTriangles) {
+    --level;
+  }
+  return level;
 }
 
 absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level,

@@ -19,6 +19,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <memory>
 #include <vector>
@@ -63,6 +64,15 @@ struct SurfacePath {
   std::vector<Eigen::Vector3d> normals;  // unit surface normals at the points
   double length_mm = 0.0;
 };
+
+// Refinement output cap: the finest level costs ~250 bytes per triangle with
+// its topology, limit data and search tree, so 4M triangles is ~1 GB.
+inline constexpr std::int64_t kMaxFinestTriangles = std::int64_t{1} << 22;
+
+// `wanted` (clamped to 0..6), or the finest coarser level whose triangles
+// stay within kMaxFinestTriangles: for tools that refine any mesh they are
+// given (a 20k-triangle scan to level 3, not 4).
+int LevelWithinTriangleLimit(const ControlMesh& control, int wanted);
 
 class LoopSurface {
  public:

@@ -59,6 +59,18 @@ TEST(LoopSurfaceTest, RejectsBadLevelAndBadMesh) {
   EXPECT_THAT(std::string(LoopSurface::Create(*big, 6).status().message()), HasSubstr("more than the limit"));
 }
 
+TEST(LoopSurfaceTest, LevelWithinTriangleLimitStepsDownOnlyWhereNeeded) {
+  absl::StatusOr<ControlMesh> scan = MakeIcosphere(10.0, 5);  // 20,480 faces: level 3 is 1.3M, level 4 5.2M
+  ASSERT_TRUE(scan.ok());
+  EXPECT_EQ(LevelWithinTriangleLimit(*scan, 4), 3);
+  EXPECT_EQ(LevelWithinTriangleLimit(*scan, 3), 3);
+  EXPECT_EQ(LevelWithinTriangleLimit(*scan, 1), 1);
+  EXPECT_EQ(LevelWithinTriangleLimit(MakeIcosahedron(1.0), 6), 6);  // 81,920 triangles
+  EXPECT_EQ(LevelWithinTriangleLimit(MakeIcosahedron(1.0), 9), 6);  // clamped to the range
+  EXPECT_EQ(LevelWithinTriangleLimit(MakeIcosahedron(1.0), -1), 0);
+  EXPECT_TRUE(LoopSurface::Create(*scan, LevelWithinTriangleLimit(*scan, 4)).ok());
+}
+
 TEST(LoopSurfaceTest, LevelZeroIsTheControlMesh) {
   const ControlMesh ico = MakeIcosahedron(25.0);
   std::unique_ptr<LoopSurface> surface = MustCreate(ico, 2);

@@ -52,7 +52,10 @@ absl::StatusOr<std::unique_ptr<SimulatedRig>> SimulatedRig::Create(Scene scene, 
   if (scene.materials.empty()) {
     return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "' has no materials"));
   }
-  absl::StatusOr<std::unique_ptr<LoopSurface>> surface = LoopSurface::Create(scene.mesh, options.surface_level);
+  // A dense scan is touched at a coarser level (its Loop limit lies within
+  // its own bumps of it) rather than refused.
+  absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
+      LoopSurface::Create(scene.mesh, LevelWithinTriangleLimit(scene.mesh, options.surface_level));
   if (!surface.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "' (", scene.source,
                                                    "): cannot build its Loop surface: ", surface.status().message()));

@@ -23,7 +23,8 @@
 namespace surfmap {
 
 struct SimulatedRigOptions {
-  int surface_level = 3;            // Loop refinement of the scene mesh (smoothness of the path)
+  int surface_level = 3;            // Loop refinement of the scene mesh (smoothness of the path);
+                                    // coarser where a dense mesh needs it (LevelWithinTriangleLimit)
   std::uint64_t seed = 0;           // mixed with the scene's seed and the command id
   double path_step_mm = 0.25;       // re-projection step of the traced path
   double max_approach_mm = 10.0;    // a probe farther than this from the surface fails

@@ -106,7 +106,8 @@ absl::StatusOr<SurfaceScorer> SurfaceScorer::Create(const Scene& scene, const Su
   std::string why;
   if (!options.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("surface score options: ", why));
   if (scene.materials.empty()) return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "' has no materials"));
-  absl::StatusOr<std::unique_ptr<LoopSurface>> surface = LoopSurface::Create(scene.mesh, options.truth_level);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
+      LoopSurface::Create(scene.mesh, LevelWithinTriangleLimit(scene.mesh, options.truth_level));
   if (!surface.ok()) {
     return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "': cannot build its Loop surface: ",
                                                    surface.status().message()));

@@ -61,7 +61,9 @@ struct SurfaceScoreOptions {
   int max_region_draws_per_point = 100;
   // Loop level of the scene's surface the points and boundaries are taken on
   // (the "true dense surface"): level 4 has edges of ~1-2 mm on the built-in
-  // scenes, and the bisection below resolves boundaries to ~0.03 mm.
+  // scenes, and the bisection below resolves boundaries to ~0.03 mm. A mesh
+  // too dense for it (a scan) is taken at the finest level within
+  // kMaxFinestTriangles (loop_surface.h).
   int truth_level = 4;
   int boundary_bisections = 6;
   // 3x the simulated rig's force noise (0.015 N): a texture below this is not

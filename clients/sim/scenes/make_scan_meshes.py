@@ -1,10 +1,13 @@
 #!/usr/bin/env python3
-"""Writes the scan-like held-out scenes' meshes (scan_pebble_m.obj, scan_vase_m.obj).
+"""Writes the scan-like held-out scenes' meshes (scan_pebble_m.obj, scan_vase_m.obj,
+scan_stone_m.obj).
 
 Meshes of the kind a scanner hands a lab: dense (thousands of vertices, far
 denser than the job's site spacing, so the server simplifies them to a control
 mesh of its own), irregular, with smooth bumps and 0.05 mm noise, written in
-metres. Seeded, so the committed files are this script's output:
+metres; the stone is denser (10,242 vertices, ~1.5 mm apart) with 0.1 mm
+noise, the kind whose fine map level, moved onto the scan, folds into
+slivers. Seeded, so the committed files are this script's output:
 
     python3 clients/sim/scenes/make_scan_meshes.py clients/sim/scenes
 
@@ -55,6 +58,24 @@ def pebble():
         u = turn @ u
         bump = 1.8 * (np.sin(3 * u[0] + 1) * np.cos(2 * u[1]) + 0.5 * np.sin(4 * u[2] + 2 * u[0]))
         vertices.append(u * radii + u * (bump + rng.normal(0, 0.05)))
+    return np.array(vertices), faces
+
+
+def stone():
+    """A flat river stone 140 x 100 x 56 mm (strongly curved round its rim):
+    an icosphere subdivided 5 times (10,242 vertices), turned off the axes,
+    with bumps and 0.1 mm noise."""
+    directions, faces = icosphere(5)
+    rng = np.random.default_rng(23)
+    radii = np.array([70.0, 50.0, 28.0])
+    angle, axis = 0.37, np.array([-0.6, 0.2, 0.77]) / np.linalg.norm([-0.6, 0.2, 0.77])
+    k = np.array([[0, -axis[2], axis[1]], [axis[2], 0, -axis[0]], [-axis[1], axis[0], 0]])
+    turn = np.eye(3) + np.sin(angle) * k + (1 - np.cos(angle)) * k @ k
+    vertices = []
+    for u in directions:
+        u = turn @ u
+        bump = 1.2 * (np.sin(4 * u[0] + 2) * np.cos(3 * u[1]) + 0.6 * np.sin(5 * u[2] - u[1]))
+        vertices.append(u * radii + u * (bump + rng.normal(0, 0.1)))
     return np.array(vertices), faces
 
 
@@ -130,3 +151,4 @@ if __name__ == "__main__":
         sys.exit("usage: make_scan_meshes.py OUTPUT_DIR")
     write_obj(f"{sys.argv[1]}/scan_pebble_m.obj", "scan-like pebble", *pebble())
     write_obj(f"{sys.argv[1]}/scan_vase_m.obj", "scan-like vase", *vase())
+    write_obj(f"{sys.argv[1]}/scan_stone_m.obj", "scan-like river stone", *stone())
