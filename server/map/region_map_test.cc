@@ -106,6 +106,22 @@ std::vector<MapPiece> PatchWithRimSlivers() {
   return pieces;
 }
 
+// The map of `pieces` with `options`; an error where it cannot be built.
+absl::StatusOr<RegionMap> MapOfPieces(const SurfaceLevel& level, const RegionMapOptions& options,
+                                      const std::vector<MapPiece>& pieces) {
+  absl::StatusOr<RegionMap> map = RegionMap::Create(level, options);
+  if (!map.ok()) return map.status();
+  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
+  return map;
+}
+
+// Options the map refuses, with a message naming `field`.
+void ExpectRefusedNaming(const SurfaceLevel& level, const RegionMapOptions& options, const std::string& field) {
+  absl::StatusOr<RegionMap> refused = RegionMap::Create(level, options);
+  ASSERT_FALSE(refused.ok()) << field;
+  EXPECT_NE(refused.status().message().find(field), std::string::npos) << refused.status();
+}
+
 TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   // A patch read by three drags long enough for a roughness fit (0.36, se
   // 0.02) and two short pieces at its rim without one (0.25, se 0.05: alike
@@ -118,9 +134,8 @@ TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   for (const int min_fitted : {3, 0, 4}) {
     RegionMapOptions options;
     options.min_fitted_pieces_for_mu = min_fitted;
-    auto map = RegionMap::Create(level, options);
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, options, pieces);
     ASSERT_TRUE(map.ok()) << map.status();
-    ASSERT_TRUE(map->SetPieces(pieces).ok());
     const TextureRegion& patch = map->regions()[map->piece_region()[2]];
     ASSERT_EQ(map->regions()[map->piece_region()[5]].material, patch.material) << "the short pieces join the patch";
     // Four long pieces asked for and three present: every piece, as with 0.
@@ -131,9 +146,7 @@ TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   EXPECT_NEAR(precision_pooled, 0.3494, 1e-4);
   RegionMapOptions negative;
   negative.min_fitted_pieces_for_mu = -1;
-  absl::StatusOr<RegionMap> refused = RegionMap::Create(level, negative);
-  ASSERT_FALSE(refused.ok());
-  EXPECT_NE(refused.status().message().find("min_fitted_pieces_for_mu"), std::string::npos) << refused.status();
+  ExpectRefusedNaming(level, negative, "min_fitted_pieces_for_mu");
 }
 
 TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
@@ -149,9 +162,8 @@ TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
   for (const double min_mm : {4.0, 0.0}) {
     RegionMapOptions options;
     options.min_mu_piece_mm = min_mm;
-    auto map = RegionMap::Create(level, options);
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, options, pieces);
     ASSERT_TRUE(map.ok()) << map.status();
-    ASSERT_TRUE(map->SetPieces(pieces).ok());
     const TextureRegion& patch = map->regions()[map->piece_region()[2]];
     ASSERT_EQ(map->regions()[map->piece_region()[7]].material, patch.material) << "the crossing joins the patch";
     EXPECT_NEAR(patch.statistics.mu, min_mm > 0 ? with_crossing : 0.36, 1e-12) << min_mm;
@@ -159,9 +171,7 @@ TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
   EXPECT_NEAR(with_crossing, 0.3626, 1e-4);
   RegionMapOptions negative;
   negative.min_mu_piece_mm = -1.0;
-  absl::StatusOr<RegionMap> refused = RegionMap::Create(level, negative);
-  ASSERT_FALSE(refused.ok());
-  EXPECT_NE(refused.status().message().find("min_mu_piece_mm"), std::string::npos) << refused.status();
+  ExpectRefusedNaming(level, negative, "min_mu_piece_mm");
 }
 
 TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {

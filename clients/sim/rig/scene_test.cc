@@ -184,6 +184,22 @@ TEST_F(SceneFilesTest, SearchPathPrefersTheEnvironment) {
   EXPECT_NE(missing.status().message().find("searched"), std::string::npos);
 }
 
+// Every region holds some of `points` (the first region containing a point
+// takes it, as in the scene): none is hidden by an earlier one or placed off
+// the object.
+void ExpectEveryRegionHoldsPoints(const Scene& scene, const std::vector<Eigen::Vector3d>& points) {
+  std::vector<int> count(scene.regions.size(), 0);
+  for (const Eigen::Vector3d& p : points) {
+    for (std::size_t r = 0; r < scene.regions.size(); ++r) {
+      if (scene.regions[r].Contains(p)) {
+        ++count[r];
+        break;
+      }
+    }
+  }
+  for (std::size_t r = 0; r < count.size(); ++r) EXPECT_GT(count[r], 0) << "regions[" << r << "]";
+}
+
 TEST(BuiltInScenesTest, BottleHasGlassAndThreeSandpaperPatches) {
   auto scene = LoadSceneByName("bottle");
   ASSERT_TRUE(scene.ok()) << scene.status();
@@ -227,16 +243,7 @@ TEST(BuiltInScenesTest, NewScenesHaveDragSizedFeaturesOffTheControlMesh) {
     ASSERT_TRUE(scorer.ok()) << scorer.status();
     // Every region holds points of the true surface (none is hidden by an
     // earlier one or off the object).
-    std::vector<int> count(scene->regions.size(), 0);
-    for (const Eigen::Vector3d& p : scorer->points()) {
-      for (std::size_t r = 0; r < scene->regions.size(); ++r) {
-        if (scene->regions[r].Contains(p)) {
-          ++count[r];
-          break;
-        }
-      }
-    }
-    for (std::size_t r = 0; r < count.size(); ++r) EXPECT_GT(count[r], 0) << "regions[" << r << "]";
+    ExpectEveryRegionHoldsPoints(*scene, scorer->points());
     auto near_boundary = [&](const Eigen::Vector3d& p) {
       for (const Eigen::Vector3d& b : scorer->truth_boundary()) {
         if ((b - p).squaredNorm() < kNearMm * kNearMm) return true;
@@ -285,16 +292,7 @@ TEST(BuiltInScenesTest, EverySceneLoadsAndEachRegionLiesOnItsSurface) {
     options.points = 20000;  // a 6 mm dot on a 160 mm egg still draws ~40
     absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(*scene, options);
     ASSERT_TRUE(scorer.ok()) << scorer.status();
-    std::vector<int> count(scene->regions.size(), 0);
-    for (const Eigen::Vector3d& p : scorer->points()) {
-      for (std::size_t r = 0; r < scene->regions.size(); ++r) {
-        if (scene->regions[r].Contains(p)) {
-          ++count[r];
-          break;
-        }
-      }
-    }
-    for (std::size_t r = 0; r < count.size(); ++r) EXPECT_GT(count[r], 0) << "regions[" << r << "]";
+    ExpectEveryRegionHoldsPoints(*scene, scorer->points());
   }
   EXPECT_GE(scenes, 15);
 }
