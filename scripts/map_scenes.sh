@@ -5,7 +5,8 @@
 # the map scored on the scene's true surface through QueryMap
 # (surfmap-rig score --job). Prints one table row per scene.
 #
-#   scripts/map_scenes.sh [--rigs N] [--seed N | --seeds 1-6] [--check] [--job-args "FLAGS"] [SCENE ...]
+#   scripts/map_scenes.sh [--rigs N] [--seed N | --seeds 1-6] [--check] [--property P] [--job-args "FLAGS"]
+#                         [SCENE ...]
 #   (default: all nine scenes)
 #
 # --seeds A-B (or a list, "1 3 5"): every scene on each seed (out/.../sN),
@@ -14,6 +15,7 @@
 # --check: exit 1 unless every scene meets the map goals (issue 16): >= 97 %
 # of the true surface classified right (the bottle 99.5 %), >= 85 % in every
 # region, mu RMSE <= 0.03, at most 1.5 samples per control vertex.
+# --property: the jobs' property, friction (default) | roughness | both.
 # --job-args: more `surfmap job create` flags for every job (e.g. "--spacing-mm 15
 # --segment-mm 30"); the default job takes none.
 # Environment: SURFMAP_BUILD_DIR (default build), MAP_SCENES_OUT (default
@@ -28,6 +30,7 @@ MULTI=0
 SCENES=()
 CHECK=0
 JOB_ARGS=()
+PROPERTY=friction
 while [ $# -gt 0 ]; do
   case "$1" in
     --rigs) RIGS=${2:-}; shift $(($# > 1 ? 2 : 1)) ;;
@@ -40,8 +43,9 @@ while [ $# -gt 0 ]; do
       fi
       MULTI=1; shift 2 ;;
     --check) CHECK=1; shift ;;
+    --property) PROPERTY=${2:-}; shift $(($# > 1 ? 2 : 1)) ;;
     --job-args) read -r -a JOB_ARGS <<<"${2:-}"; shift $(($# > 1 ? 2 : 1)) ;;
-    -h|--help) sed -n '2,20p' "$0"; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
     *) SCENES+=("$1"); shift ;;
   esac
 done
@@ -85,7 +89,7 @@ map_scene() {
     "clients/sim/scenes/$scene.json")
   mesh=clients/sim/scenes/$mesh
   object=$("$SURFMAP" object upload "$mesh" --name "$scene" --units "$units" 2>"$out/$scene.upload.txt")
-  job=$("$SURFMAP" job create --object "$object" --property friction --seed "$seed" ${JOB_ARGS[@]+"${JOB_ARGS[@]}"} 2>"$out/$scene.job.txt")
+  job=$("$SURFMAP" job create --object "$object" --property "$PROPERTY" --seed "$seed" ${JOB_ARGS[@]+"${JOB_ARGS[@]}"} 2>"$out/$scene.job.txt")
   local pids=()
   for i in $(seq 1 "$RIGS"); do
     "$RIG" --sim "$scene" --job "$job" --rig-id "rig-$i" --sim-seed "$((seed * 100 + i))" --quiet \

@@ -80,6 +80,7 @@ int Main(int argc, char** argv) {
   bool details = false;
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
+  bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
   bool plan_split = MappingRunOptions{}.plan_split_against_materials;
@@ -122,6 +123,8 @@ int Main(int argc, char** argv) {
                  "boundary plans: weight of a drag across where a crossed boundary would go on straight (0: off, the build before)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app.add_flag("--friction-boundary-cost", friction_boundary_cost,
+               "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
   app.add_option("--coverage-skip-share", coverage_skip_share,
                  "boundary plans skip a coarsest-level site a measured drag passed within this share of the drag "
                  "length of (0: drag every one)")
@@ -221,6 +224,7 @@ int Main(int argc, char** argv) {
   base.seed = seed;
   base.follow_boundaries = follow;
   base.continuation_prior = continuation_prior;
+  base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;
   base.plan_split_against_materials = plan_split;

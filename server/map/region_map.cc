@@ -10,11 +10,36 @@
 #include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
+#include "server/estimate/texture.h"
 #include "server/map/piece_resplit.h"
 #include "server/map/texture_assignment.h"
 
 namespace surfmap {
 namespace {
+
+// The roughness terms of the default texture metric (texture.h), their
+// variances over the pieces with roughness, in mu^2 (times mu_scale^2).
+double PriorRoughnessVariance(const std::vector<MapPiece>& pieces) {
+  const TextureDistanceOptions metric;
+  std::vector<Eigen::VectorXd> rows;
+  for (const MapPiece& p : pieces) {
+    if (!p.piece.has_roughness()) continue;
+    const auto& k = p.piece.texture.reflection;
+    Eigen::VectorXd row(k.size() + 1);
+    for (std::size_t j = 0; j < k.size(); ++j) row[j] = k[j] / metric.reflection_scale;
+    row[k.size()] = std::log(std::max(p.piece.texture.sigma, kTextureSigmaFloor)) / metric.log_sigma_scale;
+    if (!rows.empty() && row.size() != rows.front().size()) continue;
+    rows.push_back(row);
+  }
+  if (rows.size() < 2) return 0.0;
+  Eigen::VectorXd mean = Eigen::VectorXd::Zero(rows.front().size());
+  for (const auto& r : rows) mean += r;
+  mean /= static_cast<double>(rows.size());
+  double var = 0.0;
+  for (const auto& r : rows) var += (r - mean).squaredNorm();
+  var /= static_cast<double>(rows.size() - 1);
+  return metric.mu_scale * metric.mu_scale * var;
+}
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -401,6 +426,7 @@ absl::Status RegionMap::SpreadRegions() {
   for (const MapPiece& p : pieces_) var += (p.piece.texture.mu - mean) * (p.piece.texture.mu - mean);
   var /= std::max(1, n - 1);
   prior_mu_std_ = std::max(std::sqrt(var), options_.prior_mu_std_floor);
+  prior_roughness_variance_ = PriorRoughnessVariance(pieces_);
 
   // Regions spread from their pieces' points.
   std::vector<SurfaceSeed> surface_seeds;
@@ -517,6 +543,33 @@ double RegionMap::BoundaryVariance(int region, int second, double p) const {
   if (region < 0 || second < 0) return 0.0;
   const double jump = regions_[second].statistics.mu - regions_[region].statistics.mu;
   return p * (1.0 - p) * jump * jump;
+}
+
+double RegionMap::ConfusionCost(int a, int b, TextureProperty property) const {
+  const int n = static_cast<int>(regions_.size());
+  if (a < 0 || b < 0 || a >= n || b >= n) return 0.0;
+  const TextureRegion& x = regions_[a];
+  const TextureRegion& y = regions_[b];
+  const double jump = y.statistics.mu - x.statistics.mu;
+  if (property == TextureProperty::kFriction || !x.has_roughness() || !y.has_roughness()) return jump * jump;
+  TextureDistanceOptions metric;
+  metric.property = property;
+  const double d = metric.mu_scale * TextureDistance({x.statistics.mu, 0.0, x.reflection, x.sigma},
+                                                     {y.statistics.mu, 0.0, y.reflection, y.sigma}, metric);
+  return std::isfinite(d) ? d * d : jump * jump;
+}
+
+double RegionMap::PriorTextureVariance(TextureProperty property) const {
+  const double friction = prior_mu_std_ * prior_mu_std_;
+  switch (property) {
+    case TextureProperty::kFriction:
+      return friction;
+    case TextureProperty::kRoughness:
+      return prior_roughness_variance_ > 0.0 ? prior_roughness_variance_ : friction;
+    case TextureProperty::kBoth:
+      return friction + prior_roughness_variance_;
+  }
+  return friction;
 }
 
 double RegionMap::FarVariance(double d) const {

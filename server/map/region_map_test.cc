@@ -122,6 +122,60 @@ void ExpectRefusedNaming(const SurfaceLevel& level, const RegionMapOptions& opti
   EXPECT_NE(refused.status().message().find(field), std::string::npos) << refused.status();
 }
 
+// Masonite-like drags (mu 0.36, rough, sigma 0.16) at x < 0 and wood-like
+// (0.42, sigma 0.06) at x > 0; with `wood_rough` false the wood drags have no
+// roughness fit.
+std::vector<MapPiece> AlikeFrictionsDifferentRoughness(bool wood_rough) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) {
+    pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true));
+    pieces.back().piece.texture.reflection = {0.93, -0.73};
+    pieces.back().piece.texture.sigma = 0.16;
+  }
+  for (double x : {20.0, 30.0}) {
+    pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.42, 0.0, wood_rough));
+    if (wood_rough) pieces.back().piece.texture.reflection = {0.83, -0.45}, pieces.back().piece.texture.sigma = 0.06;
+  }
+  return pieces;
+}
+
+TEST(RegionMapTest, ConfusingTwoRegionsCostsTheirTextureDistanceInMuSquared) {
+  const SurfaceLevel level = Plate();
+  for (bool wood_rough : {true, false}) {
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, {}, AlikeFrictionsDifferentRoughness(wood_rough));
+    ASSERT_TRUE(map.ok()) << map.status();
+    const int masonite = At(*map, {-25, 0, 0}).region, wood = At(*map, {25, 0, 0}).region;
+    ASSERT_GE(masonite, 0);
+    ASSERT_GE(wood, 0);
+    ASSERT_NE(masonite, wood);
+    const double jump2 = 0.06 * 0.06;
+    EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kFriction), jump2, 1e-12);
+    if (!wood_rough) {
+      // Friction alone where one side has no roughness, whatever the property.
+      EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kBoth), jump2, 1e-12);
+      EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kRoughness), jump2, 1e-12);
+      continue;
+    }
+    // The default metric (texture.h): mu / 0.05, k / 0.3, ln sigma / 0.5.
+    const double rough2 =
+        std::pow(0.10 / 0.3, 2) + std::pow(0.28 / 0.3, 2) + std::pow(std::log(0.16 / 0.06) / 0.5, 2);
+    const double both = map->ConfusionCost(masonite, wood, TextureProperty::kBoth);
+    EXPECT_NEAR(both, 0.05 * 0.05 * (std::pow(0.06 / 0.05, 2) + rough2), 1e-9);
+    EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kRoughness), 0.05 * 0.05 * rough2, 1e-9);
+    EXPECT_DOUBLE_EQ(both, map->ConfusionCost(wood, masonite, TextureProperty::kBoth));
+    EXPECT_GT(both, 4.0 * jump2);  // the roughness, not the friction, sets them apart
+    EXPECT_EQ(map->ConfusionCost(masonite, masonite, TextureProperty::kBoth), 0.0);
+    EXPECT_EQ(map->ConfusionCost(-1, wood, TextureProperty::kBoth), 0.0);
+    // Far from data: the pieces' spread in the metric. Two rough textures
+    // two drags each: (n / (n - 1)) x the squared half-differences.
+    const double friction = map->PriorTextureVariance(TextureProperty::kFriction);
+    EXPECT_NEAR(friction, std::pow(map->prior_mu_std(), 2), 1e-15);
+    EXPECT_NEAR(map->PriorTextureVariance(TextureProperty::kBoth) - friction, 0.05 * 0.05 * rough2 / 3.0, 1e-9);
+    EXPECT_NEAR(map->PriorTextureVariance(TextureProperty::kRoughness), 0.05 * 0.05 * rough2 / 3.0, 1e-9);
+  }
+}
+
 TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   // A patch read by three drags long enough for a roughness fit (0.36, se
   // 0.02) and two short pieces at its rim without one (0.25, se 0.05: alike

@@ -9,9 +9,14 @@
 //   gain(c, u) = sum over v within `corridor` of the window's segment of
 //                  area(v) * far_variance(v)
 //              + sum over v within h of c of
-//                  area(v) * boundary_variance(v) * |u . n(v)|
+//                  area(v) * p(v) (1 - p(v)) * cost(v) * |u . n(v)|
 //
 // (region_map.h; mu^2 mm^2, the squared error mass the drag can remove),
+// p(v) the boundary probability and cost(v) what confusing the two regions
+// there costs: their mu jump squared for a friction job; for a roughness
+// or both job their texture distance in mu^2 (RegionMap::ConfusionCost), with
+// far_variance scaled to the pieces' spread in that metric, so a boundary
+// between alike frictions of different roughness is not starved;
 // n(v) the direction across the boundary at v (RegionMap::CrossingDirection):
 // a drag across a boundary pins it, one along it settles only the strip it
 // runs on. corridor = a quarter of the drag length: beyond that on either
@@ -55,7 +60,11 @@ class BoundarySelector {
  public:
   // `level` is the map's level (the selector keeps its vertex areas and a
   // spatial grid of its vertices); `drag_length_mm` the probe's segment.
-  BoundarySelector(const SurfaceLevel& level, double drag_length_mm);
+  // `cost`: what the errors are measured in (RegionMap::ConfusionCost and
+  // PriorTextureVariance): kFriction, mu^2; otherwise the texture metric's
+  // distance, in mu^2, over that property.
+  BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
+                   TextureProperty cost = TextureProperty::kFriction);
 
   // The candidate and direction with the largest gain among vertices with
   // candidate[v] != 0 (one entry per vertex of the level; vertices beyond its
@@ -100,6 +109,7 @@ class BoundarySelector {
 
   const SurfaceLevel* level_;
   double drag_length_mm_;
+  TextureProperty cost_;
   double half_window_mm_;  // h
   double corridor_mm_;
   std::vector<double> area_;  // a third of the area of the triangles around each vertex

@@ -58,5 +58,63 @@ TEST(BoundarySelectorTest, ADirectedDragWinsWithItsExtraGainAndKeepsItsDirection
   EXPECT_EQ(selector.Select(*map, every, {}, weak).vertex, map_only.vertex);
 }
 
+// Glass drags (mu 0.13, too smooth for roughness) at x = -45, -40; masonite
+// (0.36, sigma 0.16) at -15, -10; wood (0.42, sigma 0.06) at 20, 25: a
+// boundary of a large friction jump in x in (-40, -15) and one of alike
+// frictions but different roughness in (-10, 20).
+absl::StatusOr<RegionMap> GlassMasoniteWood(const SurfaceLevel& level) {
+  absl::StatusOr<RegionMap> map = RegionMap::Create(level);
+  if (!map.ok()) return map;
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-45.0, -40.0}) pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.13));
+  for (double x : {-15.0, -10.0, 20.0, 25.0}) {
+    const bool masonite = x < 0;
+    pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, masonite ? 0.36 : 0.42, 0.0, true));
+    pieces.back().piece.texture.reflection = masonite ? std::vector<double>{0.93, -0.73} : std::vector<double>{0.83, -0.45};
+    pieces.back().piece.texture.sigma = masonite ? 0.16 : 0.06;
+  }
+  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
+  return map;
+}
+
+// Weighed by texture distance (a job of property both), the alike-friction
+// boundary gains on the large-jump one by the ratio of their confusion
+// costs to their mu jumps squared.
+TEST(BoundarySelectorTest, TextureCostWeighsABoundaryByItsRoughnessToo) {
+  const SurfaceLevel level = testing::Plate();
+  absl::StatusOr<RegionMap> map = GlassMasoniteWood(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  const BoundarySelector friction(level, kDragLengthMm), texture(level, kDragLengthMm, TextureProperty::kBoth);
+  const int jump_gap = friction.NearestVertex({-27.5, 0, 0}, 5.0), rough_gap = friction.NearestVertex({5, 0, 0}, 5.0);
+  ASSERT_TRUE(jump_gap >= 0 && rough_gap >= 0);
+  const auto boundary_gain = [&](const BoundarySelector& s, int v) {
+    const BoundarySelection b = s.BestDirection(*map, v, {});
+    EXPECT_GT(std::abs(b.direction.x()), std::cos(M_PI / 6.0)) << "not across the boundary";
+    return b.gain * b.boundary_share;
+  };
+  const auto far_gain = [&](const BoundarySelector& s, int v) {
+    const BoundarySelection b = s.BestDirection(*map, v, {});
+    return b.gain * (1.0 - b.boundary_share);
+  };
+  const double f_jump = boundary_gain(friction, jump_gap), f_rough = boundary_gain(friction, rough_gap);
+  const double t_jump = boundary_gain(texture, jump_gap), t_rough = boundary_gain(texture, rough_gap);
+  ASSERT_TRUE(f_jump > 0.0 && f_rough > 0.0 && t_jump > 0.0 && t_rough > 0.0);
+  const auto region_at = [&](double x) { return map->ValueAtPosition({x, 0, 0})->region; };
+  const int glass = region_at(-42.5), masonite = region_at(-12.5), wood = region_at(22.5);
+  const double jump_ratio = map->ConfusionCost(glass, masonite, TextureProperty::kBoth) / std::pow(0.23, 2);
+  const double rough_ratio = map->ConfusionCost(masonite, wood, TextureProperty::kBoth) / std::pow(0.06, 2);
+  EXPECT_NEAR(jump_ratio, 1.0, 1e-9);  // glass has no roughness: friction alone tells it apart
+  ASSERT_GT(rough_ratio, 4.0);
+  // Nearly every vertex near each gap's middle lies between its own two
+  // regions (a few between glass and wood: 5 %).
+  EXPECT_NEAR((t_rough / t_jump) / (f_rough / f_jump), rough_ratio / jump_ratio, 0.05 * rough_ratio);
+  // Far from data the surface may differ by the pieces' spread in the same metric.
+  const double far_ratio =
+      map->PriorTextureVariance(TextureProperty::kBoth) / map->PriorTextureVariance(TextureProperty::kFriction);
+  EXPECT_GT(far_ratio, 1.0);
+  EXPECT_NEAR(far_gain(texture, rough_gap) / far_gain(friction, rough_gap), far_ratio, 1e-6 * far_ratio);
+}
+
 }  // namespace
 }  // namespace surfmap

@@ -116,7 +116,8 @@ absl::Status SamplingPlan::Initialise() {
             : options_.mode == PlanMode::kBoundary ? DefaultSampleBudget(levels_)
                                                    : 0;
   if (options_.mode == PlanMode::kBoundary) {
-    selector_.emplace(*levels_.back(), options_.probe.segment_length_mm);
+    selector_.emplace(*levels_.back(), options_.probe.segment_length_mm,
+                      options_.boundary_cost_follows_property ? options_.distance.property : TextureProperty::kFriction);
   }
   state_counts_.assign(options_.max_level - options_.coarsest_level + 1, {});
   edge_index_.assign(options_.max_level - options_.coarsest_level, {});

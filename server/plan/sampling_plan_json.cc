@@ -162,6 +162,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"coverage_skip_share", o.coverage_skip_share},
       {"quiet_coverage_skip_share", o.quiet_coverage_skip_share},
       {"continuation_prior", o.continuation_prior},
+      {"boundary_cost_follows_property", o.boundary_cost_follows_property},
   };
 }
 
@@ -242,6 +243,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.quiet_coverage_skip_share =
       j.contains("quiet_coverage_skip_share") ? in.Double(j, "options", "quiet_coverage_skip_share") : 0.0;
   o.continuation_prior = j.contains("continuation_prior") ? in.Double(j, "options", "continuation_prior") : 0.0;
+  // Added later: a plan saved before goes on weighing boundaries by their mu jump, whatever its property.
+  o.boundary_cost_follows_property = j.contains("boundary_cost_follows_property") && in.Bool(j, "options", "boundary_cost_follows_property");
   return o;
 }
 

@@ -195,6 +195,12 @@ TEST(SaveRestoreTest, APlanSavedBeforeTheQuietCoverageSkipRestoresWithout) {
                                   0.0);
 }
 
+TEST(SaveRestoreTest, APlanSavedBeforeTheBoundaryCostFollowedThePropertyRestoresWeighingByFriction) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  ASSERT_TRUE(o.boundary_cost_follows_property);
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::boundary_cost_follows_property, "boundary_cost_follows_property", false);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

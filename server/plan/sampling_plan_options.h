@@ -109,6 +109,13 @@ struct SamplingPlanOptions {
   // small patches and the other scenes' boundaries needed. Plans stored
   // without the key restore with 0.
   double continuation_prior = 0.0;
+  // kBoundary: the map's errors are measured in the job's property
+  // (distance.property): a friction job weighs a boundary by its mu jump
+  // squared, a roughness or both job by its texture distance (friction and
+  // roughness, in mu^2), and the far-from-data term by the pieces' spread in
+  // that metric (boundary_selection.h). False: always by friction, the
+  // build before. Plans stored without the key restore with false.
+  bool boundary_cost_follows_property = true;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map
