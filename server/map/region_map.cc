@@ -17,10 +17,10 @@
 namespace surfmap {
 namespace {
 
-// The roughness terms of the default texture metric (texture.h), their
-// variances over the pieces with roughness, in mu^2 (times mu_scale^2).
-double PriorRoughnessVariance(const std::vector<MapPiece>& pieces) {
-  const TextureDistanceOptions metric;
+// The roughness coordinates of `metric` (reflection coefficients and log
+// sigma, each over its scale), their variance summed over the pieces with
+// roughness, times mu_scale^2; 0 with fewer than two such pieces.
+double RoughnessVariance(const std::vector<MapPiece>& pieces, const TextureDistanceOptions& metric) {
   std::vector<Eigen::VectorXd> rows;
   for (const MapPiece& p : pieces) {
     if (!p.piece.has_roughness()) continue;
@@ -28,7 +28,7 @@ double PriorRoughnessVariance(const std::vector<MapPiece>& pieces) {
     Eigen::VectorXd row(k.size() + 1);
     for (std::size_t j = 0; j < k.size(); ++j) row[j] = k[j] / metric.reflection_scale;
     row[k.size()] = std::log(std::max(p.piece.texture.sigma, kTextureSigmaFloor)) / metric.log_sigma_scale;
-    if (!rows.empty() && row.size() != rows.front().size()) continue;
+    if (!rows.empty() && row.size() != rows.front().size()) continue;  // one model order: the first piece's
     rows.push_back(row);
   }
   if (rows.size() < 2) return 0.0;
@@ -426,7 +426,6 @@ absl::Status RegionMap::SpreadRegions() {
   for (const MapPiece& p : pieces_) var += (p.piece.texture.mu - mean) * (p.piece.texture.mu - mean);
   var /= std::max(1, n - 1);
   prior_mu_std_ = std::max(std::sqrt(var), options_.prior_mu_std_floor);
-  prior_roughness_variance_ = PriorRoughnessVariance(pieces_);
 
   // Regions spread from their pieces' points.
   std::vector<SurfaceSeed> surface_seeds;
@@ -545,31 +544,24 @@ double RegionMap::BoundaryVariance(int region, int second, double p) const {
   return p * (1.0 - p) * jump * jump;
 }
 
-double RegionMap::ConfusionCost(int a, int b, TextureProperty property) const {
+double RegionMap::ConfusionCost(int a, int b, const TextureDistanceOptions& metric) const {
   const int n = static_cast<int>(regions_.size());
   if (a < 0 || b < 0 || a >= n || b >= n) return 0.0;
   const TextureRegion& x = regions_[a];
   const TextureRegion& y = regions_[b];
   const double jump = y.statistics.mu - x.statistics.mu;
-  if (property == TextureProperty::kFriction || !x.has_roughness() || !y.has_roughness()) return jump * jump;
-  TextureDistanceOptions metric;
-  metric.property = property;
+  if (metric.property == TextureProperty::kFriction || !x.has_roughness() || !y.has_roughness()) return jump * jump;
   const double d = metric.mu_scale * TextureDistance({x.statistics.mu, 0.0, x.reflection, x.sigma},
                                                      {y.statistics.mu, 0.0, y.reflection, y.sigma}, metric);
-  return std::isfinite(d) ? d * d : jump * jump;
+  return d * d;  // finite: the regions' estimates are, and a plan's metric is validated
 }
 
-double RegionMap::PriorTextureVariance(TextureProperty property) const {
+double RegionMap::PriorTextureVariance(const TextureDistanceOptions& metric) const {
   const double friction = prior_mu_std_ * prior_mu_std_;
-  switch (property) {
-    case TextureProperty::kFriction:
-      return friction;
-    case TextureProperty::kRoughness:
-      return prior_roughness_variance_ > 0.0 ? prior_roughness_variance_ : friction;
-    case TextureProperty::kBoth:
-      return friction + prior_roughness_variance_;
-  }
-  return friction;
+  if (metric.property == TextureProperty::kFriction) return friction;
+  const double roughness = RoughnessVariance(pieces_, metric);
+  if (metric.property == TextureProperty::kRoughness) return roughness > 0.0 ? roughness : friction;
+  return friction + roughness;
 }
 
 double RegionMap::FarVariance(double d) const {

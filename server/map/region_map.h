@@ -201,17 +201,17 @@ class RegionMap {
   const std::vector<double>& boundary_variance() const { return boundary_variance_; }
   const std::vector<double>& far_variance() const { return far_variance_; }
   // What serving region b's estimates where region a lies costs, in mu^2:
-  // (mu_scale * TextureDistance(a, b))^2 in the default texture metric
-  // (texture.h) restricted to `property`. kFriction gives (mu_b - mu_a)^2,
-  // and so does any property where either region has no roughness (one
-  // too smooth or too short to fit cannot be told apart by it). 0 for an
-  // unknown region.
-  double ConfusionCost(int a, int b, TextureProperty property) const;
-  // What the surface far from any data may differ by in the same units:
-  // the variance over the pieces of the metric's coordinates (mu; the
-  // reflection coefficients and log sigma of the pieces with roughness),
-  // times mu_scale^2. kFriction: prior_mu_std()^2.
-  double PriorTextureVariance(TextureProperty property) const;
+  // (metric.mu_scale * TextureDistance(a, b, metric))^2. (mu_b - mu_a)^2
+  // when metric.property is kFriction, and for any property where either
+  // region has no roughness (one too smooth or too short to fit cannot be
+  // told apart by it). 0 for an unknown region.
+  double ConfusionCost(int a, int b, const TextureDistanceOptions& metric) const;
+  // What the surface far from any data may differ by, in the same units:
+  // prior_mu_std()^2 for the friction term, plus, for the roughness terms,
+  // mu_scale^2 times the variance over the pieces with roughness of their
+  // scaled reflection coefficients and log sigma. A kRoughness metric with
+  // fewer than two such pieces falls back to prior_mu_std()^2.
+  double PriorTextureVariance(const TextureDistanceOptions& metric) const;
   // reflection()[j][v] is k_(j+1) at v; NaN where v's region has no roughness.
   const std::vector<std::vector<double>>& reflection() const { return reflection_; }
   const std::vector<double>& log_sigma() const { return log_sigma_; }  // NaN where no roughness
@@ -311,7 +311,6 @@ class RegionMap {
   NearestLabels nearest_;  // labelled by region
   std::vector<Eigen::Vector3d> seed_points_;  // of nearest_'s seeds
   double prior_mu_std_ = 0.0;
-  double prior_roughness_variance_ = 0.0;  // PriorTextureVariance's roughness part
   std::vector<int> region_, second_region_;
   std::vector<double> mu_, mu_std_, data_distance_mm_, boundary_probability_, log_sigma_;
   std::vector<double> boundary_variance_, far_variance_;

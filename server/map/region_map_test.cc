@@ -9,6 +9,10 @@ namespace surfmap {
 namespace {
 
 using testing::CrossingDrag;
+using testing::MapOfPieces;
+using testing::MasonitePiece;
+using testing::Metric;
+using testing::WoodPiece;
 using testing::Plate;
 using testing::StraightPiece;
 
@@ -106,15 +110,6 @@ std::vector<MapPiece> PatchWithRimSlivers() {
   return pieces;
 }
 
-// The map of `pieces` with `options`; an error where it cannot be built.
-absl::StatusOr<RegionMap> MapOfPieces(const SurfaceLevel& level, const RegionMapOptions& options,
-                                      const std::vector<MapPiece>& pieces) {
-  absl::StatusOr<RegionMap> map = RegionMap::Create(level, options);
-  if (!map.ok()) return map.status();
-  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
-  return map;
-}
-
 // Options the map refuses, with a message naming `field`.
 void ExpectRefusedNaming(const SurfaceLevel& level, const RegionMapOptions& options, const std::string& field) {
   absl::StatusOr<RegionMap> refused = RegionMap::Create(level, options);
@@ -122,20 +117,15 @@ void ExpectRefusedNaming(const SurfaceLevel& level, const RegionMapOptions& opti
   EXPECT_NE(refused.status().message().find(field), std::string::npos) << refused.status();
 }
 
-// Masonite-like drags (mu 0.36, rough, sigma 0.16) at x < 0 and wood-like
-// (0.42, sigma 0.06) at x > 0; with `wood_rough` false the wood drags have no
-// roughness fit.
+// Masonite-like drags at x < 0 and wood-like at x > 0 (map_pieces.h); with
+// `wood_rough` false the wood drags have no roughness fit.
 std::vector<MapPiece> AlikeFrictionsDifferentRoughness(bool wood_rough) {
   std::vector<MapPiece> pieces;
   int drag = 0;
-  for (double x : {-30.0, -20.0}) {
-    pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true));
-    pieces.back().piece.texture.reflection = {0.93, -0.73};
-    pieces.back().piece.texture.sigma = 0.16;
-  }
+  for (double x : {-30.0, -20.0}) pieces.push_back(MasonitePiece(drag++, {x, -8, 0}, {x, 8, 0}));
   for (double x : {20.0, 30.0}) {
-    pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.42, 0.0, wood_rough));
-    if (wood_rough) pieces.back().piece.texture.reflection = {0.83, -0.45}, pieces.back().piece.texture.sigma = 0.06;
+    pieces.push_back(wood_rough ? WoodPiece(drag++, {x, -8, 0}, {x, 8, 0})
+                                : StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.42));
   }
   return pieces;
 }
@@ -143,36 +133,42 @@ std::vector<MapPiece> AlikeFrictionsDifferentRoughness(bool wood_rough) {
 TEST(RegionMapTest, ConfusingTwoRegionsCostsTheirTextureDistanceInMuSquared) {
   const SurfaceLevel level = Plate();
   for (bool wood_rough : {true, false}) {
-    absl::StatusOr<RegionMap> map = MapOfPieces(level, {}, AlikeFrictionsDifferentRoughness(wood_rough));
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, AlikeFrictionsDifferentRoughness(wood_rough));
     ASSERT_TRUE(map.ok()) << map.status();
     const int masonite = At(*map, {-25, 0, 0}).region, wood = At(*map, {25, 0, 0}).region;
     ASSERT_GE(masonite, 0);
     ASSERT_GE(wood, 0);
     ASSERT_NE(masonite, wood);
     const double jump2 = 0.06 * 0.06;
-    EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kFriction), jump2, 1e-12);
+    EXPECT_NEAR(map->ConfusionCost(masonite, wood, Metric(TextureProperty::kFriction)), jump2, 1e-12);
     if (!wood_rough) {
       // Friction alone where one side has no roughness, whatever the property.
-      EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kBoth), jump2, 1e-12);
-      EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kRoughness), jump2, 1e-12);
+      EXPECT_NEAR(map->ConfusionCost(masonite, wood, Metric(TextureProperty::kBoth)), jump2, 1e-12);
+      EXPECT_NEAR(map->ConfusionCost(masonite, wood, Metric(TextureProperty::kRoughness)), jump2, 1e-12);
       continue;
     }
     // The default metric (texture.h): mu / 0.05, k / 0.3, ln sigma / 0.5.
     const double rough2 =
         std::pow(0.10 / 0.3, 2) + std::pow(0.28 / 0.3, 2) + std::pow(std::log(0.16 / 0.06) / 0.5, 2);
-    const double both = map->ConfusionCost(masonite, wood, TextureProperty::kBoth);
+    const double both = map->ConfusionCost(masonite, wood, Metric(TextureProperty::kBoth));
     EXPECT_NEAR(both, 0.05 * 0.05 * (std::pow(0.06 / 0.05, 2) + rough2), 1e-9);
-    EXPECT_NEAR(map->ConfusionCost(masonite, wood, TextureProperty::kRoughness), 0.05 * 0.05 * rough2, 1e-9);
-    EXPECT_DOUBLE_EQ(both, map->ConfusionCost(wood, masonite, TextureProperty::kBoth));
+    EXPECT_NEAR(map->ConfusionCost(masonite, wood, Metric(TextureProperty::kRoughness)), 0.05 * 0.05 * rough2, 1e-9);
+    EXPECT_DOUBLE_EQ(both, map->ConfusionCost(wood, masonite, Metric(TextureProperty::kBoth)));
     EXPECT_GT(both, 4.0 * jump2);  // the roughness, not the friction, sets them apart
-    EXPECT_EQ(map->ConfusionCost(masonite, masonite, TextureProperty::kBoth), 0.0);
-    EXPECT_EQ(map->ConfusionCost(-1, wood, TextureProperty::kBoth), 0.0);
+    EXPECT_EQ(map->ConfusionCost(masonite, masonite, Metric(TextureProperty::kBoth)), 0.0);
+    EXPECT_EQ(map->ConfusionCost(-1, wood, Metric(TextureProperty::kBoth)), 0.0);
+    // The job's metric, not a default: log sigma over 1.0 instead of 0.5.
+    TextureDistanceOptions wider = Metric(TextureProperty::kBoth);
+    wider.log_sigma_scale = 1.0;
+    const double rough2_wider = rough2 - std::pow(std::log(0.16 / 0.06) / 0.5, 2) + std::pow(std::log(0.16 / 0.06), 2);
+    EXPECT_NEAR(map->ConfusionCost(masonite, wood, wider), 0.05 * 0.05 * (std::pow(0.06 / 0.05, 2) + rough2_wider),
+                1e-9);
     // Far from data: the pieces' spread in the metric. Two rough textures
     // two drags each: (n / (n - 1)) x the squared half-differences.
-    const double friction = map->PriorTextureVariance(TextureProperty::kFriction);
+    const double friction = map->PriorTextureVariance(Metric(TextureProperty::kFriction));
     EXPECT_NEAR(friction, std::pow(map->prior_mu_std(), 2), 1e-15);
-    EXPECT_NEAR(map->PriorTextureVariance(TextureProperty::kBoth) - friction, 0.05 * 0.05 * rough2 / 3.0, 1e-9);
-    EXPECT_NEAR(map->PriorTextureVariance(TextureProperty::kRoughness), 0.05 * 0.05 * rough2 / 3.0, 1e-9);
+    EXPECT_NEAR(map->PriorTextureVariance(Metric(TextureProperty::kBoth)) - friction, 0.05 * 0.05 * rough2 / 3.0, 1e-9);
+    EXPECT_NEAR(map->PriorTextureVariance(Metric(TextureProperty::kRoughness)), 0.05 * 0.05 * rough2 / 3.0, 1e-9);
   }
 }
 
@@ -188,7 +184,7 @@ TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   for (const int min_fitted : {3, 0, 4}) {
     RegionMapOptions options;
     options.min_fitted_pieces_for_mu = min_fitted;
-    absl::StatusOr<RegionMap> map = MapOfPieces(level, options, pieces);
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces, options);
     ASSERT_TRUE(map.ok()) << map.status();
     const TextureRegion& patch = map->regions()[map->piece_region()[2]];
     ASSERT_EQ(map->regions()[map->piece_region()[5]].material, patch.material) << "the short pieces join the patch";
@@ -216,7 +212,7 @@ TEST(RegionMapTest, ACrossingTooShortToFitRoughnessStillCountsForMu) {
   for (const double min_mm : {4.0, 0.0}) {
     RegionMapOptions options;
     options.min_mu_piece_mm = min_mm;
-    absl::StatusOr<RegionMap> map = MapOfPieces(level, options, pieces);
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces, options);
     ASSERT_TRUE(map.ok()) << map.status();
     const TextureRegion& patch = map->regions()[map->piece_region()[2]];
     ASSERT_EQ(map->regions()[map->piece_region()[7]].material, patch.material) << "the crossing joins the patch";

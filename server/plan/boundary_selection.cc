@@ -28,10 +28,11 @@ constexpr int kShortlist = 16;
 
 }  // namespace
 
-BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm, TextureProperty cost)
+BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
+                                   const TextureDistanceOptions& metric)
     : level_(&level),
       drag_length_mm_(drag_length_mm),
-      cost_(cost),
+      metric_(metric),
       half_window_mm_(0.5 * kWindowShare * drag_length_mm),
       corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
@@ -91,15 +92,15 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   r.far.assign(nv, 0.0);
   r.boundary.assign(nv, 0.0);
   r.across.assign(nv, Eigen::Vector3d::Zero());
-  const double far_scale = cost_ == TextureProperty::kFriction
-                               ? 1.0
-                               : map.PriorTextureVariance(cost_) / map.PriorTextureVariance(TextureProperty::kFriction);
+  // A friction metric reads the map's own variances (the same numbers, bit
+  // for bit, as before metrics existed); another rescales both terms.
+  const bool friction = metric_.property == TextureProperty::kFriction;
+  const double far_scale = friction ? 1.0 : map.PriorTextureVariance(metric_) / map.PriorTextureVariance(Friction());
   for (int v = 0; v < nv; ++v) {
     const double p = map.boundary_probability()[v];
     r.far[v] = area_[v] * map.far_variance()[v] * far_scale;
-    r.boundary[v] = cost_ == TextureProperty::kFriction
-                        ? area_[v] * map.boundary_variance()[v]
-                        : area_[v] * p * (1.0 - p) * map.ConfusionCost(map.region()[v], map.second_region()[v], cost_);
+    r.boundary[v] = friction ? area_[v] * map.boundary_variance()[v]
+                             : area_[v] * p * (1.0 - p) * map.ConfusionCost(map.region()[v], map.second_region()[v], metric_);
     if (r.boundary[v] > 0.0) r.across[v] = map.CrossingDirection(v);
   }
   for (const Eigen::Vector3d& p : covered) {

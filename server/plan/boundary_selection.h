@@ -60,11 +60,17 @@ class BoundarySelector {
  public:
   // `level` is the map's level (the selector keeps its vertex areas and a
   // spatial grid of its vertices); `drag_length_mm` the probe's segment.
-  // `cost`: what the errors are measured in (RegionMap::ConfusionCost and
-  // PriorTextureVariance): kFriction, mu^2; otherwise the texture metric's
-  // distance, in mu^2, over that property.
-  BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
-                   TextureProperty cost = TextureProperty::kFriction);
+  // `metric`: what the errors are measured in (RegionMap::ConfusionCost and
+  // PriorTextureVariance): with property kFriction, mu^2 (the mu jump);
+  // otherwise the texture distance over that property, in mu^2.
+  BoundarySelector(const SurfaceLevel& level, double drag_length_mm, const TextureDistanceOptions& metric = Friction());
+
+  // The friction-only metric: boundaries weighed by their mu jump.
+  static TextureDistanceOptions Friction() {
+    TextureDistanceOptions metric;
+    metric.property = TextureProperty::kFriction;
+    return metric;
+  }
 
   // The candidate and direction with the largest gain among vertices with
   // candidate[v] != 0 (one entry per vertex of the level; vertices beyond its
@@ -109,7 +115,7 @@ class BoundarySelector {
 
   const SurfaceLevel* level_;
   double drag_length_mm_;
-  TextureProperty cost_;
+  TextureDistanceOptions metric_;
   double half_window_mm_;  // h
   double corridor_mm_;
   std::vector<double> area_;  // a third of the area of the triangles around each vertex

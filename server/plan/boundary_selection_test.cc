@@ -13,14 +13,11 @@ constexpr double kDragLengthMm = 20.0;
 // Glass drags along y at x = -30 and -20, sandpaper at x = 20 and 30: the
 // boundary somewhere in x in (-20, 20), pinned nowhere.
 absl::StatusOr<RegionMap> UnpinnedBoundary(const SurfaceLevel& level) {
-  absl::StatusOr<RegionMap> map = RegionMap::Create(level);
-  if (!map.ok()) return map;
   std::vector<MapPiece> pieces;
   int drag = 0;
   for (double x : {-30.0, -20.0}) pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.13));
   for (double x : {20.0, 30.0}) pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.5));
-  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
-  return map;
+  return testing::MapOfPieces(level, pieces);
 }
 
 TEST(BoundarySelectorTest, TheBestDragGoesAcrossTheUnpinnedBoundaryBetweenTheData) {
@@ -63,19 +60,12 @@ TEST(BoundarySelectorTest, ADirectedDragWinsWithItsExtraGainAndKeepsItsDirection
 // boundary of a large friction jump in x in (-40, -15) and one of alike
 // frictions but different roughness in (-10, 20).
 absl::StatusOr<RegionMap> GlassMasoniteWood(const SurfaceLevel& level) {
-  absl::StatusOr<RegionMap> map = RegionMap::Create(level);
-  if (!map.ok()) return map;
   std::vector<MapPiece> pieces;
   int drag = 0;
   for (double x : {-45.0, -40.0}) pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.13));
-  for (double x : {-15.0, -10.0, 20.0, 25.0}) {
-    const bool masonite = x < 0;
-    pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, masonite ? 0.36 : 0.42, 0.0, true));
-    pieces.back().piece.texture.reflection = masonite ? std::vector<double>{0.93, -0.73} : std::vector<double>{0.83, -0.45};
-    pieces.back().piece.texture.sigma = masonite ? 0.16 : 0.06;
-  }
-  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
-  return map;
+  for (double x : {-15.0, -10.0}) pieces.push_back(testing::MasonitePiece(drag++, {x, -20, 0}, {x, 20, 0}));
+  for (double x : {20.0, 25.0}) pieces.push_back(testing::WoodPiece(drag++, {x, -20, 0}, {x, 20, 0}));
+  return testing::MapOfPieces(level, pieces);
 }
 
 // Weighed by texture distance (a job of property both), the alike-friction
@@ -85,7 +75,7 @@ TEST(BoundarySelectorTest, TextureCostWeighsABoundaryByItsRoughnessToo) {
   const SurfaceLevel level = testing::Plate();
   absl::StatusOr<RegionMap> map = GlassMasoniteWood(level);
   ASSERT_TRUE(map.ok()) << map.status();
-  const BoundarySelector friction(level, kDragLengthMm), texture(level, kDragLengthMm, TextureProperty::kBoth);
+  const BoundarySelector friction(level, kDragLengthMm), texture(level, kDragLengthMm, testing::Metric(TextureProperty::kBoth));
   const int jump_gap = friction.NearestVertex({-27.5, 0, 0}, 5.0), rough_gap = friction.NearestVertex({5, 0, 0}, 5.0);
   ASSERT_TRUE(jump_gap >= 0 && rough_gap >= 0);
   const auto boundary_gain = [&](const BoundarySelector& s, int v) {
@@ -102,8 +92,8 @@ TEST(BoundarySelectorTest, TextureCostWeighsABoundaryByItsRoughnessToo) {
   ASSERT_TRUE(f_jump > 0.0 && f_rough > 0.0 && t_jump > 0.0 && t_rough > 0.0);
   const auto region_at = [&](double x) { return map->ValueAtPosition({x, 0, 0})->region; };
   const int glass = region_at(-42.5), masonite = region_at(-12.5), wood = region_at(22.5);
-  const double jump_ratio = map->ConfusionCost(glass, masonite, TextureProperty::kBoth) / std::pow(0.23, 2);
-  const double rough_ratio = map->ConfusionCost(masonite, wood, TextureProperty::kBoth) / std::pow(0.06, 2);
+  const double jump_ratio = map->ConfusionCost(glass, masonite, testing::Metric(TextureProperty::kBoth)) / std::pow(0.23, 2);
+  const double rough_ratio = map->ConfusionCost(masonite, wood, testing::Metric(TextureProperty::kBoth)) / std::pow(0.06, 2);
   EXPECT_NEAR(jump_ratio, 1.0, 1e-9);  // glass has no roughness: friction alone tells it apart
   ASSERT_GT(rough_ratio, 4.0);
   // Nearly every vertex near each gap's middle lies between its own two
@@ -111,7 +101,7 @@ TEST(BoundarySelectorTest, TextureCostWeighsABoundaryByItsRoughnessToo) {
   EXPECT_NEAR((t_rough / t_jump) / (f_rough / f_jump), rough_ratio / jump_ratio, 0.05 * rough_ratio);
   // Far from data the surface may differ by the pieces' spread in the same metric.
   const double far_ratio =
-      map->PriorTextureVariance(TextureProperty::kBoth) / map->PriorTextureVariance(TextureProperty::kFriction);
+      map->PriorTextureVariance(testing::Metric(TextureProperty::kBoth)) / map->PriorTextureVariance(testing::Metric(TextureProperty::kFriction));
   EXPECT_GT(far_ratio, 1.0);
   EXPECT_NEAR(far_gain(texture, rough_gap) / far_gain(friction, rough_gap), far_ratio, 1e-6 * far_ratio);
 }

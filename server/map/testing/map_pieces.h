@@ -35,6 +35,39 @@ inline MapPiece StraightPiece(int drag, const Eigen::Vector3d& a, const Eigen::V
   return p;
 }
 
+// A masonite-like piece (mu 0.36; reflection coefficients 0.93, -0.73, sigma
+// 0.16) or a wood-like one (0.42; 0.83, -0.45, sigma 0.06): alike frictions,
+// different roughness (the scan_stone_m scene's strip on its body).
+inline MapPiece MasonitePiece(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  MapPiece p = StraightPiece(drag, a, b, 0.36, 0.0, true);
+  p.piece.texture.reflection = {0.93, -0.73};
+  p.piece.texture.sigma = 0.16;
+  return p;
+}
+inline MapPiece WoodPiece(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  MapPiece p = StraightPiece(drag, a, b, 0.42, 0.0, true);
+  p.piece.texture.reflection = {0.83, -0.45};
+  p.piece.texture.sigma = 0.06;
+  return p;
+}
+
+// The map of `pieces` on `level` with `options`; an error where it cannot
+// be built.
+inline absl::StatusOr<RegionMap> MapOfPieces(const SurfaceLevel& level, const std::vector<MapPiece>& pieces,
+                                             const RegionMapOptions& options = {}) {
+  absl::StatusOr<RegionMap> map = RegionMap::Create(level, options);
+  if (!map.ok()) return map.status();
+  if (absl::Status s = map->SetPieces(pieces); !s.ok()) return s;
+  return map;
+}
+
+// The default texture metric restricted to `property`.
+inline TextureDistanceOptions Metric(TextureProperty property) {
+  TextureDistanceOptions metric;
+  metric.property = property;
+  return metric;
+}
+
 // A drag from a to b that crosses from mu_before to mu_after at `at` (a
 // point of the segment): two pieces bounded by the detected change.
 inline std::vector<MapPiece> CrossingDrag(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& at,
