@@ -23,6 +23,7 @@ TEST(BoundaryExtensions, AChainIsCarriedOnThroughObliqueCrossingsOfItsBoundary) 
                                          Crossing(32.0, 3, -60.0)};
   BoundaryLinkOptions off;
   off.max_extension_turn_deg = 0.0;
+  off.max_line_turn_deg = 0.0;  // the three oblique crossings would make a line of their own (boundary_lines.h)
   EXPECT_EQ(LinksDrawn(marks, off), 1);
   EXPECT_EQ(LinksDrawn(marks), 3);  // carried on twice: 10 -> 20 -> 32
 

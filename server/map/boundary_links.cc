@@ -11,6 +11,7 @@
 #include "server/map/boundary_chains.h"
 #include "server/map/boundary_corners.h"
 #include "server/map/boundary_extensions.h"
+#include "server/map/boundary_lines.h"
 #include "server/map/boundary_corridor.h"
 #include "server/map/boundary_curves.h"
 
@@ -38,6 +39,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                     {"max_corner_turn_deg", max_corner_turn_deg},
                                     {"max_corner_normal_deg", max_corner_normal_deg},
                                     {"max_extension_turn_deg", max_extension_turn_deg},
+                                    {"max_line_turn_deg", max_line_turn_deg},
                                     {"max_curve_turn_deg", max_curve_turn_deg}}) {
     if (!(value >= 0.0 && value <= 180.0)) return fail(absl::StrCat(name, " must be in [0, 180] degrees"));
   }
@@ -105,6 +107,7 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     if (SegmentContradicted(link, grid, o)) continue;
     drawn.push_back({i, j, a, b, towards_a});
   }
+  drawn = DrawLines(marks, std::move(drawn), grid, o);
   drawn = ExtendChains(marks, std::move(drawn), grid, o);
   out = LinkSeeds(marks, drawn, grid, o);
   if (links != nullptr) *links = static_cast<int>(drawn.size());

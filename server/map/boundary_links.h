@@ -111,6 +111,11 @@ struct BoundaryLinkOptions {
   // (docs/method.md): 30 mm, 14 runs of 60 better and 3 worse, torus scenes
   // unchanged; 40 mm the same.
   double max_extension_length_mm = 30.0;
+  // Lines of three crossings drags made obliquely (boundary_lines.h): the
+  // chord may turn at the middle one by at most this (0 = off). The same
+  // 10 degrees as an extension's turn: a corner turns by min_corner_turn_deg
+  // or more.
+  double max_line_turn_deg = 10.0;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most

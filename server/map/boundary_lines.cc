@@ -1,0 +1,130 @@
+#include "server/map/boundary_lines.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <tuple>
+
+#include <Eigen/Geometry>
+
+namespace surfmap {
+namespace {
+
+Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
+
+double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
+
+// The link p -> q if the drags of both crossed its chord steeply enough
+// with region `a` on the same side; false otherwise.
+bool CrossedLink(const ChangeMark& p, const ChangeMark& q, int i, int j, int a, int b, double min_cos,
+                 DrawnLink* out) {
+  const Eigen::Vector3d chord = q.position - p.position;
+  Eigen::Vector3d across = chord.cross((p.normal + q.normal).normalized());
+  if (across.norm() < 1e-9) return false;
+  across.normalize();
+  const double sp = TowardsA(p, a).dot(across), sq = TowardsA(q, a).dot(across);
+  if (sp * sq <= 0.0 || std::abs(sp) < min_cos || std::abs(sq) < min_cos) return false;
+  *out = {i, j, a, b, sp > 0 ? across : Eigen::Vector3d(-across)};
+  return true;
+}
+
+struct Line {
+  double turn = 0.0;    // radians at the middle mark
+  double length = 0.0;  // |PQ| + |QR|
+  DrawnLink first;      // P -> Q
+  DrawnLink second;     // R -> Q
+};
+
+// Whether a new link from mark m to position `to` would put a second link on
+// a side of m that already has one.
+bool SideTaken(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links, int m,
+               const Eigen::Vector3d& to) {
+  const Eigen::Vector3d way = to - marks[m].position;
+  for (const DrawnLink& l : links) {
+    if (l.from != m && l.to != m) continue;
+    const int other = l.from == m ? l.to : l.from;
+    if ((marks[other].position - marks[m].position).dot(way) > 0.0) return true;
+  }
+  return false;
+}
+
+bool Drawn(const std::vector<DrawnLink>& links, int i, int j) {
+  return std::any_of(links.begin(), links.end(), [&](const DrawnLink& l) {
+    return (l.from == i && l.to == j) || (l.from == j && l.to == i);
+  });
+}
+
+}  // namespace
+
+std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vector<DrawnLink> links,
+                                 const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  if (!(o.max_line_turn_deg > 0.0)) return links;
+  const int n = static_cast<int>(marks.size());
+  const double min_normal_cos = std::cos(Radians(o.max_corner_normal_deg));
+  const double min_turn_cos = std::cos(Radians(o.max_line_turn_deg));
+  std::vector<Line> lines;
+  for (int q = 0; q < n; ++q) {
+    const ChangeMark& mq = marks[q];
+    const int a = std::min(mq.before, mq.after), b = std::max(mq.before, mq.after);
+    if (a == b) continue;
+    // The marks that could be an outer end of a line through q.
+    std::vector<int> near;
+    for (int p = 0; p < n; ++p) {
+      const ChangeMark& mp = marks[p];
+      if (p == q || mp.drag == mq.drag || std::min(mp.before, mp.after) != a || std::max(mp.before, mp.after) != b) {
+        continue;
+      }
+      const double d = (mp.position - mq.position).norm();
+      if (d < o.min_corner_link_mm || d > o.max_length_mm || mp.normal.dot(mq.normal) < min_normal_cos) continue;
+      near.push_back(p);
+    }
+    for (std::size_t x = 0; x < near.size(); ++x) {
+      for (std::size_t y = x + 1; y < near.size(); ++y) {
+        const int p = near[x], r = near[y];
+        if (marks[p].drag == marks[r].drag) continue;
+        const Eigen::Vector3d in = InPlane(mq.position - marks[p].position, mq.normal);
+        const Eigen::Vector3d on = InPlane(marks[r].position - mq.position, mq.normal);
+        if (in.norm() < 1e-9 || on.norm() < 1e-9) continue;
+        const double turn_cos = in.normalized().dot(on.normalized());
+        if (turn_cos < min_turn_cos) continue;  // also rejects P and R on the same side of Q
+        Line line;
+        if (!CrossedLink(marks[p], mq, p, q, a, b, o.min_extension_crossing_cos, &line.first) ||
+            !CrossedLink(marks[r], mq, r, q, a, b, o.min_extension_crossing_cos, &line.second) ||
+            line.first.towards_a.dot(line.second.towards_a) <= 0.0) {
+          continue;
+        }
+        line.turn = std::acos(std::clamp(turn_cos, -1.0, 1.0));
+        line.length = (mq.position - marks[p].position).norm() + (marks[r].position - mq.position).norm();
+        lines.push_back(line);
+      }
+    }
+  }
+  std::sort(lines.begin(), lines.end(), [](const Line& l, const Line& r) {
+    return std::tie(l.turn, l.length, l.first.from, l.first.to, l.second.from) <
+           std::tie(r.turn, r.length, r.first.from, r.first.to, r.second.from);
+  });
+  for (const Line& line : lines) {
+    std::vector<DrawnLink> added;
+    bool blocked = false;
+    for (const DrawnLink& link : {line.first, line.second}) {
+      if (Drawn(links, link.from, link.to)) continue;
+      const ChangeMark& outer = marks[link.from];
+      const ChangeMark& middle = marks[link.to];
+      if (SideTaken(marks, links, link.from, middle.position) || SideTaken(marks, links, link.to, outer.position)) {
+        blocked = true;
+        break;
+      }
+      const BoundarySegment segment{outer.position, middle.position, link.towards_a, link.a, link.b,
+                                    ChordBow(outer.position, middle.position, outer.normal, middle.normal)};
+      if (SegmentContradicted(segment, data, o)) {
+        blocked = true;
+        break;
+      }
+      added.push_back(link);
+    }
+    if (!blocked) links.insert(links.end(), added.begin(), added.end());
+  }
+  return links;
+}
+
+}  // namespace surfmap

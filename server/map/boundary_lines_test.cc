@@ -1,0 +1,123 @@
+#include "server/map/boundary_lines.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+#include "server/map/boundary_links.h"
+#include "server/map/testing/boundary_crossings.h"
+
+namespace surfmap {
+namespace {
+
+using testing::Crossing;
+using testing::DragData;
+
+int LinksDrawn(const std::vector<ChangeMark>& marks, const BoundaryLinkOptions& o = {}) {
+  int links = 0;
+  BoundaryLinkPoints(marks, DragData(marks), o, &links);
+  return links;
+}
+
+BoundaryLinkOptions WithoutLines() {
+  BoundaryLinkOptions o;
+  o.max_line_turn_deg = 0.0;
+  return o;
+}
+
+TEST(BoundaryLines, ThreeObliqueCrossingsInARowAreJoined) {
+  // 40-60 degrees off perpendicular: too oblique for a link of their own.
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0),
+                                         Crossing(24.0, 2, 60.0)};
+  EXPECT_EQ(LinksDrawn(marks, WithoutLines()), 0);
+  EXPECT_EQ(LinksDrawn(marks), 2);
+  // Two say nothing of the boundary's direction.
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0)}), 0);
+}
+
+TEST(BoundaryLines, ALineIsCarriedOnAsAChain) {
+  // A fourth crossing 28 mm on, beyond a link's reach: the chain's extension.
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0),
+                                         Crossing(24.0, 2, 60.0), Crossing(52.0, 3, 40.0)};
+  EXPECT_EQ(LinksDrawn(marks), 3);
+}
+
+TEST(BoundaryLines, CrossingsInARowMakeAChainNotAWeb) {
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(8.0, 1, -45.0), Crossing(16.0, 2, 45.0),
+                                         Crossing(24.0, 3, -45.0)};
+  EXPECT_EQ(LinksDrawn(marks), 3);
+}
+
+TEST(BoundaryLines, APatchCornerIsNotCutAcross) {
+  // The boundary turns by 90 degrees at (0, 14) and runs on along y = 14;
+  // a drag along -y crosses that side at (6, 14): 56 degrees of turn at
+  // the middle crossing.
+  std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(10.0, 1, -45.0)};
+  ChangeMark side;
+  side.position = {6.0, 14.0, 0.0};
+  side.direction = {0.0, -1.0, 0.0};
+  side.normal = Eigen::Vector3d::UnitZ();
+  side.before = 0;
+  side.after = 1;
+  side.drag = 2;
+  marks.push_back(side);
+  EXPECT_EQ(LinksDrawn(marks), 0);
+  BoundaryLinkOptions any_turn;
+  any_turn.max_line_turn_deg = 90.0;
+  EXPECT_EQ(LinksDrawn(marks, any_turn), 2);  // only the turn tells
+}
+
+TEST(BoundaryLines, ADotSmallerThanADragIsNotMadeAPolygon) {
+  // Three crossings 60 degrees apart round a dot of radius 8 mm, each drag
+  // running 45 degrees off the radius: 60 degrees of turn at the middle one.
+  std::vector<ChangeMark> marks;
+  for (int k = 0; k < 3; ++k) {
+    const double phi = k * std::numbers::pi / 3.0, off = std::numbers::pi / 4.0;
+    ChangeMark m;
+    m.position = {8.0 * std::cos(phi), 8.0 * std::sin(phi), 0.0};
+    m.direction = {-std::cos(phi + off), -std::sin(phi + off), 0.0};  // inwards: from region 0 into the dot
+    m.normal = Eigen::Vector3d::UnitZ();
+    m.before = 0;
+    m.after = 1;
+    m.drag = k;
+    marks.push_back(m);
+  }
+  int with_lines = 0, without = 0;
+  BoundaryLinkPoints(marks, {}, {}, &with_lines);
+  BoundaryLinkPoints(marks, {}, WithoutLines(), &without);
+  EXPECT_EQ(with_lines, without);
+}
+
+TEST(BoundaryLines, GrazingDragsOrDataAgainstTheLineStopIt) {
+  // 80 degrees off perpendicular: along the boundary more than across it.
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), Crossing(12.0, 1, 80.0), Crossing(24.0, 2, 45.0)}), 0);
+  // Region A on the other side at the middle crossing: not one boundary.
+  ChangeMark reversed = Crossing(12.0, 1, -50.0);
+  std::swap(reversed.before, reversed.after);
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), reversed, Crossing(24.0, 2, 60.0)}), 0);
+
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0),
+                                         Crossing(24.0, 2, 60.0)};
+  std::vector<LabelledPoint> data = DragData(marks);
+  data.push_back({{-0.8, 6.0, 0.0}, 1});  // region 1 found 0.8 mm on region 0's side
+  int links = 0;
+  BoundaryLinkPoints(marks, data, {}, &links);
+  EXPECT_EQ(links, 0);
+}
+
+TEST(BoundaryLines, TheLinksHaveRegionAOnItsSide) {
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0),
+                                         Crossing(24.0, 2, 60.0)};
+  const LabelledPointGrid grid(DragData(marks), 5.0);
+  const std::vector<DrawnLink> out = DrawLines(marks, {}, grid, {});
+  ASSERT_EQ(out.size(), 2u);
+  for (const DrawnLink& link : out) {
+    EXPECT_EQ(link.to, 1);  // the middle crossing
+    EXPECT_EQ(link.a, 0);
+    EXPECT_EQ(link.b, 1);
+    EXPECT_NEAR(link.towards_a.x(), -1.0, 1e-9);
+  }
+}
+
+}  // namespace
+}  // namespace surfmap
