@@ -59,8 +59,10 @@ TEST(BoundaryCurves, ARoundDotIsDrawnRoundNotAsAPolygon) {
   // arc by a sagitta of 12 (1 - cos 22.5 degrees) = 0.91 mm.
   const std::vector<ChangeMark> marks = DotCrossings(8);
   const std::vector<LabelledPoint> data = DotData(marks);
+  // The links alone: the dot's circle would replace them (boundary_dots.h).
   BoundaryLinkOptions curved;
-  BoundaryLinkOptions chords;
+  curved.max_dot_radius_mm = 0.0;
+  BoundaryLinkOptions chords = curved;
   chords.max_curve_turn_deg = 0.0;
   int links_curved = 0, links_chords = 0;
   const std::vector<LabelledPoint> round = BoundaryLinkPoints(marks, data, curved, &links_curved);
@@ -139,6 +141,7 @@ TEST(BoundaryCurves, AChainTurningMoreThanTheLimitIsDrawnInChords) {
   // The dot's chain turns 45 degrees at each crossing.
   const std::vector<ChangeMark> marks = DotCrossings(8);
   BoundaryLinkOptions o;
+  o.max_dot_radius_mm = 0.0;  // the links alone, not the dot's circle (boundary_dots.h)
   o.max_curve_turn_deg = 40.0;
   EXPECT_GT(LargestStrayMm(BoundaryLinkPoints(marks, DotData(marks), o), o), 0.8);
   o.max_curve_turn_deg = 50.0;

@@ -14,6 +14,7 @@
 #include "server/map/boundary_lines.h"
 #include "server/map/boundary_corridor.h"
 #include "server/map/boundary_curves.h"
+#include "server/map/boundary_dots.h"
 
 namespace surfmap {
 bool BoundaryLinkOptions::IsValid(std::string* why) const {
@@ -26,11 +27,14 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"seed_offset_mm", seed_offset_mm},
                                                     {"corner_reach_mm", corner_reach_mm},
                                                     {"min_corner_link_mm", min_corner_link_mm},
-                                                    {"max_extension_length_mm", max_extension_length_mm}};
+                                                    {"max_extension_length_mm", max_extension_length_mm},
+                                                    {"max_dot_radius_mm", max_dot_radius_mm},
+                                                    {"max_dot_residual_mm", max_dot_residual_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
   }
   if (!(std::isfinite(seed_spacing_mm) && seed_spacing_mm > 0.0)) return fail("seed_spacing_mm must be > 0");
+  if (!(std::isfinite(max_dot_chord_mm) && max_dot_chord_mm > 0.0)) return fail("max_dot_chord_mm must be > 0");
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_crossing_cos", min_crossing_cos},
                                     {"min_extension_crossing_cos", min_extension_crossing_cos}}) {
     if (!(value >= 0.0 && value <= 1.0)) return fail(absl::StrCat(name, " must be in [0, 1]"));
@@ -109,10 +113,20 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   }
   drawn = DrawLines(marks, std::move(drawn), grid, o);
   drawn = ExtendChains(marks, std::move(drawn), grid, o);
+  // A dot's circle replaces the chords drawn between its crossings.
+  const std::vector<BoundaryDot> dots = FindDots(marks, grid, o);
+  std::vector<int> dot_of(n, -1);
+  for (int d = 0; d < static_cast<int>(dots.size()); ++d) {
+    for (int m : dots[d].marks) dot_of[m] = d;
+  }
+  std::erase_if(drawn, [&](const DrawnLink& l) { return dot_of[l.from] >= 0 && dot_of[l.from] == dot_of[l.to]; });
   out = LinkSeeds(marks, drawn, grid, o);
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);
   out.insert(out.end(), corner_points.begin(), corner_points.end());
+  for (const BoundaryDot& dot : dots) {
+    for (const BoundarySegment& chord : dot.chords) AppendSegmentSeeds(chord, o, &out);
+  }
   return out;
 }
 

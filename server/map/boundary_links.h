@@ -116,6 +116,18 @@ struct BoundaryLinkOptions {
   // 10 degrees as an extension's turn: a corner turns by min_corner_turn_deg
   // or more.
   double max_line_turn_deg = 10.0;
+  // Dots (boundary_dots.h): round regions whose crossings lie on a circle of
+  // at most this radius (0 = off): half the longest link, so the dot is
+  // smaller than a drag and no two of its crossings are farther apart than
+  // a link reaches. Drawn as chords of at most max_dot_chord_mm (the finest
+  // map level's ~1-2 mm edges: a 1 mm chord of a 3 mm radius is off the
+  // circle by 0.04 mm).
+  double max_dot_radius_mm = 12.5;
+  double max_dot_chord_mm = 1.0;
+  // Every crossing within this of the dot's circle: a change is located to
+  // ~0.1-0.4 mm along its drag (docs/method.md); the crossings of a square
+  // patch's sides and corner lie ~0.7 mm off their best circle.
+  double max_dot_residual_mm = 0.5;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most

@@ -334,6 +334,9 @@ TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
       {[](BoundaryLinkOptions& o) { o.min_extension_crossing_cos = std::nan(""); }, "links: min_extension_crossing_cos"},
       {[](BoundaryLinkOptions& o) { o.max_extension_turn_deg = 200.0; }, "links: max_extension_turn_deg"},
       {[](BoundaryLinkOptions& o) { o.min_crossing_cos = 1.5; }, "links: min_crossing_cos"},
+      {[](BoundaryLinkOptions& o) { o.max_line_turn_deg = -1.0; }, "links: max_line_turn_deg"},
+      {[](BoundaryLinkOptions& o) { o.max_dot_radius_mm = std::nan(""); }, "links: max_dot_radius_mm"},
+      {[](BoundaryLinkOptions& o) { o.max_dot_chord_mm = 0.0; }, "links: max_dot_chord_mm"},
   };
   for (const Case& c : cases) {
     RegionMapOptions options;
@@ -345,6 +348,8 @@ TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
   RegionMapOptions off;
   off.links.max_extension_turn_deg = 0.0;  // off is valid
   off.links.corner_reach_mm = 0.0;
+  off.links.max_line_turn_deg = 0.0;
+  off.links.max_dot_radius_mm = 0.0;
   EXPECT_TRUE(RegionMap::Create(level, off).ok());
 }
 

@@ -49,6 +49,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.assign_by_texture = false;
   options.links.max_extension_turn_deg = 0.0;
   options.links.max_line_turn_deg = 0.0;
+  options.links.max_dot_radius_mm = 0.0;
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only

@@ -1,0 +1,167 @@
+#include "server/map/boundary_dots.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <numbers>
+#include <optional>
+#include <utility>
+
+#include <Eigen/Dense>
+
+namespace surfmap {
+namespace {
+
+Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
+
+// A circle in the plane through `origin` with unit normal `normal`.
+struct Circle {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();  // in-plane basis
+  double radius = 0.0;
+  Eigen::Vector3d At(double angle) const { return centre + radius * (std::cos(angle) * e1 + std::sin(angle) * e2); }
+};
+
+// Groups of marks (indices into `members`) within `reach` of each other,
+// chained (single linkage).
+std::vector<std::vector<int>> Groups(const std::vector<ChangeMark>& marks, const std::vector<int>& members,
+                                     double reach) {
+  const int n = static_cast<int>(members.size());
+  std::vector<int> group(n, -1);
+  std::vector<std::vector<int>> out;
+  for (int s = 0; s < n; ++s) {
+    if (group[s] >= 0) continue;
+    group[s] = static_cast<int>(out.size());
+    out.push_back({members[s]});
+    for (std::size_t k = 0; k < out.back().size(); ++k) {
+      const Eigen::Vector3d& p = marks[out.back()[k]].position;
+      for (int t = 0; t < n; ++t) {
+        if (group[t] < 0 && (marks[members[t]].position - p).norm() <= reach) {
+          group[t] = group[s];
+          out.back().push_back(members[t]);
+        }
+      }
+    }
+  }
+  return out;
+}
+
+// The least-squares circle through the marks in their mean tangent plane
+// (Kasa's algebraic fit), if the marks lie on one piece of surface.
+std::optional<Circle> FitCircle(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                const BoundaryLinkOptions& o) {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), origin = Eigen::Vector3d::Zero();
+  for (int m : group) normal += marks[m].normal, origin += marks[m].position;
+  if (!(normal.norm() > 1e-9)) return std::nullopt;
+  normal.normalize();
+  origin /= static_cast<double>(group.size());
+  const double min_cos = std::cos(o.max_corner_normal_deg * std::numbers::pi / 180.0);
+  for (int m : group) {
+    if (marks[m].normal.dot(normal) < min_cos) return std::nullopt;
+  }
+  Circle c;
+  c.normal = normal;
+  c.e1 = InPlane(normal.unitOrthogonal(), normal).normalized();
+  c.e2 = normal.cross(c.e1);
+  const int n = static_cast<int>(group.size());
+  Eigen::MatrixXd a(n, 3);
+  Eigen::VectorXd b(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Vector3d d = marks[group[i]].position - origin;
+    const double x = d.dot(c.e1), y = d.dot(c.e2);
+    a.row(i) << 2.0 * x, 2.0 * y, 1.0;
+    b(i) = x * x + y * y;
+  }
+  const Eigen::Vector3d sol = a.colPivHouseholderQr().solve(b);
+  const double r2 = sol(2) + sol(0) * sol(0) + sol(1) * sol(1);
+  if (!(r2 > 0.0) || !std::isfinite(r2)) return std::nullopt;
+  c.centre = origin + sol(0) * c.e1 + sol(1) * c.e2;
+  c.radius = std::sqrt(r2);
+  return c;
+}
+
+// In-plane distance from the circle's centre, and the distance off its plane.
+std::pair<double, double> Polar(const Circle& c, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - c.centre;
+  return {InPlane(d, c.normal).norm(), std::abs(d.dot(c.normal))};
+}
+
+// Whether the marks of `group` make a dot on circle c with `inner` inside.
+bool IsDot(const std::vector<ChangeMark>& marks, const std::vector<int>& group, const Circle& c, int inner,
+           const BoundaryLinkOptions& o) {
+  if (c.radius < o.corridor_mm || c.radius > o.max_dot_radius_mm) return false;
+  std::vector<double> angles;
+  for (int m : group) {
+    const Eigen::Vector3d d = InPlane(marks[m].position - c.centre, c.normal);
+    if (std::abs(d.norm() - c.radius) > o.max_dot_residual_mm) return false;
+    const Eigen::Vector3d in = InPlane(TowardsA(marks[m], inner), c.normal);
+    if (in.norm() < 1e-9 || in.normalized().dot(-d.normalized()) < o.min_extension_crossing_cos) return false;
+    angles.push_back(std::atan2(d.dot(c.e2), d.dot(c.e1)));
+  }
+  std::sort(angles.begin(), angles.end());
+  double widest = angles.front() + 2.0 * std::numbers::pi - angles.back();
+  for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
+  return widest < std::numbers::pi;
+}
+
+// The circle's chords, each a boundary segment with `inner` on its inside.
+std::vector<BoundarySegment> Chords(const Circle& c, int inner, int outer, const BoundaryLinkOptions& o) {
+  const int steps = std::max(12, static_cast<int>(std::ceil(2.0 * std::numbers::pi * c.radius / o.max_dot_chord_mm)));
+  std::vector<BoundarySegment> out;
+  for (int k = 0; k < steps; ++k) {
+    const double a0 = 2.0 * std::numbers::pi * k / steps, a1 = 2.0 * std::numbers::pi * (k + 1) / steps;
+    const Eigen::Vector3d p = c.At(a0), q = c.At(a1);
+    const Eigen::Vector3d inwards = (c.centre - 0.5 * (p + q)).normalized();
+    // BoundarySegment's a is the region on towards_a's side.
+    out.push_back({p, q, inwards, inner, outer, Eigen::Vector3d::Zero()});
+  }
+  return out;
+}
+
+bool Contradicted(const Circle& c, const std::vector<BoundarySegment>& chords, int inner,
+                  const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  for (const BoundarySegment& s : chords) {
+    if (SegmentContradicted(s, data, o)) return true;
+  }
+  const double outer_ring = 1.5 * c.radius;
+  const Eigen::Vector3d span = Eigen::Vector3d::Constant(outer_ring);
+  bool contradicted = false;
+  data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
+    if (contradicted) return;
+    const auto [r, off] = Polar(c, x.point);
+    if (off > 0.5 * outer_ring) return;  // another part of the object
+    if (r < c.radius - o.corridor_mm && x.label != inner) contradicted = true;
+    if (r > c.radius + o.corridor_mm && r < outer_ring && x.label == inner) contradicted = true;
+  });
+  return contradicted;
+}
+
+}  // namespace
+
+std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const LabelledPointGrid& data,
+                                  const BoundaryLinkOptions& o) {
+  std::vector<BoundaryDot> dots;
+  if (!(o.max_dot_radius_mm > 0.0)) return dots;
+  std::map<std::pair<int, int>, std::vector<int>> by_pair;
+  for (int m = 0; m < static_cast<int>(marks.size()); ++m) {
+    const int a = std::min(marks[m].before, marks[m].after), b = std::max(marks[m].before, marks[m].after);
+    if (a != b && a >= 0) by_pair[{a, b}].push_back(m);
+  }
+  for (const auto& [pair, members] : by_pair) {
+    for (const std::vector<int>& group : Groups(marks, members, 2.0 * o.max_dot_radius_mm)) {
+      if (group.size() < 3) continue;
+      const std::optional<Circle> circle = FitCircle(marks, group, o);
+      if (!circle) continue;
+      for (const auto& [inner, outer] : {pair, std::pair<int, int>{pair.second, pair.first}}) {
+        if (!IsDot(marks, group, *circle, inner, o)) continue;
+        std::vector<BoundarySegment> chords = Chords(*circle, inner, outer, o);
+        if (Contradicted(*circle, chords, inner, data, o)) continue;
+        dots.push_back({group, inner, outer, std::move(chords)});
+      }
+    }
+  }
+  return dots;
+}
+
+}  // namespace surfmap

@@ -1,0 +1,175 @@
+#include "server/map/boundary_dots.h"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+#include "server/map/boundary_links.h"
+
+namespace surfmap {
+namespace {
+
+constexpr int kOutside = 0;
+constexpr int kDot = 1;
+
+// A drag crossing the edge of a dot of radius r centred at the origin of the
+// plate z = 0, at polar angle phi, entering it (from region 0 into region 1)
+// `off_deg` off the radius.
+ChangeMark DotCrossing(double r, double phi_deg, int drag, double off_deg = 0.0) {
+  const double phi = phi_deg * std::numbers::pi / 180.0, off = off_deg * std::numbers::pi / 180.0;
+  ChangeMark m;
+  m.position = {r * std::cos(phi), r * std::sin(phi), 0.0};
+  m.direction = {-std::cos(phi + off), -std::sin(phi + off), 0.0};
+  m.normal = Eigen::Vector3d::UnitZ();
+  m.before = kOutside;
+  m.after = kDot;
+  m.drag = drag;
+  return m;
+}
+
+// Each crossing's drag data every 1 mm for 8 mm either side, labelled by
+// the true dot of radius r.
+std::vector<LabelledPoint> DotData(const std::vector<ChangeMark>& marks, double r) {
+  std::vector<LabelledPoint> data;
+  for (const ChangeMark& m : marks) {
+    for (double t = -8.0; t <= 8.0; t += 1.0) {
+      const Eigen::Vector3d p = m.position + t * m.direction;
+      if (std::abs(p.norm() - r) < 0.3) continue;  // the change's own guard
+      data.push_back({p, p.norm() < r ? kDot : kOutside});
+    }
+  }
+  return data;
+}
+
+// The dot's points labelled kDot: their largest and smallest distance from
+// the centre.
+std::pair<double, double> InnerSeedRadii(const std::vector<LabelledPoint>& points) {
+  double lo = 1e9, hi = 0.0;
+  for (const LabelledPoint& p : points) {
+    if (p.label != kDot) continue;
+    lo = std::min(lo, p.point.norm());
+    hi = std::max(hi, p.point.norm());
+  }
+  return {lo, hi};
+}
+
+// The labelled points of the dots found (*dots: how many).
+std::vector<LabelledPoint> Dots(const std::vector<ChangeMark>& marks, const std::vector<LabelledPoint>& data,
+                                int* dots, const BoundaryLinkOptions& o = {}) {
+  const std::vector<BoundaryDot> found = FindDots(marks, LabelledPointGrid(data, 5.0), o);
+  *dots = static_cast<int>(found.size());
+  std::vector<LabelledPoint> points;
+  for (const BoundaryDot& dot : found) {
+    EXPECT_EQ(dot.inner, kDot);
+    EXPECT_EQ(dot.outer, kOutside);
+    for (const BoundarySegment& chord : dot.chords) AppendSegmentSeeds(chord, o, &points);
+  }
+  return points;
+}
+
+TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0, 20.0), DotCrossing(7.0, 130.0, 1, -30.0),
+                                         DotCrossing(7.0, 250.0, 2, 40.0)};
+  int dots = 0;
+  const std::vector<LabelledPoint> points = Dots(marks, DotData(marks, 7.0), &dots);
+  EXPECT_EQ(dots, 1);
+  const auto [lo, hi] = InnerSeedRadii(points);
+  // Inside the circle by the seed offset, less the chords' sagitta (1 mm
+  // chords on 7 mm: 0.02 mm).
+  EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
+  EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+  BoundaryLinkOptions off;
+  off.max_dot_radius_mm = 0.0;
+  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots, off).empty());
+  EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, CrossingsOnOneSideOnlyDrawNothing) {
+  // 0-150 degrees: a gap of 210 degrees, the far side a guess.
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 75.0, 1),
+                                         DotCrossing(7.0, 150.0, 2)};
+  int dots = 0;
+  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots).empty());
+  EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, AStraightBoundaryOrARegionLargerThanADragIsNoDot) {
+  // Three crossings of the straight line x = 0 (region 1 at x > 0).
+  std::vector<ChangeMark> line;
+  for (int k = 0; k < 3; ++k) {
+    ChangeMark m;
+    m.position = {0.0, 10.0 * k, 0.0};
+    m.direction = Eigen::Vector3d::UnitX();
+    m.before = kOutside;
+    m.after = kDot;
+    m.drag = k;
+    line.push_back(m);
+  }
+  int dots = 0;
+  Dots(line, {}, &dots);
+  EXPECT_EQ(dots, 0);
+  // A round region of radius 20 mm: larger than max_dot_radius_mm.
+  const std::vector<ChangeMark> big = {DotCrossing(20.0, 0.0, 0), DotCrossing(20.0, 120.0, 1),
+                                       DotCrossing(20.0, 240.0, 2)};
+  Dots(big, DotData(big, 20.0), &dots);
+  EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, MarksOffTheCircleOrGrazingDragsDrawNothing) {
+  int dots = 0;
+  // A 14 mm square patch: three sides crossed in their middles, one corner.
+  const std::vector<ChangeMark> square = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 90.0, 1),
+                                          DotCrossing(7.0, 180.0, 2), DotCrossing(7.0 * std::sqrt(2.0), 225.0, 3)};
+  Dots(square, {}, &dots);
+  EXPECT_EQ(dots, 0);
+  // A drag running 80 degrees off the radius grazes the edge.
+  const std::vector<ChangeMark> grazing = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 120.0, 1, 80.0),
+                                           DotCrossing(7.0, 240.0, 2)};
+  Dots(grazing, {}, &dots);
+  EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, DataAgainstTheCircleStopsIt) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0), DotCrossing(7.0, 130.0, 1),
+                                         DotCrossing(7.0, 250.0, 2)};
+  int dots = 0;
+  // The outer region found inside the circle (a drag through the middle
+  // that saw no dot: it is a ring, or not round).
+  std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  data.push_back({{1.0, -1.0, 0.0}, kOutside});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 0);
+  // The dot's region found 3 mm outside it: it is larger, or not round.
+  data = DotData(marks, 7.0);
+  data.push_back({{0.0, -10.0, 0.0}, kDot});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 0);
+  // A third region in the ring is no contradiction; inside it is.
+  data = DotData(marks, 7.0);
+  data.push_back({{0.0, -2.0, 0.0}, 2});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
+  // Crossings 50 degrees apart, each drag on the radius: both within 25
+  // degrees of perpendicular to their chord, so a link joins them.
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 50.0, 1),
+                                         DotCrossing(7.0, 200.0, 2)};
+  const std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  BoundaryLinkOptions no_dots;
+  no_dots.max_dot_radius_mm = 0.0;
+  int links = 0;
+  const std::vector<LabelledPoint> chord = BoundaryLinkPoints(marks, data, no_dots, &links);
+  EXPECT_EQ(links, 1);
+  // The chord's inner seeds lie 7 cos 25 - 0.25 = 6.1 mm from the centre.
+  EXPECT_LT(InnerSeedRadii(chord).first, 6.2);
+  const std::vector<LabelledPoint> circle = BoundaryLinkPoints(marks, data, {}, &links);
+  EXPECT_EQ(links, 0);
+  const auto [lo, hi] = InnerSeedRadii(circle);
+  EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
+  EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+}
+
+}  // namespace
+}  // namespace surfmap
