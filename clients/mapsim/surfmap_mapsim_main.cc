@@ -152,6 +152,16 @@ int Main(int argc, char** argv) {
                  "at most this many degrees (0: off, the build before)")
       ->check(CLI::Range(0.0, 90.0))
       ->capture_default_str();
+  app.add_option("--map-line-turn", map_links.max_line_turn_deg,
+                 "the scored map joins three oblique crossings of a boundary in a row when the chord turns at the "
+                 "middle one by at most this many degrees (boundary_lines.h; 0: off, the build before)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
+  app.add_option("--map-dot-radius", map_links.max_dot_radius_mm,
+                 "the scored map draws a circle through the crossings round a dot of at most this radius, mm "
+                 "(boundary_dots.h; 0: off, the build before)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
