@@ -1,6 +1,20 @@
 #include "server/map/boundary_chains.h"
 
+#include <cmath>
+
+#include <Eigen/Geometry>
+
 namespace surfmap {
+
+std::optional<Eigen::Vector3d> AcrossChordTowardsA(const ChangeMark& p, const ChangeMark& q, int a, double min_cos) {
+  const Eigen::Vector3d normal = (p.normal + q.normal).normalized();
+  Eigen::Vector3d across = (q.position - p.position).cross(normal);
+  if (across.norm() < 1e-9) return std::nullopt;
+  across.normalize();
+  const double sp = TowardsA(p, a).dot(across), sq = TowardsA(q, a).dot(across);
+  if (sp * sq <= 0.0 || std::abs(sp) < min_cos || std::abs(sq) < min_cos) return std::nullopt;
+  return sp > 0 ? across : Eigen::Vector3d(-across);
+}
 
 std::vector<ChainEnd> ChainEnds(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
                                 double min_link_mm) {

@@ -3,6 +3,7 @@
 // the boundary there runs on, to first order, along its last link.
 #pragma once
 
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,10 +29,19 @@ struct ChainEnd {
   int b = -1;
 };
 
+// v's component in the plane with unit normal n.
+inline Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
+
 // Unit vector pointing to region `a`'s side at a mark, in its tangent plane.
 inline Eigen::Vector3d TowardsA(const ChangeMark& m, int a) {
   return m.before == a ? Eigen::Vector3d(-m.direction) : m.direction;
 }
+
+// The unit vector across the chord p -> q (in the plane of their mean
+// normal) towards region a's side, when a lies on the same side at both and
+// both drags ran within acos(min_cos) of perpendicular to the chord;
+// nullopt otherwise.
+std::optional<Eigen::Vector3d> AcrossChordTowardsA(const ChangeMark& p, const ChangeMark& q, int a, double min_cos);
 
 // The ends of the chains `links` make, skipping ends whose last link is
 // shorter than min_link_mm (its direction is too uncertain to carry on).

@@ -11,8 +11,6 @@
 namespace surfmap {
 namespace {
 
-Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
-
 struct Corner {
   double reach = 0.0;  // s + t
   int e1 = -1;

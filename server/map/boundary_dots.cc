@@ -12,8 +12,6 @@
 namespace surfmap {
 namespace {
 
-Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
-
 // A circle in the plane through `origin` with unit normal `normal`.
 struct Circle {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();

@@ -146,6 +146,9 @@ TEST(BoundaryDots, DataAgainstTheCircleStopsIt) {
   EXPECT_EQ(dots, 0);
   // A third region in the ring is no contradiction; inside it is.
   data = DotData(marks, 7.0);
+  data.push_back({{0.0, -9.5, 0.0}, 2});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 1);
   data.push_back({{0.0, -2.0, 0.0}, 2});
   Dots(marks, data, &dots);
   EXPECT_EQ(dots, 0);

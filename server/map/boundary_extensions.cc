@@ -11,8 +11,6 @@
 namespace surfmap {
 namespace {
 
-Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
-
 double Degrees(double radians) { return radians * 180.0 / std::numbers::pi; }
 
 // The extension of chain end `end` to marks[q], if it makes one.

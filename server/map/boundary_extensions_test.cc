@@ -9,12 +9,7 @@ namespace {
 
 using testing::Crossing;
 using testing::DragData;
-
-int LinksDrawn(const std::vector<ChangeMark>& marks, const BoundaryLinkOptions& o = {}) {
-  int links = 0;
-  BoundaryLinkPoints(marks, DragData(marks), o, &links);
-  return links;
-}
+using testing::LinksDrawn;
 
 TEST(BoundaryExtensions, AChainIsCarriedOnThroughObliqueCrossingsOfItsBoundary) {
   // Two drags across the boundary make a link; drags 50 and 60 degrees off

@@ -10,21 +10,15 @@
 namespace surfmap {
 namespace {
 
-Eigen::Vector3d InPlane(const Eigen::Vector3d& v, const Eigen::Vector3d& n) { return v - v.dot(n) * n; }
-
 double Radians(double degrees) { return degrees * std::numbers::pi / 180.0; }
 
 // The link p -> q if the drags of both crossed its chord steeply enough
 // with region `a` on the same side; false otherwise.
 bool CrossedLink(const ChangeMark& p, const ChangeMark& q, int i, int j, int a, int b, double min_cos,
                  DrawnLink* out) {
-  const Eigen::Vector3d chord = q.position - p.position;
-  Eigen::Vector3d across = chord.cross((p.normal + q.normal).normalized());
-  if (across.norm() < 1e-9) return false;
-  across.normalize();
-  const double sp = TowardsA(p, a).dot(across), sq = TowardsA(q, a).dot(across);
-  if (sp * sq <= 0.0 || std::abs(sp) < min_cos || std::abs(sq) < min_cos) return false;
-  *out = {i, j, a, b, sp > 0 ? across : Eigen::Vector3d(-across)};
+  const std::optional<Eigen::Vector3d> towards_a = AcrossChordTowardsA(p, q, a, min_cos);
+  if (!towards_a) return false;
+  *out = {i, j, a, b, *towards_a};
   return true;
 }
 

@@ -12,12 +12,7 @@ namespace {
 
 using testing::Crossing;
 using testing::DragData;
-
-int LinksDrawn(const std::vector<ChangeMark>& marks, const BoundaryLinkOptions& o = {}) {
-  int links = 0;
-  BoundaryLinkPoints(marks, DragData(marks), o, &links);
-  return links;
-}
+using testing::LinksDrawn;
 
 BoundaryLinkOptions WithoutLines() {
   BoundaryLinkOptions o;

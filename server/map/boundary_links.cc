@@ -67,13 +67,9 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     const Eigen::Vector3d chord = q.position - p.position;
     const double length = chord.norm();
     if (!(length > 1e-9) || length > o.max_length_mm) return false;
-    const Eigen::Vector3d normal = (p.normal + q.normal).normalized();
-    Eigen::Vector3d across = chord.cross(normal);
-    if (across.norm() < 1e-9) return false;
-    across.normalize();
-    const double sp = TowardsA(p, a).dot(across), sq = TowardsA(q, a).dot(across);
-    if (sp * sq <= 0.0 || std::abs(sp) < o.min_crossing_cos || std::abs(sq) < o.min_crossing_cos) return false;
-    *side_normal = sp > 0 ? across : Eigen::Vector3d(-across);  // towards A
+    const std::optional<Eigen::Vector3d> across = AcrossChordTowardsA(p, q, a, o.min_crossing_cos);
+    if (!across) return false;
+    *side_normal = *across;
     *a_out = a;
     *b_out = b;
     return true;

@@ -41,4 +41,12 @@ inline std::vector<LabelledPoint> DragData(const std::vector<ChangeMark>& marks)
   return data;
 }
 
+// How many links BoundaryLinkPoints draws through `marks`, with their drags'
+// data (DragData).
+inline int LinksDrawn(const std::vector<ChangeMark>& marks, const BoundaryLinkOptions& o = {}) {
+  int links = 0;
+  BoundaryLinkPoints(marks, DragData(marks), o, &links);
+  return links;
+}
+
 }  // namespace surfmap::testing
