@@ -162,6 +162,11 @@ int Main(int argc, char** argv) {
                  "(boundary_dots.h; 0: off, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-corner-side-residual", map_links.max_corner_side_residual_mm,
+                 "the scored map replaces a link that cuts a corner off by the corner when the chains on both "
+                 "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")

@@ -83,7 +83,90 @@ bool TriangleContradicted(const Corner& corner, const LabelledPointGrid& data, c
   return contradicted;
 }
 
+// The straight side of the chain at mark `end`, away from mark `away`:
+// a ChainEnd pointing out of it towards `end`, or nullopt when the chain
+// there has fewer than two links, branches, or turns by more than
+// max_corner_side_residual_mm within corner_reach_mm of `end`.
+std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
+                                     const std::vector<std::vector<int>>& links_of, int end, int away,
+                                     const BoundaryLinkOptions& o) {
+  const Eigen::Vector3d& n = marks[end].normal;
+  std::vector<int> side;  // marks along the chain from `end`, within reach
+  int first_link = -1;
+  int prev = away, cur = end;
+  while (true) {
+    int next = -1, via = -1;
+    for (int k : links_of[cur]) {
+      const int other = links[k].from == cur ? links[k].to : links[k].from;
+      if (other == prev || (cur == end && other == away)) continue;
+      if (next >= 0) return std::nullopt;  // the chain branches
+      next = other;
+      via = k;
+    }
+    if (next < 0 || next == end) break;
+    if ((marks[next].position - marks[end].position).norm() > o.corner_reach_mm) break;
+    if (std::find(side.begin(), side.end(), next) != side.end()) break;
+    if (first_link < 0) first_link = via;
+    side.push_back(next);
+    prev = cur;
+    cur = next;
+  }
+  if (side.size() < 2) return std::nullopt;
+  const Eigen::Vector3d line = InPlane(marks[side.back()].position - marks[end].position, n);
+  if (line.norm() < o.min_corner_link_mm) return std::nullopt;
+  const Eigen::Vector3d u = line.normalized();
+  for (int m : side) {
+    const Eigen::Vector3d r = InPlane(marks[m].position - marks[end].position, n);
+    if ((r - r.dot(u) * u).norm() > o.max_corner_side_residual_mm) return std::nullopt;
+  }
+  const DrawnLink& link = links[first_link];
+  return ChainEnd{end, -u, link.towards_a, link.a, link.b};
+}
+
 }  // namespace
+
+std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, std::vector<DrawnLink> links,
+                                         const LabelledPointGrid& data, const BoundaryLinkOptions& o,
+                                         std::vector<LabelledPoint>* points, int* count) {
+  if (count != nullptr) *count = 0;
+  if (!(o.max_corner_side_residual_mm > 0.0) || !(o.corner_reach_mm > 0.0)) return links;
+  std::vector<std::vector<int>> links_of(marks.size());
+  for (int k = 0; k < static_cast<int>(links.size()); ++k) {
+    links_of[links[k].from].push_back(k);
+    links_of[links[k].to].push_back(k);
+  }
+  std::vector<std::pair<Corner, int>> candidates;  // with the link it replaces
+  for (int k = 0; k < static_cast<int>(links.size()); ++k) {
+    const DrawnLink& link = links[k];
+    const std::optional<ChainEnd> x = StraightSide(marks, links, links_of, link.from, link.to, o);
+    if (!x) continue;
+    const std::optional<ChainEnd> y = StraightSide(marks, links, links_of, link.to, link.from, o);
+    if (!y) continue;
+    std::optional<Corner> c = CornerOf(marks[link.from], *x, marks[link.to], *y, o);
+    if (c) candidates.emplace_back(*c, k);
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const auto& l, const auto& r) {
+    return std::tie(l.first.reach, l.second) < std::tie(r.first.reach, r.second);
+  });
+  std::vector<bool> used(marks.size(), false), replaced(links.size(), false);
+  for (const auto& [c, k] : candidates) {
+    if (used[links[k].from] || used[links[k].to]) continue;
+    if (SegmentContradicted(c.first, data, o) || SegmentContradicted(c.second, data, o) ||
+        TriangleContradicted(c, data, o)) {
+      continue;
+    }
+    used[links[k].from] = used[links[k].to] = true;
+    replaced[k] = true;
+    AppendSegmentSeeds(c.first, o, points);
+    AppendSegmentSeeds(c.second, o, points);
+    if (count != nullptr) ++*count;
+  }
+  std::vector<DrawnLink> kept;
+  for (int k = 0; k < static_cast<int>(links.size()); ++k) {
+    if (!replaced[k]) kept.push_back(links[k]);
+  }
+  return kept;
+}
 
 std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& marks,
                                                 const std::vector<DrawnLink>& links, const LabelledPointGrid& data,

@@ -20,6 +20,23 @@
 //    and inside the triangle E1, C, E2 only the region the corner encloses.
 // Each end takes part in at most one corner, the nearest (least s + t, the
 // two distances to C) first.
+//
+// A link can cut a corner off too: two crossings, one on each side of a
+// patch's corner, are linked when both drags ran near perpendicular to the
+// chord between them, and the chord then cuts across the corner (the
+// bottle, seed 3: a 14 mm chord between crossings of its patch's top and
+// side, 11 and 8 mm from the corner, mapped a triangle of sandpaper as
+// glass). A link P-Q is replaced by the corner P -> C -> Q when
+//  - the chain on each side of it (its other links, walked from P and from
+//    Q) runs straight: at least two links, every mark within
+//    corner_reach_mm of the end lying within max_corner_side_residual_mm of
+//    the line from the end to the farthest of them (in the end's tangent
+//    plane). A round boundary's chain turns at every crossing, so a dot or
+//    a curved band keeps its chords;
+//  - the two sides, carried on along those lines, make a corner by the rule
+//    for two chain ends above (ahead of both, within reach, turning by
+//    min..max_corner_turn_deg, the same hand);
+//  - no data contradicts the corner's two segments or its triangle P, C, Q.
 #pragma once
 
 #include <vector>
@@ -35,5 +52,12 @@ namespace surfmap {
 std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& marks,
                                                 const std::vector<DrawnLink>& links, const LabelledPointGrid& data,
                                                 const BoundaryLinkOptions& options, int* corners = nullptr);
+
+// `links` without those that cut a corner (above); the corners' labelled
+// points are appended to *points, and *count (if given) receives how many.
+// max_corner_side_residual_mm = 0 or corner_reach_mm = 0: none replaced.
+std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, std::vector<DrawnLink> links,
+                                         const LabelledPointGrid& data, const BoundaryLinkOptions& options,
+                                         std::vector<LabelledPoint>* points, int* count = nullptr);
 
 }  // namespace surfmap

@@ -122,5 +122,91 @@ TEST(BoundaryCorners, ABoundaryThatRunsStraightOnIsNoCorner) {
   EXPECT_EQ(corners, 0);
 }
 
+// Three crossings of each side, the nearest 4 mm from the corner, by drags
+// 25 degrees off perpendicular to their side towards the corner: within the
+// link's 32 degrees of perpendicular both to the side and to the chord
+// between the two nearest crossings, which is linked and cuts the corner.
+Scene CutCorner(int crossings_per_side) {
+  constexpr double kPi = 3.14159265358979;
+  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
+  Scene scene;
+  for (int k = 0; k < crossings_per_side; ++k) {
+    const double at = -4.0 - 8.0 * k;
+    scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
+    scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
+  }
+  return scene;
+}
+
+TEST(BoundaryCorners, ALinkThatCutsACornerBetweenStraightSidesIsReplacedByTheCorner) {
+  const Scene scene = CutCorner(3);
+  BoundaryLinkOptions no_cut;
+  no_cut.max_corner_side_residual_mm = 0.0;  // off: the chord is drawn
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, no_cut, &links, &corners);
+  ASSERT_EQ(links, 5) << "two along each side and the chord across the corner";
+  EXPECT_EQ(corners, 0);
+
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 4);
+  EXPECT_EQ(corners, 1);
+  const BoundaryLinkOptions o;
+  int in_corner_triangle = 0;
+  for (const LabelledPoint& p : points) {
+    if (p.point.head<2>().norm() <= o.seed_offset_mm + 1e-9) continue;  // on both sides' lines
+    EXPECT_EQ(p.label, Truth(p.point)) << p.point.transpose();
+    if (p.point.x() + p.point.y() > -4.0 && p.label == 1) ++in_corner_triangle;
+  }
+  EXPECT_GT(in_corner_triangle, 0) << "the corner the chord cut off carries the patch's points";
+}
+
+TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkEachKeepsItsChord) {
+  // One link per side says nothing of whether the sides run straight.
+  const Scene scene = CutCorner(2);
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 3);
+  EXPECT_EQ(corners, 0);
+}
+
+TEST(BoundaryCorners, DataOfTheOtherRegionInACutCornerKeepsTheChord) {
+  Scene scene = CutCorner(3);
+  scene.data.push_back({{-1.0, -1.0, 0.0}, 0});  // the corner is cut off after all
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 5);
+  EXPECT_EQ(corners, 0);
+}
+
+TEST(BoundaryCorners, ARoundBoundaryKeepsItsChords) {
+  // Twelve crossings of a circle of radius 20 mm (too big for a dot), by
+  // radial drags: each chord turns 30 degrees from the next, like the two
+  // sides of a corner, but no side runs straight.
+  constexpr double kPi = 3.14159265358979, kRadius = 20.0;
+  std::vector<ChangeMark> marks;
+  std::vector<LabelledPoint> data;
+  for (int k = 0; k < 12; ++k) {
+    const Eigen::Vector3d out(std::cos(k * kPi / 6.0), std::sin(k * kPi / 6.0), 0.0);
+    ChangeMark m;
+    m.position = kRadius * out;
+    m.direction = out;
+    m.before = 1;  // inside
+    m.after = 0;
+    m.drag = k;
+    marks.push_back(m);
+    for (double s = -8.0; s <= 8.0; s += 0.5) {
+      if (s != 0.0) data.push_back({(kRadius + s) * out, s < 0.0 ? 1 : 0});
+    }
+  }
+  BoundaryLinkOptions loose;
+  loose.max_corner_side_residual_mm = 5.0;  // the circle's 2.7 mm sagitta passes as straight
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(marks, data, loose, &links, &corners);
+  ASSERT_GT(corners, 0) << "with sides that need not run straight, chords become corners";
+  BoundaryLinkPoints(marks, data, {}, &links, &corners);
+  EXPECT_EQ(links, 12);
+  EXPECT_EQ(corners, 0);
+}
+
 }  // namespace
 }  // namespace surfmap

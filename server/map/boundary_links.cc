@@ -29,7 +29,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"min_corner_link_mm", min_corner_link_mm},
                                                     {"max_extension_length_mm", max_extension_length_mm},
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
-                                                    {"max_dot_residual_mm", max_dot_residual_mm}};
+                                                    {"max_dot_residual_mm", max_dot_residual_mm},
+                                                    {"max_corner_side_residual_mm", max_corner_side_residual_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
   }
@@ -116,9 +117,14 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
     for (int m : dots[d].marks) dot_of[m] = d;
   }
   std::erase_if(drawn, [&](const DrawnLink& l) { return dot_of[l.from] >= 0 && dot_of[l.from] == dot_of[l.to]; });
+  // Corners between chain ends are looked for with the cutting links in
+  // place, so that a cut corner's two crossings are not ends.
+  std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);
+  int cut_corners = 0;
+  drawn = ReplaceCutCorners(marks, std::move(drawn), grid, o, &corner_points, &cut_corners);
+  if (corners != nullptr) *corners += cut_corners;
   out = LinkSeeds(marks, drawn, grid, o);
   if (links != nullptr) *links = static_cast<int>(drawn.size());
-  std::vector<LabelledPoint> corner_points = BoundaryCornerPoints(marks, drawn, grid, o, corners);
   out.insert(out.end(), corner_points.begin(), corner_points.end());
   for (const BoundaryDot& dot : dots) {
     for (const BoundarySegment& chord : dot.chords) AppendSegmentSeeds(chord, o, &out);

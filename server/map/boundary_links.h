@@ -86,6 +86,11 @@ struct BoundaryLinkOptions {
   double corner_reach_mm = 20.0;
   double min_corner_turn_deg = 30.0;   // less: the boundary runs on (not a corner)
   double max_corner_turn_deg = 120.0;  // more: a hairpin or a round dot, not a corner
+  // A link that cuts a corner off is replaced by the corner when the chain
+  // on each side of it runs straight to within this (boundary_corners.h;
+  // 0 = links never replaced): a change is located to ~0.1-0.4 mm along its
+  // drag (docs/method.md), as for max_dot_residual_mm.
+  double max_corner_side_residual_mm = 0.5;
   // The two ends' normals may differ by at most this: 20 mm over the
   // scenes' most curved parts (radii of curvature ~27 mm) turns ~42 degrees;
   // more is not one piece of surface to draw straight segments on.

@@ -229,8 +229,10 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   std::vector<int> right(region_count + 1, 0);
   std::vector<double> sum(region_count + 1, 0.0), sum_sq(region_count + 1, 0.0);
   std::vector<std::vector<double>> a1(region_count + 1), a2(region_count + 1), sigma(region_count + 1);
-  std::vector<Eigen::Vector3d> misclassified;
-  std::vector<std::pair<int, double>> misclassified_truth;
+  std::vector<Eigen::Vector3d> misclassified;  // the random points first, then the region-only ones
+  std::vector<MisclassifiedPoint> misclassified_at;
+  std::vector<Eigen::Vector3d> misclassified_region_only;
+  std::vector<MisclassifiedPoint> misclassified_region_only_at;
   double total_sq = 0.0;
   int total_right = 0;
   for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -247,15 +249,15 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
     sum_sq[slot] += error * error;
     const bool is_right = NearestMaterial(r->mu) == m;
     right[slot] += is_right;
+    if (!is_right) {
+      const MisclassifiedPoint wrong{points_[i], m, point_region_[i], !uniform, r->mu, 0.0};
+      (uniform ? misclassified : misclassified_region_only).push_back(points_[i]);
+      (uniform ? misclassified_at : misclassified_region_only_at).push_back(wrong);
+    }
     if (uniform) {
       total_sq += error * error;
       score.mu_max_abs_error = std::max(score.mu_max_abs_error, std::abs(error));
-      if (is_right) {
-        ++total_right;
-      } else {
-        misclassified.push_back(points_[i]);
-        misclassified_truth.emplace_back(m, r->mu);
-      }
+      total_right += is_right;
     }
     if (r->has_roughness) {
       a1[slot].push_back(r->a1);
@@ -310,9 +312,15 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   }
   const std::vector<double> wrong_distance = NearestDistances(misclassified, truth_boundary_, kCellMm);
   score.misclassified_distance_mm = truth_boundary_.empty() || misclassified.empty() ? kNaN : Mean(wrong_distance);
-  for (std::size_t i = 0; i < misclassified.size(); ++i) {
-    score.misclassified.push_back(
-        {misclassified[i], misclassified_truth[i].first, misclassified_truth[i].second, wrong_distance[i]});
+  const std::vector<double> region_only_distance =
+      NearestDistances(misclassified_region_only, truth_boundary_, kCellMm);
+  for (std::size_t i = 0; i < misclassified_at.size(); ++i) {
+    misclassified_at[i].boundary_distance_mm = wrong_distance[i];
+    score.misclassified.push_back(misclassified_at[i]);
+  }
+  for (std::size_t i = 0; i < misclassified_region_only_at.size(); ++i) {
+    misclassified_region_only_at[i].boundary_distance_mm = region_only_distance[i];
+    score.misclassified.push_back(misclassified_region_only_at[i]);
   }
   return score;
 }
@@ -370,6 +378,8 @@ nlohmann::json SurfaceScoreToJson(const SurfaceScore& s) {
   for (const MisclassifiedPoint& p : s.misclassified) {
     misclassified.push_back({{"position", {p.position.x(), p.position.y(), p.position.z()}},
                              {"truth_material", p.truth_material},
+                             {"region", p.region},
+                             {"region_only", p.region_only},
                              {"map_mu", p.map_mu},
                              {"boundary_distance_mm", Number(p.boundary_distance_mm)}});
   }

@@ -87,10 +87,12 @@ struct RegionScore {
   double a1_median = 0.0, a2_median = 0.0, sigma_median = 0.0;  // NaN without roughness
 };
 
-// A random point the map classifies wrong.
+// A scored point the map classifies wrong.
 struct MisclassifiedPoint {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   int truth_material = -1;
+  int region = -1;           // the scene region it lies in; -1: the default material
+  bool region_only = false;  // drawn for its region's row alone, not one of the random points
   double map_mu = 0.0;
   double boundary_distance_mm = 0.0;  // to the nearest true boundary point
 };
@@ -107,6 +109,8 @@ struct SurfaceScore {
   double missed_boundary_mm = 0.0;
   double misclassified_distance_mm = 0.0;  // NaN when nothing is misclassified
   std::vector<RegionScore> regions;       // scene regions in file order, then the default material
+  // Every scored point classified wrong, the random ones first; the
+  // region_only ones say where a small region's row lost its share.
   std::vector<MisclassifiedPoint> misclassified;
 };
 

@@ -118,6 +118,25 @@ TEST(SurfaceScoreTest, ASmallRegionIsScoredOnEnoughPointsOfItsOwn) {
   EXPECT_EQ(score->points, 5000);
   EXPECT_NEAR(score->classified_right, 1.0 - 1.2 / 200.0, 0.004);
   EXPECT_EQ(static_cast<int>(scorer->points().size()), 5000 + stripe.extra_points);
+  // Every wrong point is listed, the random ones first; the stripe's own extra
+  // ones say where its row lost its share: within the 0.6 mm it was shifted of
+  // a true boundary point, which lie up to 1.6 mm apart (level-4 edges), so
+  // within hypot(0.6, 0.8) = 1 mm of the nearest.
+  int region_only_wrong = 0, stripe_wrong = 0;
+  bool random_first = true, seen_region_only = false;
+  for (const MisclassifiedPoint& p : score->misclassified) {
+    random_first &= !(seen_region_only && !p.region_only);
+    seen_region_only |= p.region_only;
+    region_only_wrong += p.region_only;
+    stripe_wrong += p.region == 0;
+    EXPECT_LT(p.boundary_distance_mm, 1.0);
+    if (p.region_only) {
+      EXPECT_EQ(p.region, 0);
+    }
+  }
+  EXPECT_TRUE(random_first);
+  EXPECT_GT(region_only_wrong, 0);
+  EXPECT_EQ(stripe_wrong, std::lround((1.0 - stripe.classified_right) * stripe.points));
 
   SurfaceScoreOptions uniform_only;
   uniform_only.min_region_points = 0;
