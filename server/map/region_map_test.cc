@@ -320,6 +320,20 @@ TEST(RegionMapTest, BadPiecesAreRefusedByNameAndTheMapKeepsItsState) {
   EXPECT_DOUBLE_EQ(At(*map, {40, 0, 0}).mu, kSandpaper);
 }
 
+TEST(RegionMapTest, ANegativeOrUndefinedSpreadFloorIsRefusedByName) {
+  const SurfaceLevel level = Plate();
+  for (double floor : {-0.01, std::nan("")}) {
+    RegionMapOptions options;
+    options.merge.spread_floor = floor;
+    const absl::StatusOr<RegionMap> map = RegionMap::Create(level, options);
+    EXPECT_EQ(map.status().code(), absl::StatusCode::kInvalidArgument) << floor;
+    EXPECT_NE(map.status().message().find("merge: spread_floor"), std::string::npos) << map.status();
+  }
+  RegionMapOptions off;
+  off.merge.spread_floor = 0.0;  // the plan's map: spreads compared however small
+  EXPECT_TRUE(RegionMap::Create(level, off).ok());
+}
+
 TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
   const SurfaceLevel level = Plate();
   // A zero seed spacing would ask for infinitely many link points; a NaN

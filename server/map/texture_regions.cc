@@ -65,11 +65,16 @@ struct Pool {
 double CriticalZ(const RegionMergeOptions& o) { return NormalUpperQuantile(0.5 * o.false_split_probability); }
 
 // How unlike two groups are, in multiples of what the rule allows (<= 1: alike).
+// |log| of the ratio of two spreads, each at least spread_floor.
+double SpreadLogRatio(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o) {
+  return std::abs(std::log(std::max(a.spread, o.spread_floor) / std::max(b.spread, o.spread_floor)));
+}
+
 double Unlikeness(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o, double z) {
   const double mu_allowed = std::max(o.mu_resolution, z * std::hypot(a.mu_se, b.mu_se));
   const double spread_allowed =
       std::max(std::log(o.spread_resolution), z * std::sqrt(0.5 / a.effective_pairs + 0.5 / b.effective_pairs));
-  double unlike = std::max(std::abs(a.mu - b.mu) / mu_allowed, std::abs(std::log(a.spread / b.spread)) / spread_allowed);
+  double unlike = std::max(std::abs(a.mu - b.mu) / mu_allowed, SpreadLogRatio(a, b, o) / spread_allowed);
   if (!o.compare_roughness) return unlike;
   for (int j = 0; j < std::min(a.signature_order, b.signature_order); ++j) {
     const double var = (1.0 - a.reflection[j] * a.reflection[j]) / a.reflection_rows[j] +
@@ -85,7 +90,7 @@ double Unlikeness(const PieceStatistics& a, const PieceStatistics& b, const Regi
 // resolution.
 bool WithinResolutions(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o) {
   if (std::abs(a.mu - b.mu) > o.mu_resolution) return false;
-  if (std::abs(std::log(a.spread / b.spread)) > std::log(o.spread_resolution)) return false;
+  if (SpreadLogRatio(a, b, o) > std::log(o.spread_resolution)) return false;
   if (!o.compare_roughness) return true;
   for (int j = 0; j < std::min(a.signature_order, b.signature_order); ++j) {
     if (std::abs(a.reflection[j] - b.reflection[j]) > o.reflection_resolution) return false;
@@ -118,6 +123,7 @@ bool RegionMergeOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(mu_resolution) && mu_resolution >= 0.0)) return fail("mu_resolution must be >= 0");
   if (!(std::isfinite(spread_resolution) && spread_resolution >= 1.0)) return fail("spread_resolution must be >= 1");
+  if (!(std::isfinite(spread_floor) && spread_floor >= 0.0)) return fail("spread_floor must be >= 0");
   if (!(std::isfinite(reflection_resolution) && reflection_resolution >= 0.0)) {
     return fail("reflection_resolution must be >= 0");
   }

@@ -40,6 +40,23 @@ TEST(MergeIntoRegions, ACannotLinkKeepsAlikePiecesApartOnlyBeyondTheResolutions)
   EXPECT_EQ(MergeIntoRegions(near, {{0, 1}}, {{0, 1}}), (std::vector<int>{0, 0}));
 }
 
+TEST(MergeIntoRegions, SpreadsBelowTheFloorAreOneTexture) {
+  // Two long glass pieces: the second's per-pair spread 2.5x the first's
+  // (0.005: a drag at a lighter load, or next to a change), both below
+  // what the map resolves.
+  const std::vector<PieceStatistics> glass = {Piece(0.106, 0.0005, 0.002, 100), Piece(0.106, 0.0005, 0.005, 100)};
+  RegionMergeOptions no_floor;
+  no_floor.spread_floor = 0.0;
+  ASSERT_EQ(MergeIntoRegions(glass, {{0, 1}}, {}, no_floor), (std::vector<int>{0, 1}))
+      << "without the floor the spreads tell them apart";
+  EXPECT_EQ(MergeIntoRegions(glass, {{0, 1}}, {}), (std::vector<int>{0, 0}));
+  // A change detected between them is within the resolutions: ignored.
+  EXPECT_EQ(MergeIntoRegions(glass, {{0, 1}}, {{0, 1}}), (std::vector<int>{0, 0}));
+  // Above the floor a 2.5x spread still tells textures apart.
+  const std::vector<PieceStatistics> rough = {Piece(0.30, 0.0005, 0.02, 100), Piece(0.30, 0.0005, 0.05, 100)};
+  EXPECT_EQ(MergeIntoRegions(rough, {{0, 1}}, {}), (std::vector<int>{0, 1}));
+}
+
 // A piece with a roughness signature: reflection coefficients k1, k2 fitted
 // on `rows` values.
 PieceStatistics RoughPiece(double mu, double se, double spread, double pairs, double k1, double k2, double rows) {

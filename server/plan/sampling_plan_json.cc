@@ -151,6 +151,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
        {{"false_split_probability", o.regions.merge.false_split_probability},
         {"mu_resolution", o.regions.merge.mu_resolution},
         {"spread_resolution", o.regions.merge.spread_resolution},
+        {"spread_floor", o.regions.merge.spread_floor},
         {"point_spacing_mm", o.regions.point_spacing_mm},
         {"correlation_length_mm", o.regions.correlation_length_mm},
         {"prior_mu_std_floor", o.regions.prior_mu_std_floor},
@@ -234,6 +235,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
     o.regions.min_spread = in.Double(r, w, "min_spread");
     // Added after "regions" itself: plans saved by builds in between keep the default.
     if (r.contains("change_location_mm")) o.regions.change_location_mm = in.Double(r, w, "change_location_mm");
+    // Added later still: a plan saved before compares spreads however small, as it did.
+    o.regions.merge.spread_floor = r.contains("spread_floor") ? in.Double(r, w, "spread_floor") : 0.0;
   }
   if (j.contains("lookahead")) o.lookahead = static_cast<int>(in.Int(j, "options", "lookahead"));
   // Added later: a plan saved before goes on choosing as it did.
