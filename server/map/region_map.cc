@@ -88,6 +88,10 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(prior_mu_std_floor) && prior_mu_std_floor >= 0.0)) return fail("prior_mu_std_floor must be >= 0");
   if (!(min_mu_se > 0.0 && min_spread > 0.0)) return fail("min_mu_se and min_spread must be > 0");
+  if (!(std::isfinite(min_end_piece_mark_mm) && min_end_piece_mark_mm >= 0.0)) {
+    return fail("min_end_piece_mark_mm must be >= 0");
+  }
+  if (!(std::isfinite(end_piece_mark_z) && end_piece_mark_z >= 0.0)) return fail("end_piece_mark_z must be >= 0");
   if (!(std::isfinite(change_location_mm) && change_location_mm >= 0.0)) return fail("change_location_mm must be >= 0");
   if (!(std::isfinite(near_data_mm) && near_data_mm >= 0.0)) return fail("near_data_mm must be >= 0 (0 = automatic)");
   return true;
@@ -446,6 +450,7 @@ absl::Status RegionMap::SpreadRegions() {
     const MapPiece& b = pieces_[i + 1];
     if (a.drag != b.drag || !a.piece.ends_at_change || side(i) == side(i + 1)) continue;
     if (a.points.size() < 2 || b.points.size() < 2) continue;
+    if (UnconfirmedEndPiece(a, b) || UnconfirmedEndPiece(b, a)) continue;
     ChangeMark m;
     const SurfacePoint hit = locator_->Closest(b.points.front());
     m.position = hit.position;
@@ -542,6 +547,14 @@ double RegionMap::BoundaryVariance(int region, int second, double p) const {
   if (region < 0 || second < 0) return 0.0;
   const double jump = regions_[second].statistics.mu - regions_[region].statistics.mu;
   return p * (1.0 - p) * jump * jump;
+}
+
+bool RegionMap::UnconfirmedEndPiece(const MapPiece& end, const MapPiece& other) const {
+  const LinePiece& p = end.piece;
+  const bool at_window_end = !(p.starts_at_change && p.ends_at_change);  // one side is the drag's window end
+  if (!at_window_end || !(p.end_mm - p.start_mm < options_.min_end_piece_mark_mm)) return false;
+  const double se = std::hypot(p.mu_se, other.piece.mu_se);
+  return std::abs(p.texture.mu - other.piece.texture.mu) < options_.end_piece_mark_z * se;
 }
 
 double RegionMap::ConfusionCost(int a, int b, const TextureDistanceOptions& metric) const {

@@ -241,6 +241,36 @@ TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
   EXPECT_EQ(At(*map, {8.5, 0, 0}).region, 1);
 }
 
+TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourMarksNoCrossing) {
+  // The crossing at x = 8 above, and a drag in the sandpaper whose last
+  // 1 mm reads 0.2 with a standard error of 0.2 (1.5 se from the sandpaper):
+  // the map puts that sliver in glass, but it shows no crossing.
+  const SurfaceLevel level = Plate();
+  std::vector<MapPiece> pieces = TwoHalves();
+  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlass, kSandpaper)) pieces.push_back(p);
+  std::vector<MapPiece> sliver = CrossingDrag(10, {16, 5, 0}, {23, 5, 0}, {24, 5, 0}, kSandpaper, 0.2);
+  sliver[1].piece.mu_se = 0.2;
+  for (MapPiece& p : sliver) pieces.push_back(p);
+  RegionMapOptions every_change;
+  every_change.min_end_piece_mark_mm = 0.0;  // the build before
+  absl::StatusOr<RegionMap> before = MapOfPieces(level, pieces, every_change);
+  ASSERT_TRUE(before.ok()) << before.status();
+  ASSERT_EQ(before->change_marks().size(), 2u) << "the sliver, put in glass, is a crossing";
+  absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces);
+  ASSERT_TRUE(map.ok()) << map.status();
+  ASSERT_EQ(map->change_marks().size(), 1u);
+  EXPECT_NEAR((map->change_marks()[0].position - Eigen::Vector3d(8, 0, 0)).norm(), 0.0, 1e-9);
+  EXPECT_EQ(map->piece_region().size(), pieces.size()) << "the sliver's data stay in the map";
+  // A sliver told apart from its neighbour (se 0.02: 15 se) is a crossing.
+  pieces.back().piece.mu_se = 0.02;
+  absl::StatusOr<RegionMap> told_apart = MapOfPieces(level, pieces);
+  ASSERT_TRUE(told_apart.ok()) << told_apart.status();
+  EXPECT_EQ(told_apart->change_marks().size(), 2u);
+  RegionMapOptions negative;
+  negative.end_piece_mark_z = -1.0;
+  ExpectRefusedNaming(level, negative, "end_piece_mark_z");
+}
+
 TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
   // Glass at x < 0, sandpaper at x > 0: drags cross the boundary at y = -8
   // and y = 8, and a rubber piece at y = 0 keeps the two sandpaper pieces

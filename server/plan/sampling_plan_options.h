@@ -41,7 +41,7 @@ enum class PlanMode {
 
 // The plan's own region map: RegionMapOptions without the split against
 // the materials' textures, the texture assignment, the chains carried on,
-// the links longer than a drag, the lines, dots and cut corners, the spreads' floor, and the materials' mu from long pieces (each measured on the served map
+// the links longer than a drag, the lines, dots and cut corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
 // over the plan's drags, docs/method.md section 5).
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
@@ -52,6 +52,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.links.max_dot_radius_mm = 0.0;
   options.links.max_corner_side_residual_mm = 0.0;
   options.merge.spread_floor = 0.0;
+  options.min_end_piece_mark_mm = 0.0;
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
