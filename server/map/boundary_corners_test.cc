@@ -48,26 +48,30 @@ Scene PatchCorner(double near) {
   return scene;
 }
 
+// Every point farther than seed_offset_mm from the corner lies
+// seed_offset_mm off the patch's true sides, on its own region's side (1e-9:
+// rounding). At the corner itself the points lie on both sides' lines: their
+// side is a matter of rounding.
+void ExpectOnThePatchsTrueSides(const std::vector<LabelledPoint>& points) {
+  const BoundaryLinkOptions o;
+  for (const LabelledPoint& p : points) {
+    if (p.point.head<2>().norm() <= o.seed_offset_mm + 1e-9) continue;
+    const double to_side = std::min(std::abs(p.point.x()) + std::max(0.0, p.point.y()),
+                                    std::abs(p.point.y()) + std::max(0.0, p.point.x()));
+    EXPECT_NEAR(to_side, o.seed_offset_mm, 1e-9) << p.point.transpose();
+    EXPECT_EQ(p.label, Truth(p.point)) << p.point.transpose();
+  }
+}
+
 TEST(BoundaryCorners, TheLastCrossingsOfTwoSidesAreJoinedThroughTheCornerOnTheirOwnSides) {
   const Scene scene = PatchCorner(5.0);
   int links = 0, corners = 0;
   const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
   EXPECT_EQ(links, 2);
   EXPECT_EQ(corners, 1);
-  const BoundaryLinkOptions o;
+  ExpectOnThePatchsTrueSides(points);
   int near_corner = 0;
-  for (const LabelledPoint& p : points) {
-    // At the corner itself the points lie on the sides' lines: their side is
-    // a matter of rounding.
-    if (p.point.head<2>().norm() < 1.0) ++near_corner;
-    if (p.point.head<2>().norm() <= o.seed_offset_mm + 1e-9) continue;
-    // Every other point lies seed_offset_mm off the patch's true sides, on
-    // its own region's side (1e-9: rounding).
-    const double to_side = std::min(std::abs(p.point.x()) + std::max(0.0, p.point.y()),
-                                    std::abs(p.point.y()) + std::max(0.0, p.point.x()));
-    EXPECT_NEAR(to_side, o.seed_offset_mm, 1e-9) << p.point.transpose();
-    EXPECT_EQ(p.label, Truth(p.point)) << p.point.transpose();
-  }
+  for (const LabelledPoint& p : points) near_corner += p.point.head<2>().norm() < 1.0;
   EXPECT_GT(near_corner, 0) << "the corner itself carries points";
 }
 
@@ -150,13 +154,9 @@ TEST(BoundaryCorners, ALinkThatCutsACornerBetweenStraightSidesIsReplacedByTheCor
   const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
   EXPECT_EQ(links, 4);
   EXPECT_EQ(corners, 1);
-  const BoundaryLinkOptions o;
+  ExpectOnThePatchsTrueSides(points);
   int in_corner_triangle = 0;
-  for (const LabelledPoint& p : points) {
-    if (p.point.head<2>().norm() <= o.seed_offset_mm + 1e-9) continue;  // on both sides' lines
-    EXPECT_EQ(p.label, Truth(p.point)) << p.point.transpose();
-    if (p.point.x() + p.point.y() > -4.0 && p.label == 1) ++in_corner_triangle;
-  }
+  for (const LabelledPoint& p : points) in_corner_triangle += p.point.x() + p.point.y() > -4.0 && p.label == 1;
   EXPECT_GT(in_corner_triangle, 0) << "the corner the chord cut off carries the patch's points";
 }
 
