@@ -64,12 +64,12 @@ struct Pool {
 
 double CriticalZ(const RegionMergeOptions& o) { return NormalUpperQuantile(0.5 * o.false_split_probability); }
 
-// How unlike two groups are, in multiples of what the rule allows (<= 1: alike).
 // |log| of the ratio of two spreads, each at least spread_floor.
 double SpreadLogRatio(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o) {
   return std::abs(std::log(std::max(a.spread, o.spread_floor) / std::max(b.spread, o.spread_floor)));
 }
 
+// How unlike two groups are, in multiples of what the rule allows (<= 1: alike).
 double Unlikeness(const PieceStatistics& a, const PieceStatistics& b, const RegionMergeOptions& o, double z) {
   const double mu_allowed = std::max(o.mu_resolution, z * std::hypot(a.mu_se, b.mu_se));
   const double spread_allowed =

@@ -229,10 +229,7 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   std::vector<int> right(region_count + 1, 0);
   std::vector<double> sum(region_count + 1, 0.0), sum_sq(region_count + 1, 0.0);
   std::vector<std::vector<double>> a1(region_count + 1), a2(region_count + 1), sigma(region_count + 1);
-  std::vector<Eigen::Vector3d> misclassified;  // the random points first, then the region-only ones
-  std::vector<MisclassifiedPoint> misclassified_at;
-  std::vector<Eigen::Vector3d> misclassified_region_only;
-  std::vector<MisclassifiedPoint> misclassified_region_only_at;
+  std::vector<MisclassifiedPoint> misclassified, misclassified_region_only;
   double total_sq = 0.0;
   int total_right = 0;
   for (std::size_t i = 0; i < points_.size(); ++i) {
@@ -250,9 +247,8 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
     const bool is_right = NearestMaterial(r->mu) == m;
     right[slot] += is_right;
     if (!is_right) {
-      const MisclassifiedPoint wrong{points_[i], m, point_region_[i], !uniform, r->mu, 0.0};
-      (uniform ? misclassified : misclassified_region_only).push_back(points_[i]);
-      (uniform ? misclassified_at : misclassified_region_only_at).push_back(wrong);
+      (uniform ? misclassified : misclassified_region_only)
+          .push_back({points_[i], m, point_region_[i], !uniform, r->mu, 0.0});
     }
     if (uniform) {
       total_sq += error * error;
@@ -310,18 +306,22 @@ absl::StatusOr<SurfaceScore> SurfaceScorer::Score(const MapReader& map) const {
   } else {
     score.boundary_error_mm = score.boundary_error_p90_mm = score.missed_boundary_mm = kNaN;
   }
-  const std::vector<double> wrong_distance = NearestDistances(misclassified, truth_boundary_, kCellMm);
-  score.misclassified_distance_mm = truth_boundary_.empty() || misclassified.empty() ? kNaN : Mean(wrong_distance);
-  const std::vector<double> region_only_distance =
-      NearestDistances(misclassified_region_only, truth_boundary_, kCellMm);
-  for (std::size_t i = 0; i < misclassified_at.size(); ++i) {
-    misclassified_at[i].boundary_distance_mm = wrong_distance[i];
-    score.misclassified.push_back(misclassified_at[i]);
+  // The random points first, then the region-only ones; the mean distance
+  // is the random points' alone.
+  score.misclassified = std::move(misclassified);
+  const std::size_t random_wrong = score.misclassified.size();
+  score.misclassified.insert(score.misclassified.end(), misclassified_region_only.begin(),
+                             misclassified_region_only.end());
+  std::vector<Eigen::Vector3d> wrong_points;
+  for (const MisclassifiedPoint& p : score.misclassified) wrong_points.push_back(p.position);
+  const std::vector<double> wrong_distance = NearestDistances(wrong_points, truth_boundary_, kCellMm);
+  for (std::size_t i = 0; i < wrong_distance.size(); ++i) {
+    score.misclassified[i].boundary_distance_mm = wrong_distance[i];
   }
-  for (std::size_t i = 0; i < misclassified_region_only_at.size(); ++i) {
-    misclassified_region_only_at[i].boundary_distance_mm = region_only_distance[i];
-    score.misclassified.push_back(misclassified_region_only_at[i]);
-  }
+  score.misclassified_distance_mm =
+      truth_boundary_.empty() || random_wrong == 0
+          ? kNaN
+          : Mean(std::vector<double>(wrong_distance.begin(), wrong_distance.begin() + random_wrong));
   return score;
 }
 
