@@ -6,7 +6,7 @@
 # (surfmap-rig score --job). Prints one table row per scene.
 #
 #   scripts/map_scenes.sh [--rigs N] [--seed N | --seeds 1-6] [--check] [--property P] [--job-args "FLAGS"]
-#                         [SCENE ...]
+#                         [--rig-args "FLAGS"] [SCENE ...]
 #   (default: all nine scenes)
 #
 # --seeds A-B (or a list, "1 3 5"): every scene on each seed (out/.../sN),
@@ -18,6 +18,8 @@
 # --property: the jobs' property, friction (default) | roughness | both.
 # --job-args: more `surfmap job create` flags for every job (e.g. "--spacing-mm 15
 # --segment-mm 30"); the default job takes none.
+# --rig-args: more `surfmap-rig` flags for every simulated rig (e.g.
+# "--sim-disturbance 2 --sim-rate 500": a rig unlike the default one).
 # Environment: SURFMAP_BUILD_DIR (default build), MAP_SCENES_OUT (default
 # out/map_scenes: databases, logs, score JSON).
 set -euo pipefail
@@ -30,6 +32,7 @@ MULTI=0
 SCENES=()
 CHECK=0
 JOB_ARGS=()
+RIG_ARGS=()
 PROPERTY=friction
 while [ $# -gt 0 ]; do
   case "$1" in
@@ -45,7 +48,8 @@ while [ $# -gt 0 ]; do
     --check) CHECK=1; shift ;;
     --property) PROPERTY=${2:-}; shift $(($# > 1 ? 2 : 1)) ;;
     --job-args) read -r -a JOB_ARGS <<<"${2:-}"; shift $(($# > 1 ? 2 : 1)) ;;
-    -h|--help) sed -n '2,22p' "$0"; exit 0 ;;
+    --rig-args) read -r -a RIG_ARGS <<<"${2:-}"; shift $(($# > 1 ? 2 : 1)) ;;
+    -h|--help) sed -n '2,25p' "$0"; exit 0 ;;
     *) SCENES+=("$1"); shift ;;
   esac
 done
@@ -92,7 +96,7 @@ map_scene() {
   job=$("$SURFMAP" job create --object "$object" --property "$PROPERTY" --seed "$seed" ${JOB_ARGS[@]+"${JOB_ARGS[@]}"} 2>"$out/$scene.job.txt")
   local pids=()
   for i in $(seq 1 "$RIGS"); do
-    "$RIG" --sim "$scene" --job "$job" --rig-id "rig-$i" --sim-seed "$((seed * 100 + i))" --quiet \
+    "$RIG" --sim "$scene" --job "$job" --rig-id "rig-$i" --sim-seed "$((seed * 100 + i))" --quiet ${RIG_ARGS[@]+"${RIG_ARGS[@]}"} \
       --spool "$out/spool-$scene-$i" >"$out/$scene.rig-$i.log" 2>&1 &
     pids+=($!)
   done

@@ -74,10 +74,17 @@ void InstallStopHandlers() {
   sigaction(SIGTERM, &action, nullptr);
 }
 
+// The simulated rig's settings (beyond its scene).
+struct SimRigArgs {
+  uint64_t seed = 0;
+  double disturbance = 1.0;  // DragSimOptions::WithDisturbancesScaled
+  double sample_rate_hz = surfmap::DragSimOptions{}.sample_rate_hz;
+};
+
 struct RunArgs {
   surfmap::cli::RemoteOptions remote;
   std::string sim;
-  uint64_t sim_seed = 0;
+  SimRigArgs sim_rig;
   std::string driver;           // --driver "CMD ARGS"
   double driver_timeout_s = 120.0;
   double driver_start_timeout_s = 60.0;
@@ -92,12 +99,28 @@ struct RunArgs {
 };
 
 absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> MakeSimulatedRig(const std::string& scene_name,
-                                                                       uint64_t seed) {
+                                                                       const SimRigArgs& args) {
   absl::StatusOr<surfmap::Scene> scene = surfmap::LoadSceneByName(scene_name);
   if (!scene.ok()) return scene.status();
   surfmap::SimulatedRigOptions options;
-  options.seed = seed;
-  return surfmap::SimulatedRig::Create(*std::move(scene), options);
+  options.seed = args.seed;
+  options.simulation = options.simulation.WithDisturbancesScaled(args.disturbance);
+  options.simulation.sample_rate_hz = args.sample_rate_hz;
+  return surfmap::SimulatedRig::Create(*std::move(scene), options);  // validates both (names the bad one)
+}
+
+// --sim-seed, --sim-disturbance and --sim-rate, on the command and on simulate-drag.
+void AddSimRigOptions(CLI::App* app, SimRigArgs* args) {
+  app->add_option("--sim-seed", args->seed, "Seed mixed into the simulated rig's noise");
+  app->add_option("--sim-disturbance", args->disturbance,
+                  "With --sim: every disturbance of the simulated rig (sensor noise, vibration, speed jitter, "
+                  "contact transients, stick-slip, force tracking) times this; 0 = exact physics, 2 = a rig twice as "
+                  "disturbed (at most ~3.3, where the contact overshoot reaches its limit)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app->add_option("--sim-rate", args->sample_rate_hz, "With --sim: the simulated rig's sample rate, Hz")
+      ->check(CLI::PositiveNumber)
+      ->capture_default_str();
 }
 
 // A registration by id, for the simulated rig sending traces in a rig frame.
@@ -185,7 +208,7 @@ absl::StatusOr<DriverStack> MakeDriver(const RunArgs& args, std::function<void(c
     stack.layers.push_back(std::move(*driver));
     return stack;
   }
-  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_seed);
+  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_rig);
   if (!rig.ok()) return rig.status();
   surfmap::rig::MeshFingerprint scene = surfmap::rig::SceneFingerprint(**rig);
   stack.layers.push_back(std::move(*rig));
@@ -318,18 +341,18 @@ int RunRig(const RunArgs& args) {
 
 struct SimulateDragArgs {
   std::string sim;
-  uint64_t sim_seed = 0;
+  SimRigArgs sim_rig;
 };
 
 int RunSimulateDrag(const SimulateDragArgs& args) {
-  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_seed);
+  absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_rig);
   if (!rig.ok()) {
     std::cerr << "surfmap-rig simulate-drag: --sim " << args.sim << ": " << rig.status().message() << "\n";
     return 2;
   }
   std::ios::sync_with_stdio(false);
   return surfmap::rig::ServeSimulatedDriver(
-      **rig, absl::StrCat("surfmap-rig simulate-drag --sim ", args.sim, " (SimulatedRig, seed ", args.sim_seed, ")"),
+      **rig, absl::StrCat("surfmap-rig simulate-drag --sim ", args.sim, " (SimulatedRig, seed ", args.sim_rig.seed, ")"),
       std::cin, std::cout, std::cerr);
 }
 
@@ -441,7 +464,7 @@ int main(int argc, char** argv) {
                  "Seconds the driver may take to say it is ready")
       ->check(CLI::PositiveNumber)
       ->capture_default_str();
-  app.add_option("--sim-seed", run.sim_seed, "Seed mixed into the simulated rig's noise");
+  AddSimRigOptions(&app, &run.sim_rig);
   app.add_option("--frame", run.frame,
                  "Frame of the traces sent: object (default), rig_base or rig_base_sensor_forces (the rig must be "
                  "registered to the object; --sim converts its traces with the registration)");
@@ -466,7 +489,7 @@ int main(int argc, char** argv) {
   CLI::App* simulate_cmd = app.add_subcommand(
       "simulate-drag", "The simulated rig as a driver program: command lines on stdin, traces on stdout");
   simulate_cmd->add_option("--sim", simulate.sim, "Scene to simulate (e.g. bottle, plate)")->required();
-  simulate_cmd->add_option("--sim-seed", simulate.sim_seed, "Seed mixed into the simulated rig's noise");
+  AddSimRigOptions(simulate_cmd, &simulate.sim_rig);
 
   ScoreArgs score;
   CLI::App* score_cmd = app.add_subcommand(

@@ -79,6 +79,15 @@ DragSimOptions DragSimOptions::Ideal() {
   return o;
 }
 
+DragSimOptions DragSimOptions::WithDisturbancesScaled(double factor) const {
+  DragSimOptions o = *this;
+  for (double* amplitude : {&o.speed_jitter, &o.contact_overshoot, &o.force_tracking_error, &o.vibration_n,
+                            &o.stick_slip, &o.pause_residual, &o.force_noise_n, &o.position_noise_mm}) {
+    *amplitude *= factor;
+  }
+  return o;
+}
+
 bool DragSimOptions::IsValid(std::string* why) const {
   auto fail = [&](const char* message) {
     if (why) *why = message;

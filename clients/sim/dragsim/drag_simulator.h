@@ -55,6 +55,11 @@ struct DragSimOptions {
 
   // All disturbances off: exact Coulomb + roughness physics.
   static DragSimOptions Ideal();
+  // Every disturbance amplitude above times `factor` (0 = Ideal()'s
+  // disturbances; 2 = a rig twice as noisy, shaky and sticky), to measure
+  // the estimator and the map on rigs unlike this one. IsValid says when a
+  // factor takes an amplitude out of its range.
+  DragSimOptions WithDisturbancesScaled(double factor) const;
   bool IsValid(std::string* why) const;
 };
 

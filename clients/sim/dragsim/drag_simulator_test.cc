@@ -82,6 +82,33 @@ TEST(DragSimulatorTest, IdealPhysicsIsExactCoulombPlusTexture) {
   EXPECT_NEAR(truth.s_mm.back(), 0.0, 1e-3);
 }
 
+TEST(DragSimulatorTest, DisturbancesScaleTogether) {
+  const DragSimOptions base;
+  // Zero is Ideal()'s physics: the same trace, sample for sample.
+  DragSimOptions none = base.WithDisturbancesScaled(0.0);
+  DragSimOptions ideal = DragSimOptions::Ideal();
+  none.seed = ideal.seed = 7;
+  absl::StatusOr<DragSimResult> a = SimulateDrag(TiltedPlaneGeometry(10.0, 20.0), UniformMaterial(kRubber), none);
+  absl::StatusOr<DragSimResult> b = SimulateDrag(TiltedPlaneGeometry(10.0, 20.0), UniformMaterial(kRubber), ideal);
+  ASSERT_TRUE(a.ok() && b.ok());
+  ASSERT_EQ(a->trace.samples.size(), b->trace.samples.size());
+  for (std::size_t i = 0; i < a->trace.samples.size(); ++i) {
+    ASSERT_TRUE(a->trace.samples[i].force == b->trace.samples[i].force) << i;
+  }
+  // Two: every amplitude doubled, nothing else touched.
+  const DragSimOptions twice = base.WithDisturbancesScaled(2.0);
+  EXPECT_EQ(twice.force_noise_n, 2.0 * base.force_noise_n);
+  EXPECT_EQ(twice.speed_jitter, 2.0 * base.speed_jitter);
+  EXPECT_EQ(twice.stick_slip, 2.0 * base.stick_slip);
+  EXPECT_EQ(twice.contact_decay_s, base.contact_decay_s);
+  EXPECT_EQ(twice.sample_rate_hz, base.sample_rate_hz);
+  EXPECT_TRUE(twice.IsValid(nullptr));
+  // Four takes the contact overshoot past its range: IsValid says so.
+  std::string why;
+  EXPECT_FALSE(base.WithDisturbancesScaled(4.0).IsValid(&why));
+  EXPECT_NE(why.find("contact_overshoot"), std::string::npos) << why;
+}
+
 TEST(DragSimulatorTest, BothPassesFeelTheSameTexture) {
   DragSimOptions options;
   options.seed = 4;
@@ -117,7 +144,7 @@ TEST(DragSimulatorTest, SameSeedSameTraceOtherSeedOtherTrace) {
   ASSERT_TRUE(a.ok() && b.ok() && c.ok());
   ASSERT_EQ(a->trace.samples.size(), b->trace.samples.size());
   for (std::size_t i = 0; i < a->trace.samples.size(); ++i) {
-    ASSERT_EQ(a->trace.samples[i].force, b->trace.samples[i].force) << i;
+    ASSERT_TRUE(a->trace.samples[i].force == b->trace.samples[i].force) << i;
     ASSERT_EQ(a->trace.samples[i].position, b->trace.samples[i].position) << i;
   }
   EXPECT_NE(a->trace.samples[100].force, c->trace.samples[100].force);

@@ -40,6 +40,7 @@ int main(int argc, char** argv) {
   double tilt_deg = 23.0, radius_mm = 40.0, polar_deg = 45.0;
   surfmap::DragSimOptions options;
   bool ideal = false;
+  double disturbance = 1.0;
   app.add_option("--shape", shape, "plane | cylinder | sphere")
       ->check(CLI::IsMember({"plane", "cylinder", "sphere"}));
   app.add_option("--material", material_name, "glass | rubber | masonite | sandpaper")
@@ -54,17 +55,23 @@ int main(int argc, char** argv) {
   app.add_option("--length", options.length_mm, "drag length, mm");
   app.add_option("--speed", options.speed_mm_s, "drag speed, mm/s");
   app.add_option("--force", options.normal_force_n, "commanded normal force, N");
+  app.add_option("--rate", options.sample_rate_hz, "sample rate, Hz")->check(CLI::PositiveNumber);
+  app.add_option("--disturbance", disturbance,
+                 "every disturbance amplitude times this (DragSimOptions::WithDisturbancesScaled)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--ideal", ideal, "switch every disturbance off");
   CLI11_PARSE(app, argc, argv);
+  options = options.WithDisturbancesScaled(disturbance);
   if (ideal) {
     const auto seed = options.seed;
     const double length = options.length_mm, speed = options.speed_mm_s,
-                 force = options.normal_force_n;
+                 force = options.normal_force_n, rate = options.sample_rate_hz;
     options = surfmap::DragSimOptions::Ideal();
     options.seed = seed;
     options.length_mm = length;
     options.speed_mm_s = speed;
     options.normal_force_n = force;
+    options.sample_rate_hz = rate;
   }
 
   const double geometry_length = options.length_mm;
@@ -98,8 +105,8 @@ int main(int argc, char** argv) {
   std::cout << " --material " << material_name;
   if (!boundary_name.empty()) std::cout << " --boundary " << boundary_name;
   std::cout << " --seed " << options.seed << " --length " << options.length_mm << " --speed "
-            << options.speed_mm_s << " --force " << options.normal_force_n
-            << (ideal ? " --ideal" : "") << "\n";
+            << options.speed_mm_s << " --force " << options.normal_force_n << " --rate "
+            << options.sample_rate_hz << " --disturbance " << disturbance << (ideal ? " --ideal" : "") << "\n";
   std::cout << "# material: " << Describe(material_name, material) << "\n";
   if (!boundary_name.empty()) {
     std::cout << "# beyond the middle of the path: "
