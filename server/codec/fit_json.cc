@@ -122,6 +122,7 @@ json FitOptionsToJson(const FitOptions& o) {
               {"window_trim_fraction", o.window_trim_fraction},
               {"change_false_alarm", o.changes.false_alarm_probability},
               {"min_piece_mm", o.changes.min_piece_mm},
+              {"change_group_spacing_mm", o.changes.group_spacing_mm},
               {"min_roughness_piece_mm", o.min_roughness_piece_mm},
               {"change_guard_mm", o.change_guard_mm},
               {"path_step_mm", o.path_step_mm}};
@@ -131,7 +132,7 @@ absl::StatusOr<FitOptions> FitOptionsFromJson(const json& j) {
   if (!j.is_object()) return absl::InvalidArgumentError("estimator options must be a JSON object");
   static const std::set<std::string> kKnown = {"step_mm", "ar_order", "ar_method", "noise_aware",
                                                "window_trim_fraction", "change_false_alarm", "min_piece_mm",
-                                               "min_roughness_piece_mm", "change_guard_mm", "path_step_mm"};
+                                               "change_group_spacing_mm", "min_roughness_piece_mm", "change_guard_mm", "path_step_mm"};
   for (auto it = j.begin(); it != j.end(); ++it) {
     if (!kKnown.count(it.key())) return absl::InvalidArgumentError(absl::StrCat("unknown estimator option '", it.key(), "'"));
   }
@@ -142,6 +143,7 @@ absl::StatusOr<FitOptions> FitOptionsFromJson(const json& j) {
                          ReadKey(j, "window_trim_fraction", &o.window_trim_fraction),
                          ReadKey(j, "change_false_alarm", &o.changes.false_alarm_probability),
                          ReadKey(j, "min_piece_mm", &o.changes.min_piece_mm),
+                         ReadKey(j, "change_group_spacing_mm", &o.changes.group_spacing_mm),
                          ReadKey(j, "min_roughness_piece_mm", &o.min_roughness_piece_mm),
                          ReadKey(j, "change_guard_mm", &o.change_guard_mm),
                          ReadKey(j, "path_step_mm", &o.path_step_mm)}) {
@@ -179,6 +181,9 @@ json TraceFitToJson(const TraceFit& fit, bool with_series) {
                        {"critical_value", c.critical_value}});
   }
   j["changes"] = changes;
+  // Written only where the pairs were grouped (a rig faster than 100 Hz at
+  // 10 mm/s), so the fits of the rigs before keep their bytes.
+  if (fit.pairs_per_group != 1) j["pairs_per_group"] = fit.pairs_per_group;
   json pieces = json::array();
   for (const DragPiece& p : fit.pieces) pieces.push_back(PieceToJson(p));
   j["pieces"] = pieces;
@@ -203,10 +208,14 @@ absl::StatusOr<TraceFit> TraceFitFromJson(const json& j) {
         ReadKey(j, "normal", &normal), ReadKey(j, "n_pairs", &f.n_pairs), ReadKey(j, "window_mm", &window),
         ReadKey(j, "noise_std", &fit.noise_std), ReadKey(j, "path_length_mm", &fit.path_length_mm),
         ReadKey(j, "roughness_piece", &fit.roughness_piece), ReadKey(j, "pair_s_mm", &f.pair_s_mm),
-        ReadKey(j, "pair_mu", &f.pair_mu), ReadKey(j, "acf", &fit.roughness.acf)}) {
+        ReadKey(j, "pair_mu", &f.pair_mu), ReadKey(j, "acf", &fit.roughness.acf),
+        ReadKey(j, "pairs_per_group", &fit.pairs_per_group)}) {
     if (!s.ok()) return s;
   }
   if (absl::Status s = GetRoughness(j, fit.roughness); !s.ok()) return s;
+  if (fit.pairs_per_group < 1) {
+    return absl::InvalidArgumentError(absl::StrCat("key 'pairs_per_group': ", fit.pairs_per_group, " must be >= 1"));
+  }
   if (normal.size() == 3) f.normal = Eigen::Vector3d(normal[0], normal[1], normal[2]);
   if (window.size() == 2) {
     f.window_start_mm = window[0];

@@ -100,6 +100,26 @@ TEST(FitJsonTest, ChangeOptionsRoundTripAndAreValidated) {
   EXPECT_EQ(old->changes.false_alarm_probability, ChangePointOptions{}.false_alarm_probability);
   EXPECT_EQ(FitOptionsFromJson(nlohmann::json{{"change_false_alarm", 2.0}}).status().message(),
             "changes: false_alarm_probability 2 must be in (0, 1)");
+  options.changes.group_spacing_mm = 0.25;
+  back = FitOptionsFromJson(FitOptionsToJson(options));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->changes.group_spacing_mm, 0.25);
+  EXPECT_EQ(old->changes.group_spacing_mm, ChangePointOptions{}.group_spacing_mm);
+  EXPECT_EQ(FitOptionsFromJson(nlohmann::json{{"change_group_spacing_mm", -1.0}}).status().message(),
+            "changes: group_spacing_mm -1 must be a finite length >= 0");
+}
+
+TEST(FitJsonTest, PairsPerGroupIsKeptWhereThePairsWereGrouped) {
+  TraceFit fit = SplitDragFit();  // 100 Hz: not grouped, and no key written
+  ASSERT_EQ(fit.pairs_per_group, 1);
+  EXPECT_FALSE(TraceFitToJson(fit).contains("pairs_per_group"));
+  fit.pairs_per_group = 5;
+  auto back = TraceFitFromJson(TraceFitToJson(fit));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->pairs_per_group, 5);
+  nlohmann::json j = TraceFitToJson(fit);
+  j["pairs_per_group"] = 0;
+  EXPECT_EQ(TraceFitFromJson(j).status().message(), "key 'pairs_per_group': 0 must be >= 1");
 }
 
 }  // namespace

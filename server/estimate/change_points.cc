@@ -357,6 +357,9 @@ bool ChangePointOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(min_piece_mm) && min_piece_mm >= 0.0)) {
     return fail(absl::StrCat("min_piece_mm ", min_piece_mm, " must be a finite length >= 0"));
   }
+  if (!(std::isfinite(group_spacing_mm) && group_spacing_mm >= 0.0)) {
+    return fail(absl::StrCat("group_spacing_mm ", group_spacing_mm, " must be a finite length >= 0"));
+  }
   if (min_piece_pairs < 3 * kParameters) {
     return fail(absl::StrCat("min_piece_pairs ", min_piece_pairs, " must be >= ", 3 * kParameters,
                              " (3 rows per parameter of the AR(2) fit)"));

@@ -73,6 +73,12 @@ struct ChangePointOptions {
   // ... and never fewer pairs than this on a side, whatever their spacing:
   // the chi-square approximation of a 4-parameter fit needs ~3x as many rows.
   int min_piece_pairs = 12;
+  // The spacing, mm, at which FitTrace tests a drag's pairs: pairs closer
+  // than that are averaged in consecutive groups first (pair_groups.h), so a
+  // rig sampling at 500 Hz is tested as one at 100 Hz (the pairs of the
+  // paper's 10 mm/s and 100 Hz are ~0.1 mm apart: left as they are).
+  // 0 = the pairs as they come, whatever their spacing.
+  double group_spacing_mm = 0.1;
   bool IsValid(std::string* why) const;
 };
 

@@ -35,7 +35,7 @@ std::string_view PieceRoughnessName(PieceRoughness state) {
 }
 
 absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction,
-                                                     const std::vector<ChangePoint>& changes) {
+                                                     const std::vector<ChangePoint>& changes, int guard_pairs) {
   const int n = static_cast<int>(friction.pair_mu.size());
   if (n == 0 || static_cast<int>(friction.pair_s_mm.size()) != n) {
     return absl::InvalidArgumentError(absl::StrCat("drag pieces: the friction fit has ", n, " per-pair values and ",
@@ -54,8 +54,8 @@ absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction
   std::vector<DragPiece> pieces;
   for (std::size_t p = 0; p + 1 < cuts.size(); ++p) {
     // The transitional pairs next to a change belong to neither piece.
-    const int a = cuts[p] + (p > 0 ? kChangeGuardPairs : 0);
-    const int b = cuts[p + 1] - (p + 2 < cuts.size() ? kChangeGuardPairs : 0);
+    const int a = cuts[p] + (p > 0 ? guard_pairs : 0);
+    const int b = cuts[p + 1] - (p + 2 < cuts.size() ? guard_pairs : 0);
     if (b - a < 2) {
       return absl::InvalidArgumentError(absl::StrCat("drag pieces: changes ", p == 0 ? 0 : p - 1, " and ", p,
                                                      " leave piece ", p, " fewer than 2 pairs"));

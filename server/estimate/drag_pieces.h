@@ -23,7 +23,8 @@ std::string_view PieceRoughnessName(PieceRoughness state);  // "fitted", "too_sh
 
 struct DragPiece {
   // Pairs first_pair .. first_pair + pair_count - 1 of the FrictionFit (the
-  // transitional pair next to each change, kChangeGuardPairs, is left out).
+  // transitional pairs next to each change, CutDragPieces' guard_pairs, are
+  // left out).
   int first_pair = 0;
   int pair_count = 0;
   // Extent along the forward path (mm from its first sample, the frame of
@@ -60,10 +61,13 @@ inline constexpr double kMaxIndependentPairsPerMm = 1.0 / 1.6;
 
 // The pieces of `friction`'s per-pair series cut at `changes` (indices into
 // the series, increasing), with their friction statistics; roughness is left
-// kTooShort for FitTrace to fill in. Errors (INVALID_ARGUMENT): an empty
-// series, change indices out of order or out of range, or so close that a
-// piece keeps fewer than 2 pairs.
+// kTooShort for FitTrace to fill in. `guard_pairs` pairs each side of a
+// change belong to neither piece (the change was found in groups of that
+// many pairs, pair_groups.h). Errors (INVALID_ARGUMENT): an empty series,
+// change indices out of order or out of range, or so close that a piece
+// keeps fewer than 2 pairs.
 absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction,
-                                                     const std::vector<ChangePoint>& changes);
+                                                     const std::vector<ChangePoint>& changes,
+                                                     int guard_pairs = kChangeGuardPairs);
 
 }  // namespace surfmap

@@ -9,6 +9,7 @@
 #include "server/estimate/ar_bias_correction.h"
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
+#include "server/estimate/pair_groups.h"
 
 namespace surfmap {
 namespace {
@@ -160,11 +161,14 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   }
   fit.path = SamplePath(forward, *pairing, fit.friction, options.path_step_mm);
 
-  absl::StatusOr<std::vector<ChangePoint>> changes =
-      DetectChangePoints(fit.friction.pair_s_mm, fit.friction.pair_mu, options.changes);
+  // Tested at the texture grid's spacing whatever the rig's sample rate.
+  fit.pairs_per_group = PairsPerGroup(fit.friction.pair_s_mm, options.changes.group_spacing_mm);
+  const PairGroups groups = AveragePairGroups(fit.friction.pair_s_mm, fit.friction.pair_mu, fit.pairs_per_group);
+  absl::StatusOr<std::vector<ChangePoint>> changes = DetectChangePoints(groups.s_mm, groups.values, options.changes);
   if (!changes.ok()) return changes.status();
-  fit.changes = *std::move(changes);
-  absl::StatusOr<std::vector<DragPiece>> pieces = CutDragPieces(fit.friction, fit.changes);
+  fit.changes = ChangesOfPairs(*changes, fit.friction.pair_s_mm, fit.pairs_per_group);
+  absl::StatusOr<std::vector<DragPiece>> pieces =
+      CutDragPieces(fit.friction, fit.changes, fit.pairs_per_group * kChangeGuardPairs);
   if (!pieces.ok()) return pieces.status();
   fit.pieces = *std::move(pieces);
   if (fit.pieces.size() > 1) {

@@ -90,6 +90,10 @@ struct TraceFit {
   ArFit roughness;
   int roughness_piece = 0;
   std::vector<ChangePoint> changes;  // detected in friction.pair_mu, in path order
+  // The pairs were tested in groups of this many (pair_groups.h:
+  // ChangePointOptions::group_spacing_mm over their spacing; 1 at 100 Hz);
+  // pieces leave out this many pairs next to each change.
+  int pairs_per_group = 1;
   std::vector<DragPiece> pieces;     // changes.size() + 1 pieces covering the window
   DragPathSamples path;
   double noise_std = 0.0;         // force noise during the pause, N (PauseNoiseStd)

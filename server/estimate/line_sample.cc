@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "absl/strings/str_cat.h"
+#include "server/estimate/pair_groups.h"
 
 namespace surfmap {
 namespace {
@@ -114,8 +115,11 @@ LineSample LineSampleOf(const TraceFit& fit) {
     line.pieces.push_back(std::move(piece));
     return line;
   }
-  line.pair_s_mm = fit.friction.pair_s_mm;
-  line.pair_mu = fit.friction.pair_mu;
+  // The series the map tests pieces on again, at the spacing the drag's own
+  // test saw (pair_groups.h; the pairs themselves at 100 Hz).
+  PairGroups groups = AveragePairGroups(fit.friction.pair_s_mm, fit.friction.pair_mu, fit.pairs_per_group);
+  line.pair_s_mm = std::move(groups.s_mm);
+  line.pair_mu = std::move(groups.values);
   for (const DragPiece& p : fit.pieces) {
     LinePiece piece;
     piece.start_mm = p.start_mm;
