@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   surfmap::DragSimOptions options;
   bool ideal = false;
   double disturbance = 1.0;
+  double position_noise_mm = -1.0;
   app.add_option("--shape", shape, "plane | cylinder | sphere")
       ->check(CLI::IsMember({"plane", "cylinder", "sphere"}));
   app.add_option("--material", material_name, "glass | rubber | masonite | sandpaper")
@@ -59,9 +60,13 @@ int main(int argc, char** argv) {
   app.add_option("--disturbance", disturbance,
                  "every disturbance amplitude times this (DragSimOptions::WithDisturbancesScaled)")
       ->check(CLI::NonNegativeNumber);
+  app.add_option("--position-noise", position_noise_mm,
+                 "Gaussian position noise per axis, mm, after --disturbance (default: the rig's, scaled)")
+      ->check(CLI::NonNegativeNumber);
   app.add_flag("--ideal", ideal, "switch every disturbance off");
   CLI11_PARSE(app, argc, argv);
   options = options.WithDisturbancesScaled(disturbance);
+  if (position_noise_mm >= 0.0) options.position_noise_mm = position_noise_mm;
   if (ideal) {
     const auto seed = options.seed;
     const double length = options.length_mm, speed = options.speed_mm_s,
