@@ -23,7 +23,9 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // the rest's AR(2) cannot have made it (change_points.h), and the stretch
 // without it is searched again. Version 5: pairs closer than 0.1 mm (a rig
 // faster than 100 Hz at 10 mm/s) are tested for changes in groups averaged
-// to that spacing (pair_groups.h); at 100 Hz fits are unchanged.
+// to that spacing (pair_groups.h), and a pair's friction takes its sign
+// from the motion over at least 0.1 mm (friction.cc); at 100 Hz fits are
+// unchanged.
 inline constexpr const char* kEstimatorVersion = "5";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
