@@ -385,6 +385,17 @@ TEST(FitTraceTest, ABandNarrowerThanTheDragGivesThreePiecesAndAShortOneIsNotFitt
   EXPECT_EQ(fit->roughness_piece, 2);
 }
 
+// The fit of one simulated drag by a rig sampling at `rate_hz`.
+absl::StatusOr<TraceFit> FitAtRate(const DragGeometry& geometry, const MaterialField& material, std::uint64_t seed,
+                                   double rate_hz) {
+  DragSimOptions options;
+  options.seed = seed;
+  options.sample_rate_hz = rate_hz;
+  absl::StatusOr<DragSimResult> sim = SimulateDrag(geometry, material, options);
+  if (!sim.ok()) return sim.status();
+  return FitTrace(sim->trace, FitOptions{});
+}
+
 TEST(FitTraceTest, ARigSamplingFasterIsTestedAtTheSameSpacing) {
   // At 500 Hz five pairs share each 0.1 mm texture cell and the AR(2) test
   // on the raw pairs found changes everywhere (69 in 30 one-material
@@ -395,12 +406,7 @@ TEST(FitTraceTest, ARigSamplingFasterIsTestedAtTheSameSpacing) {
   int false_changes = 0;
   for (const Material& material : {kMasonite, kRubber}) {
     for (std::uint64_t seed = 1; seed <= 20; ++seed) {
-      DragSimOptions options;
-      options.seed = seed;
-      options.sample_rate_hz = 500.0;
-      auto sim = SimulateDrag(CylinderGeometry(40.0, 20.0), UniformMaterial(material), options);
-      ASSERT_TRUE(sim.ok());
-      auto fit = FitTrace(sim->trace, FitOptions{});
+      auto fit = FitAtRate(CylinderGeometry(40.0, 20.0), UniformMaterial(material), seed, 500.0);
       ASSERT_TRUE(fit.ok()) << fit.status();
       EXPECT_EQ(fit->pairs_per_group, 5);
       false_changes += static_cast<int>(fit->changes.size());
@@ -440,12 +446,7 @@ TEST(FitTraceTest, AtOneKilohertzNoPairTurnsItsFrictionsSignOnPositionNoise) {
   int false_changes = 0;
   for (const Material& material : {kGlass, kMasonite, kRubber}) {
     for (std::uint64_t seed = 1; seed <= 10; ++seed) {
-      DragSimOptions options;
-      options.seed = seed;
-      options.sample_rate_hz = 1000.0;
-      auto sim = SimulateDrag(TiltedPlaneGeometry(10.0, 20.0), UniformMaterial(material), options);
-      ASSERT_TRUE(sim.ok());
-      auto fit = FitTrace(sim->trace, FitOptions{});
+      auto fit = FitAtRate(TiltedPlaneGeometry(10.0, 20.0), UniformMaterial(material), seed, 1000.0);
       ASSERT_TRUE(fit.ok()) << fit.status();
       EXPECT_EQ(fit->pairs_per_group, 10);
       false_changes += static_cast<int>(fit->changes.size());
