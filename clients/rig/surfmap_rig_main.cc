@@ -118,8 +118,10 @@ void AddSimRigOptions(CLI::App* app, SimRigArgs* args) {
                   "disturbed (at most ~3.3, where the contact overshoot reaches its limit)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app->add_option("--sim-rate", args->sample_rate_hz, "With --sim: the simulated rig's sample rate, Hz")
-      ->check(CLI::PositiveNumber)
+  // Bounded: a drag's samples are allocated at once (~5 s of them; 100 kHz
+  // is 500,000, past any force sensor a lab drags with).
+  app->add_option("--sim-rate", args->sample_rate_hz, "With --sim: the simulated rig's sample rate, Hz (1 to 100000)")
+      ->check(CLI::Range(1.0, 100000.0))
       ->capture_default_str();
 }
 

@@ -56,7 +56,8 @@ int main(int argc, char** argv) {
   app.add_option("--length", options.length_mm, "drag length, mm");
   app.add_option("--speed", options.speed_mm_s, "drag speed, mm/s");
   app.add_option("--force", options.normal_force_n, "commanded normal force, N");
-  app.add_option("--rate", options.sample_rate_hz, "sample rate, Hz")->check(CLI::PositiveNumber);
+  app.add_option("--rate", options.sample_rate_hz, "sample rate, Hz (1 to 100000: the samples are allocated at once)")
+      ->check(CLI::Range(1.0, 100000.0));
   app.add_option("--disturbance", disturbance,
                  "every disturbance amplitude times this (DragSimOptions::WithDisturbancesScaled)")
       ->check(CLI::NonNegativeNumber);
