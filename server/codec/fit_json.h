@@ -25,8 +25,9 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // faster than 100 Hz at 10 mm/s) are tested for changes in groups averaged
 // to that spacing (pair_groups.h), and a pair's friction takes its sign
 // from the motion over at least 0.1 mm (friction.cc); at 100 Hz fits are
-// unchanged.
-inline constexpr const char* kEstimatorVersion = "5";
+// unchanged. Version 6: a piece's mu_se and effective_pairs of such a rig
+// come from its pairs in those groups (drag_pieces.h); at 100 Hz unchanged.
+inline constexpr const char* kEstimatorVersion = "6";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 // Missing keys keep their defaults; unknown keys and wrong types are errors.

@@ -42,7 +42,9 @@ struct DragPiece {
   // inflation is the larger of the pairs' modelled serial correlation
   // (SeriesDependence::mean_inflation, series_dependence.h: neighbouring pairs
   // feel the same texture) and the cap's, pair_count / (kMaxIndependentPairsPerMm
-  // x the pairs' extent in mm, at least 1), clamped to 1..pair_count.
+  // x the pairs' extent in mm, at least 1), clamped to 1..pair_count. Where
+  // the pairs were grouped (pairs_per_group > 1) all of this is of the
+  // groups: group count for pair_count, the groups' variance for mu_std^2.
   double mu_se = 0.0;
   double effective_pairs = 0.0;  // pair_count / inflation (the capped one above)
   PieceRoughness roughness_state = PieceRoughness::kTooShort;
@@ -63,11 +65,14 @@ inline constexpr double kMaxIndependentPairsPerMm = 1.0 / 1.6;
 // the series, increasing), with their friction statistics; roughness is left
 // kTooShort for FitTrace to fill in. `guard_pairs` pairs each side of a
 // change belong to neither piece (the change was found in groups of that
-// many pairs, pair_groups.h). Errors (INVALID_ARGUMENT): an empty series,
+// many pairs, pair_groups.h). With `pairs_per_group` k > 1 (a rig faster
+// than the texture's 0.1 mm grid) mu_se and effective_pairs come from the
+// piece's pairs averaged in groups of k, so a piece is credited the same
+// precision whatever the rig's sample rate. Errors (INVALID_ARGUMENT): an empty series,
 // change indices out of order or out of range, or so close that a piece
 // keeps fewer than 2 pairs.
 absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction,
                                                      const std::vector<ChangePoint>& changes,
-                                                     int guard_pairs = kChangeGuardPairs);
+                                                     int guard_pairs = kChangeGuardPairs, int pairs_per_group = 1);
 
 }  // namespace surfmap

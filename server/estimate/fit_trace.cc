@@ -168,7 +168,7 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   if (!changes.ok()) return changes.status();
   fit.changes = ChangesOfPairs(*changes, fit.friction.pair_s_mm, fit.pairs_per_group);
   absl::StatusOr<std::vector<DragPiece>> pieces =
-      CutDragPieces(fit.friction, fit.changes, fit.pairs_per_group * kChangeGuardPairs);
+      CutDragPieces(fit.friction, fit.changes, fit.pairs_per_group * kChangeGuardPairs, fit.pairs_per_group);
   if (!pieces.ok()) return pieces.status();
   fit.pieces = *std::move(pieces);
   if (fit.pieces.size() > 1) {
