@@ -76,33 +76,25 @@ absl::StatusOr<std::vector<DragPiece>> CutDragPieces(const FrictionFit& friction
     const double variance = piece.pair_count > 1 ? centred.squaredNorm() / (piece.pair_count - 1) : 0.0;
     piece.mu_std = std::sqrt(variance);
     piece.mu_median = Median(std::vector<double>(mu.data(), mu.data() + mu.size()));
+    // The error of the mean from the piece's pairs averaged in groups at the
+    // texture's spacing (pair_groups.h), as the change test saw them; at 100 Hz
+    // a group is one pair. An AR(2) fitted to the raw pairs of a fast rig sees
+    // five near-equal pairs per texture cell and overstates their dependence
+    // (measured: a 16 mm masonite piece credited ~6 independent pairs at
+    // 500 Hz against ~10 at 100 Hz, and a mu_se up to 1.5x as large).
+    const PairGroups groups =
+        AveragePairGroups(std::span<const double>(friction.pair_s_mm).subspan(a, b - a),
+                          std::span<const double>(friction.pair_mu).subspan(a, b - a), pairs_per_group);
+    const Eigen::Map<const Eigen::VectorXd> grouped(groups.values.data(),
+                                                    static_cast<Eigen::Index>(groups.values.size()));
+    const double n_groups = static_cast<double>(grouped.size());
+    const Eigen::VectorXd grouped_centred = grouped.array() - grouped.mean();
+    const double grouped_variance = n_groups > 1 ? grouped_centred.squaredNorm() / (n_groups - 1) : variance;
+    const SeriesDependence dependence = EstimateSeriesDependence({grouped_centred});
     const double cap = std::max(1.0, kMaxIndependentPairsPerMm * (friction.pair_s_mm[b - 1] - friction.pair_s_mm[a]));
-    if (pairs_per_group <= 1) {
-      const SeriesDependence dependence = EstimateSeriesDependence({centred});
-      const double inflation = std::clamp(std::max(dependence.mean_inflation, piece.pair_count / cap), 1.0,
-                                          static_cast<double>(piece.pair_count));
-      piece.mu_se = std::sqrt(inflation * variance / piece.pair_count);
-      piece.effective_pairs = piece.pair_count / inflation;
-    } else {
-      // The error of the mean from the piece's pairs averaged in groups at the
-      // texture's spacing (pair_groups.h), as the change test saw them: an
-      // AR(2) fitted to the raw pairs of a fast rig sees five near-equal pairs
-      // per texture cell and overstates their dependence (measured: a 16 mm
-      // masonite piece credited ~6 independent pairs at 500 Hz against ~10 at
-      // 100 Hz, and a mu_se up to 1.5x as large).
-      const PairGroups groups =
-          AveragePairGroups(std::span<const double>(friction.pair_s_mm).subspan(a, b - a),
-                            std::span<const double>(friction.pair_mu).subspan(a, b - a), pairs_per_group);
-      const Eigen::Map<const Eigen::VectorXd> grouped(groups.values.data(),
-                                                      static_cast<Eigen::Index>(groups.values.size()));
-      const double n_groups = static_cast<double>(grouped.size());
-      const Eigen::VectorXd grouped_centred = grouped.array() - grouped.mean();
-      const double grouped_variance = n_groups > 1 ? grouped_centred.squaredNorm() / (n_groups - 1) : variance;
-      const SeriesDependence dependence = EstimateSeriesDependence({grouped_centred});
-      const double inflation = std::clamp(std::max(dependence.mean_inflation, n_groups / cap), 1.0, n_groups);
-      piece.mu_se = std::sqrt(inflation * grouped_variance / n_groups);
-      piece.effective_pairs = n_groups / inflation;
-    }
+    const double inflation = std::clamp(std::max(dependence.mean_inflation, n_groups / cap), 1.0, n_groups);
+    piece.mu_se = std::sqrt(inflation * grouped_variance / n_groups);
+    piece.effective_pairs = n_groups / inflation;
     pieces.push_back(std::move(piece));
   }
   return pieces;
