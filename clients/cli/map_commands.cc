@@ -12,6 +12,7 @@
 #include "absl/strings/str_split.h"
 #include "clients/remote/map_json.h"
 #include "clients/cli/map_overlay.h"
+#include "clients/cli/map_regions_command.h"
 #include "server/haptics/export/simulate_drag_proto.h"
 #include "server/haptics/export/texture_map_proto.h"
 #include "server/haptics/map_quantity.h"
@@ -270,7 +271,7 @@ absl::StatusOr<std::string> ResolveMapFormat(std::string_view format_view, std::
 }
 
 void AddMapCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
-  CLI::App* map = app.add_subcommand("map", "The friction/roughness map of a job: get, query, simulate-drag");
+  CLI::App* map = app.add_subcommand("map", "The friction/roughness map of a job: get, regions, query, simulate-drag");
   map->require_subcommand(1);
 
   auto g = std::make_shared<MapGetArgs>();
@@ -292,6 +293,8 @@ void AddMapCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   get->add_option("--mu-range", g->mu_range, "png: colour scale LO HI of the quantity (default: its range)")
       ->expected(2);
   get->callback([cli, g] { RunMapGet(*cli, *g); });
+
+  AddMapRegionsCommand(*map, cli);
 
   auto d = std::make_shared<SimulateDragArgs>();
   CLI::App* drag = map->add_subcommand(

@@ -146,6 +146,14 @@ json MapToJson(const pb::GetMapResponse& response, const pb::JobInfo* job) {
                        {"fit", MessageJson(s.fit())}});
   }
   out["samples"] = std::move(samples);
+  // The material regions, each with the drag pieces behind its estimates
+  // (MapRegion.pieces), and each vertex's region (-1: no data reachable).
+  json regions = json::array();
+  for (const pb::MapRegion& r : map.regions()) regions.push_back(MessageJson(r));
+  out["regions"] = std::move(regions);
+  json region_of_vertex = json::array();
+  for (int r : map.region()) region_of_vertex.push_back(r);
+  out["vertices"]["region"] = std::move(region_of_vertex);
   out["summary"] = Summary(map);
   if (job != nullptr) out["job"] = MessageJson(*job);
   return out;

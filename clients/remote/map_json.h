@@ -3,8 +3,10 @@
 //
 //   {"format": "surfmap.map.v1", "job_id": 3, "level": 3, "vertex_count": 642,
 //    "vertices": {"position": [[x,y,z],...] (mm), "normal": [[...]...],
-//                 "mu": [...], "mu_uncertainty": [...], "sigma": [...], "a1": [...], "a2": [...]},
+//                 "mu": [...], "mu_uncertainty": [...], "sigma": [...], "a1": [...], "a2": [...],
+//                 "region": [...] (index into "regions"; -1: no data reachable)},
 //    "triangles": [[i,j,k],...],
+//    "regions": [{...MapRegion..., "pieces": [{...MapRegionPiece...}]}],
 //    "samples": [{"trace_id", "command_id", "site": {"level", "vertex"}, "position": [..],
 //                 "drag_direction": [..], "segment_length_mm", "mu", "mu_std", "fit": {...}}],
 //    "summary": {"samples", "samples_per_level": {"0": n,...}, "mu_min", "mu_max", "mu_mean",
@@ -13,7 +15,9 @@
 //
 // position/normal/triangles are present when the map was fetched with its
 // mesh. Unknown values (NaN) are written as null and read back as NaN. The
-// fit object is the API's Fit message in protobuf JSON (snake_case names).
+// fit object and the regions are the API's messages in protobuf JSON
+// (snake_case names); scripts and the Python client's writer (map_file.py)
+// may leave the regions out.
 #pragma once
 
 #include <array>

@@ -8,6 +8,7 @@ absl::StatusOr<MapSnapshot> CurrentMap(JobRuntime& runtime) {
   MutexLock map_lock(&runtime.map_mu);
   int64_t revision;
   std::vector<MapPiece> pieces;
+  int first_import_drag = 0;
   {
     MutexLock lock(&runtime.mu);
     revision = runtime.measured_revision;
@@ -15,6 +16,7 @@ absl::StatusOr<MapSnapshot> CurrentMap(JobRuntime& runtime) {
       return runtime.map_snapshot;
     }
     pieces = runtime.plan.MeasuredPieces();
+    first_import_drag = runtime.plan.FirstImportDrag();
   }
   // The rebuild runs without the job's lock: rigs go on meanwhile.
   if (!runtime.map_builder) {
@@ -25,6 +27,7 @@ absl::StatusOr<MapSnapshot> CurrentMap(JobRuntime& runtime) {
   MapSnapshot snapshot;
   snapshot.surface = runtime.surface;
   snapshot.measured_revision = revision;
+  snapshot.first_import_drag = first_import_drag;
   if (!pieces.empty()) {
     if (absl::Status s = runtime.map_builder->SetPieces(std::move(pieces)); !s.ok()) return s;
     // The copy shares the builder's factorisation workspace, which only

@@ -35,6 +35,9 @@ struct MapSnapshot {
   std::shared_ptr<const LoopSurface> surface;
   std::shared_ptr<const RegionMap> map;    // null before the first sample
   int64_t measured_revision = 0;           // JobRuntime::measured_revision it reflects
+  // The map's drag id of the first imported drag (SamplingPlan::FirstImportDrag):
+  // what tells an imported drag's pieces from a site's.
+  int first_import_drag = 0;
 };
 
 // A trace the job accepted, with what a Sample shows of it: the command (site,

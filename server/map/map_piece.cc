@@ -23,9 +23,11 @@ void PlaceAlong(const LineSample& line, double from, double to, MapPiece* piece)
 
 std::vector<MapPiece> MapPiecesOf(const LineSample& line, int drag, const Eigen::Vector3d& site_position) {
   std::vector<MapPiece> out;
-  for (const LinePiece& piece : line.pieces) {
+  for (std::size_t k = 0; k < line.pieces.size(); ++k) {
+    const LinePiece& piece = line.pieces[k];
     MapPiece p;
     p.drag = drag;
+    p.line_piece = static_cast<int>(k);
     p.piece = piece;
     if (line.path_s_mm.empty()) {
       p.points = {site_position};

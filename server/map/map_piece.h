@@ -11,6 +11,12 @@ namespace surfmap {
 
 struct MapPiece {
   int drag = -1;                        // pieces with the same id are one drag, in path order
+  // Which of the drag's LineSample::pieces this is (or a part of: the map
+  // splits a piece where its series shows a change between two of the map's
+  // materials, piece_resplit.h); -1 for a piece made by hand. Lets a reader
+  // of the map trace a region's estimate back to the fits behind it.
+  int line_piece = -1;
+  bool split_by_map = false;            // a part of line_piece, cut by the map
   std::vector<Eigen::Vector3d> points;  // along its extent (>= 1; a point sample has one), mm
   std::vector<double> point_s_mm;       // of each point along the drag's path (empty for a point sample)
   LinePiece piece;                      // texture, mu_se, effective pairs, change flags

@@ -27,6 +27,8 @@ absl::StatusOr<std::vector<MapPiece>> Split(const MapPiece& piece, const std::ve
     const DragPiece& d = (*cut)[k];
     MapPiece sub;
     sub.drag = piece.drag;
+    sub.line_piece = piece.line_piece;
+    sub.split_by_map = true;
     sub.piece.start_mm = d.start_mm;
     sub.piece.end_mm = d.end_mm;
     sub.piece.starts_at_change = k == 0 ? piece.piece.starts_at_change : true;

@@ -1,5 +1,6 @@
 #include "server/map/piece_resplit.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <string>
@@ -55,6 +56,7 @@ std::vector<MapPiece> HalvesAndOneMixedDrag() {
   }
   pieces.push_back(PieceWithSeries(drag++, {-8, 0, 0}, {7.9, 0, 0},
                                    {{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}}, seed++));
+  pieces.back().line_piece = 0;  // its drag's fit found one piece
   return pieces;
 }
 
@@ -94,6 +96,13 @@ TEST(PieceResplitTest, TheMixedDragIsSplitWhereItCrossesAndTheMapFollows) {
     EXPECT_TRUE(left.piece.ends_at_change);
     EXPECT_TRUE(right.piece.starts_at_change);
     EXPECT_FALSE(left.piece.has_roughness());
+    // Both parts say which piece of which drag they were cut from.
+    for (const MapPiece* part : {&left, &right}) {
+      EXPECT_EQ(part->drag, 8);
+      EXPECT_EQ(part->line_piece, 0);
+      EXPECT_TRUE(part->split_by_map);
+    }
+    EXPECT_FALSE(map->pieces()[0].split_by_map);
     EXPECT_EQ(map->piece_region()[8], map->piece_region()[0]);
     EXPECT_EQ(map->piece_region()[9], map->piece_region()[4]);
     const absl::StatusOr<MapValue> at_left = map->ValueAtPosition({-5, 0, 0});
@@ -143,6 +152,59 @@ TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
   // Nothing was lost: the good pieces still build the map.
   EXPECT_TRUE(map->SetPieces(HalvesAndOneMixedDrag()).ok());
   EXPECT_EQ(map->split_pieces(), 1);
+}
+
+}  // namespace
+}  // namespace surfmap
+
+namespace surfmap {
+namespace {
+
+// Masonite drags on the right half of the plate with, among them, one piece
+// known precisely (se 0.005) that reads 0.40 with rubber's texture: alike to
+// masonite by the merge rule only because it has one independent pair, it
+// joins the masonite region and, by precision, would take over the
+// material's mean (0.397 for the masonite drags' 0.364). Rubber drags on the
+// left give a second texture, which explains its series far better than
+// masonite's does.
+TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsLeftOutOfItsMaterialsMu) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  std::uint64_t seed = 11;
+  for (double x : {-40.0, -32.0, -24.0, -16.0}) {
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+  }
+  std::vector<int> masonite;
+  for (double x : {16.0, 24.0, 32.0, 40.0}) {
+    masonite.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+  }
+  const int intruder = drag;
+  pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
+  pieces.back().piece.effective_pairs = 1.0;
+  pieces.back().piece.mu_se = 0.005;
+  double weight = 0.0, weighted_mu = 0.0;  // the masonite drags alone
+  for (int i : masonite) {
+    weight += 1.0 / (pieces[i].piece.mu_se * pieces[i].piece.mu_se);
+    weighted_mu += pieces[i].piece.texture.mu / (pieces[i].piece.mu_se * pieces[i].piece.mu_se);
+  }
+  const SurfaceLevel level = Plate();
+  for (const bool exclude : {true, false}) {
+    RegionMapOptions options;
+    options.exclude_misfit_pieces_from_mu = exclude;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    ASSERT_EQ(map->piece_region()[intruder], map->piece_region()[masonite[1]]) << "the intruder joins masonite";
+    const TextureRegion& region = map->regions()[map->piece_region()[intruder]];
+    const bool counted = std::count(region.mu_pieces.begin(), region.mu_pieces.end(), intruder) > 0;
+    EXPECT_EQ(counted, !exclude);
+    if (exclude) {
+      EXPECT_NEAR(region.statistics.mu, weighted_mu / weight, 1e-12);
+    } else {
+      EXPECT_GT(region.statistics.mu, 0.38) << "the intruder's precision takes the mean";
+    }
+  }
 }
 
 }  // namespace

@@ -247,17 +247,27 @@ absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
 }
 
 void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics,
-                          int order, TextureRegion* out) const {
+                          int order, const std::vector<bool>& misfit, TextureRegion* out) const {
+  // Misfits count only when nothing else would.
+  const bool any_fits = std::any_of(piece_indices.begin(), piece_indices.end(), [&](int i) { return !misfit[i]; });
   std::vector<PieceStatistics> members, long_pieces;
+  std::vector<int> member_indices, long_indices;
   std::vector<std::vector<double>> k(order);
   std::vector<double> log_sigma;
   for (int i : piece_indices) {
-    members.push_back(statistics[i]);
+    const bool counts = !any_fits || !misfit[i];
+    if (counts) {
+      members.push_back(statistics[i]);
+      member_indices.push_back(i);
+    }
     const LinePiece& piece = pieces_[i].piece;
     const TextureParams& t = piece.texture;
     const bool long_enough = options_.min_mu_piece_mm > 0.0 ? piece.end_mm - piece.start_mm >= options_.min_mu_piece_mm
                                                             : piece.has_roughness();
-    if (long_enough) long_pieces.push_back(statistics[i]);
+    if (long_enough && counts) {
+      long_pieces.push_back(statistics[i]);
+      long_indices.push_back(i);
+    }
     if (!piece.has_roughness()) continue;
     for (int j = 0; j < order; ++j) k[j].push_back(j < static_cast<int>(t.reflection.size()) ? t.reflection[j] : 0.0);
     log_sigma.push_back(std::log(t.sigma));
@@ -265,6 +275,7 @@ void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vect
   const int min_fitted = options_.min_fitted_pieces_for_mu;
   const bool from_long = min_fitted > 0 && static_cast<int>(long_pieces.size()) >= min_fitted;
   out->statistics = PoolStatistics(from_long ? long_pieces : members);
+  out->mu_pieces = from_long ? long_indices : member_indices;
   out->roughness_pieces = static_cast<int>(log_sigma.size());
   if (out->roughness_pieces > 0) {
     for (int j = 0; j < order; ++j) out->reflection.push_back(std::clamp(Median(k[j]), -kMaxReflection, kMaxReflection));
@@ -311,6 +322,36 @@ std::vector<int> RegionMap::AssignByTexture(const std::vector<PieceStatistics>& 
                              options_.known_split.false_alarm_probability);
   regions_moved_by_texture_ = assigned.moved;
   return std::move(assigned.material);
+}
+
+std::vector<bool> RegionMap::MisfitPieces(const std::vector<int>& piece_material) const {
+  const int n = static_cast<int>(pieces_.size());
+  std::vector<bool> misfit(n, false);
+  if (!options_.exclude_misfit_pieces_from_mu) return misfit;
+  const std::vector<std::optional<SeriesTexture>> textures =
+      MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
+  std::vector<int> textured;
+  for (int m = 0; m < static_cast<int>(textures.size()); ++m) {
+    if (textures[m].has_value()) textured.push_back(m);
+  }
+  if (textured.size() < 2) return misfit;
+  // As for a region (texture_assignment.h): each likelihood ratio has
+  // expectation 1 under the piece's own texture; Markov and the union bound.
+  const double critical =
+      std::log(static_cast<double>(textured.size() - 1) / options_.known_split.false_alarm_probability);
+  for (int i = 0; i < n; ++i) {
+    const int own = piece_material[i];
+    const std::vector<double>& x = pieces_[i].pair_mu;
+    if (own < 0 || own >= static_cast<int>(textures.size()) || !textures[own].has_value() || x.size() < 3) continue;
+    const double own_log_likelihood = SeriesLogLikelihood(x, *textures[own]);
+    for (int m : textured) {
+      if (m != own && SeriesLogLikelihood(x, *textures[m]) - own_log_likelihood > critical) {
+        misfit[i] = true;
+        break;
+      }
+    }
+  }
+  return misfit;
 }
 
 void RegionMap::GroupPieces() {
@@ -391,18 +432,23 @@ void RegionMap::GroupPieces() {
     const std::vector<int>& p = regions_[r].pieces;
     material_pieces[material[r]].insert(material_pieces[material[r]].end(), p.begin(), p.end());
   }
+  std::vector<int> piece_material(n);
+  for (int i = 0; i < n; ++i) piece_material[i] = material[piece_region_[i]];
+  const std::vector<bool> misfit = MisfitPieces(piece_material);
   std::vector<TextureRegion> estimates(material_count);
-  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, &estimates[m]);
+  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, misfit, &estimates[m]);
   for (int r = 0; r < region_count; ++r) {
     TextureRegion& region = regions_[r];
     const TextureRegion& of_material = estimates[material[r]];
     region.material = material[r];
     region.own_statistics = own[r];
     region.statistics = of_material.statistics;
+    region.mu_pieces = of_material.mu_pieces;
     region.roughness_pieces = of_material.roughness_pieces;
     region.reflection = of_material.reflection;
     region.sigma = of_material.sigma;
   }
+  piece_statistics_ = std::move(statistics);
 }
 
 absl::Status RegionMap::SpreadRegions() {

@@ -140,6 +140,20 @@ struct RegionMapOptions {
   // for masonite's 0.36; under 4 mm, rim slivers, 0.14-0.26); leaving them
   // out pooled a strip's mu from three crossings (docs/method.md).
   double min_mu_piece_mm = 4.0;
+  // A piece whose pair series another material's texture explains better
+  // than its own material's, beyond chance at known_split's false-alarm
+  // probability (the test texture_assignment.h makes of a region, made of
+  // each piece), is left out of its material's mu. A region's pieces are
+  // alike pairwise by the merge rule, whose tests accept short noisy pieces
+  // as alike to anything, so a region can hold a precise piece of another
+  // material beside them, and precision weights let it take over the mean:
+  // on held_block (500 Hz, seed 3) a 6 mm wood piece (0.416, se 0.015,
+  // spread 0.03) sat in a region with four short masonite pieces, joined
+  // masonite and carried 44 % of its weight, taking the masonite strip to
+  // 0.394 (truth 0.36, its own region's pieces 0.369), mapped as wood
+  // everywhere. Leaving a piece out costs only its precision. Off: every
+  // piece counts (the build before).
+  bool exclude_misfit_pieces_from_mu = true;
   // A change is no crossing of a boundary when the piece on one side of it
   // is the drag's last (or first), shorter than this, and its mu within
   // end_piece_mark_z combined standard errors of the other side's: such a
@@ -168,6 +182,11 @@ struct TextureRegion {
   PieceStatistics own_statistics;  // pooled over its own pieces
   int material = -1;               // regions of one material share their estimates
   std::vector<int> pieces;        // indices into the pieces given
+  // The material's pieces behind statistics.mu (indices as `pieces`): its
+  // pieces of min_mu_piece_mm or longer when there are
+  // min_fitted_pieces_for_mu of them, all of them otherwise. Shared by the
+  // material's regions.
+  std::vector<int> mu_pieces;
   int roughness_pieces = 0;       // pieces with their own roughness fit (of the material)
   std::vector<double> reflection;  // medians (empty without roughness; of the material)
   double sigma = 0.0;             // median (0 without roughness)
@@ -202,6 +221,10 @@ class RegionMap {
   const std::vector<MapPiece>& pieces() const { return pieces_; }
   const std::vector<TextureRegion>& regions() const { return regions_; }
   const std::vector<int>& piece_region() const { return piece_region_; }
+  // Per piece of pieces(), as the merge rule and the estimates weigh it:
+  // its mu_se is the fit's widened, next to a change, by the share of the
+  // neighbour's mu that may lie inside it (change_location_mm).
+  const std::vector<PieceStatistics>& piece_statistics() const { return piece_statistics_; }
 
   // Per vertex of the level (empty before the first SetPieces).
   const std::vector<int>& region() const { return region_; }            // -1: no data reachable
@@ -280,9 +303,16 @@ class RegionMap {
   // materials groups twice and spreads once.
   void GroupPieces();
   absl::Status SpreadRegions();
-  // `out`'s estimates (statistics, roughness) from pieces `piece_indices`.
+  // `out`'s estimates (statistics, roughness) from pieces `piece_indices`;
+  // pieces with misfit[i] set are left out of its mu (when any other is
+  // left).
   void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
-                 TextureRegion* out) const;
+                 const std::vector<bool>& misfit, TextureRegion* out) const;
+  // Per piece: whether another material's texture explains its pair series
+  // better than its own material's beyond chance
+  // (exclude_misfit_pieces_from_mu); all false when the option is off or
+  // fewer than two materials have a texture.
+  std::vector<bool> MisfitPieces(const std::vector<int>& piece_material) const;
   // Each region's material (0..), given each region's own pool: alike
   // regions grouped, or each its own without pool_alike_regions.
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
@@ -326,6 +356,7 @@ class RegionMap {
   std::vector<Eigen::Vector3d> pending_;
   std::vector<TextureRegion> regions_;
   std::vector<int> piece_region_;
+  std::vector<PieceStatistics> piece_statistics_;
   NearestLabels nearest_;  // labelled by region
   std::vector<Eigen::Vector3d> seed_points_;  // of nearest_'s seeds
   double prior_mu_std_ = 0.0;

@@ -1,5 +1,6 @@
 #include "server/map/region_map.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <gtest/gtest.h>
@@ -172,6 +173,24 @@ TEST(RegionMapTest, ConfusingTwoRegionsCostsTheirTextureDistanceInMuSquared) {
   }
 }
 
+// Every region's mu is the precision-weighted mean, by the map's own
+// per-piece statistics, of the pieces it names in mu_pieces: what lets a
+// reader of the map (GetMap's MapRegion.pieces) check it.
+void ExpectMuIsThePrecisionWeightedMeanOfItsMuPieces(const RegionMap& map) {
+  ASSERT_EQ(map.piece_statistics().size(), map.pieces().size());
+  for (const TextureRegion& region : map.regions()) {
+    ASSERT_FALSE(region.mu_pieces.empty());
+    double weight = 0.0, weighted_mu = 0.0;
+    for (int i : region.mu_pieces) {
+      const PieceStatistics& p = map.piece_statistics()[i];
+      EXPECT_EQ(map.regions()[map.piece_region()[i]].material, region.material) << "piece " << i;
+      weight += 1.0 / (p.mu_se * p.mu_se);
+      weighted_mu += p.mu / (p.mu_se * p.mu_se);
+    }
+    EXPECT_NEAR(region.statistics.mu, weighted_mu / weight, 1e-12);
+  }
+}
+
 TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
   // A patch read by three drags long enough for a roughness fit (0.36, se
   // 0.02) and two short pieces at its rim without one (0.25, se 0.05: alike
@@ -191,6 +210,12 @@ TEST(RegionMapTest, AMaterialsMuComesFromItsLongPiecesWhenItHasEnoughOfThem) {
     // Four long pieces asked for and three present: every piece, as with 0.
     const double expected = min_fitted == 3 ? 0.36 : precision_pooled;
     EXPECT_NEAR(patch.statistics.mu, expected, 1e-12) << min_fitted;
+    // The region names the pieces behind its mu: the three drags across the
+    // patch, or those and the two slivers.
+    std::vector<int> behind = patch.mu_pieces;
+    std::sort(behind.begin(), behind.end());
+    EXPECT_EQ(behind, min_fitted == 3 ? (std::vector<int>{2, 3, 4}) : (std::vector<int>{2, 3, 4, 5, 6})) << min_fitted;
+    ExpectMuIsThePrecisionWeightedMeanOfItsMuPieces(*map);
     EXPECT_NEAR(At(*map, {25, 0, 0}).mu, expected, 1e-12) << min_fitted;
   }
   EXPECT_NEAR(precision_pooled, 0.3494, 1e-4);

@@ -534,7 +534,7 @@ std::vector<MapPiece> SamplingPlan::MeasuredPieces() const {
     out.insert(out.end(), std::make_move_iterator(pieces.begin()), std::make_move_iterator(pieces.end()));
   }
   // Imported drags' ids follow every vertex's, so they never merge with a site's drag.
-  const int first_import_id = static_cast<int>(finest.limit_positions.size());
+  const int first_import_id = FirstImportDrag();
   for (size_t i = 0; i < imported_.size(); ++i) {
     std::vector<MapPiece> pieces =
         MapPiecesOf(imported_[i].line, first_import_id + static_cast<int>(i), imported_[i].position);

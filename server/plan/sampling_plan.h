@@ -199,9 +199,12 @@ class SamplingPlan {
   std::vector<MapSample> MeasuredSamples() const;
   // The pieces of every measured drag, drags in the order they were
   // measured (drag id = the site's vertex), then of every imported drag in
-  // import order (drag id = finest vertex count + import index), for a
+  // import order (drag id = FirstImportDrag() + import index), for a
   // RegionMap.
   std::vector<MapPiece> MeasuredPieces() const;
+  // The drag id of the first imported drag: the plan's finest level's vertex
+  // count, so that imports never share a site's id.
+  int FirstImportDrag() const { return static_cast<int>(levels_.back()->limit_positions.size()); }
   const std::vector<int>& measured_order() const { return measured_order_; }
   // The sample budget in force: options.sample_budget, or for kBoundary
   // without one DefaultSampleBudget(levels); 0 = unlimited.

@@ -15,6 +15,7 @@
 #include "server/jobs/command_json.h"
 #include "server/jobs/job_reads.h"
 #include "server/service/proto_conversion.h"
+#include "server/service/region_pieces_proto.h"
 
 namespace surfmap {
 
@@ -223,6 +224,7 @@ absl::Status FillMapLevel(const MapSnapshot& snapshot, int level, const std::vec
       }
     }
     FillRegions(map, out);
+    FillRegionPieces(map, snapshot.first_import_drag, samples, out);
   }
   return AppendSamples(samples, out->mutable_samples());
 }

@@ -3,9 +3,13 @@
 // becomes a sample with its provenance, is in ListSamples and the map, is
 // stored once per file, survives a restart and a refit; a drag above the
 // surface is refused naming why and kept; provenance round-trips on objects,
-// jobs and submitted traces.
+// jobs and submitted traces; the map's regions name the pieces of leased and
+// imported drags alike behind their estimates.
 #include <cmath>
+#include <map>
+#include <set>
 #include <string>
+#include <utility>
 
 #include "gtest/gtest.h"
 #include "server/estimate/trace_csv.h"
@@ -265,6 +269,78 @@ TEST(Provenance, RoundTripsOnObjectsJobsAndSubmittedTraces) {
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(status.error_message().find("provenance extra: 34 keys; the limit is 32"), std::string::npos)
       << status.error_message();
+}
+
+}  // namespace
+}  // namespace surfmap::itest
+
+namespace surfmap::itest {
+namespace {
+
+// GetMap's regions name the drag pieces behind their estimates: every piece
+// of every drag, leased or imported, once in its region (or as the parts the
+// map cut it into), with the trace it came from, and the weights that make
+// the region's mu.
+TEST(MapRegions, EachNamesTheDragPiecesBehindItsMuLeasedAndImportedAlike) {
+  ITEST_ASSERT_OK_AND_ASSIGN(setup, StartServerWithScene("plate"));
+  pb::JobSpec spec;
+  spec.set_object_id(setup.object_id);
+  spec.set_property(pb::PROPERTY_FRICTION);
+  ITEST_ASSERT_OK_AND_ASSIGN(job, CreateJob(*setup.stubs, spec));
+  for (int i = 0; i < 24; ++i) {
+    ITEST_ASSERT_OK_AND_ASSIGN(command, LeaseOne(*setup.stubs, job.job_id(), "rig-a"));
+    ITEST_ASSERT_OK_AND_ASSIGN(request, ExecuteOnRig(*setup.rig, command, "rig-a"));
+    pb::SubmitTraceResponse response;
+    GRPC_ASSERT_OK(setup.stubs->probe->SubmitTrace(Context().get(), request, &response));
+  }
+  // Two hand drags: one inside the masonite square, one across the plate.
+  ITEST_ASSERT_OK_AND_ASSIGN(
+      first, Import(*setup.stubs, job.job_id(), RigDragCsv(*setup.rig, {31, 0, 0}, {0, 1, 0}, 4242), "a.csv", {}));
+  ITEST_ASSERT_OK_AND_ASSIGN(
+      second, Import(*setup.stubs, job.job_id(), RigDragCsv(*setup.rig, {-20, 20, 0}, {1, 0, 0}, 78), "b.csv", {}));
+
+  ITEST_ASSERT_OK_AND_ASSIGN(map, GetMap(*setup.stubs, job.job_id(), -1, false));
+  std::map<int64_t, const pb::Sample*> samples;
+  for (const pb::Sample& s : map.map().samples()) samples[s.trace_id()] = &s;
+  ASSERT_EQ(samples.size(), 26u);
+  ASSERT_GE(map.map().regions_size(), 2);
+  std::set<std::pair<int64_t, int>> seen;  // (trace, fit piece)
+  std::map<int, double> weight_of_material, mu_of_material;
+  for (const pb::MapRegion& region : map.map().regions()) {
+    ASSERT_EQ(region.pieces_size(), region.piece_count()) << "region " << region.region();
+    for (const pb::MapRegionPiece& p : region.pieces()) {
+      ASSERT_TRUE(samples.count(p.trace_id())) << "region " << region.region() << ": trace " << p.trace_id();
+      const pb::Fit& fit = samples.at(p.trace_id())->fit();
+      ASSERT_GE(p.fit_piece(), 0);
+      ASSERT_LT(p.fit_piece(), fit.pieces_size()) << "trace " << p.trace_id();
+      const pb::DragPiece& of_fit = fit.pieces(p.fit_piece());
+      seen.insert({p.trace_id(), p.fit_piece()});
+      if (p.split_by_map()) {
+        EXPECT_GE(p.start_mm(), of_fit.start_mm() - 1e-9);
+        EXPECT_LE(p.end_mm(), of_fit.end_mm() + 1e-9);
+      } else {
+        // The fit's piece as stored: the map reads the same numbers.
+        EXPECT_NEAR(p.start_mm(), of_fit.start_mm(), 1e-9);
+        EXPECT_NEAR(p.end_mm(), of_fit.end_mm(), 1e-9);
+        EXPECT_NEAR(p.mu(), of_fit.mu(), 1e-9);
+        EXPECT_GE(p.mu_se(), of_fit.mu_se() - 1e-12) << "the map only widens a piece's error";
+      }
+      EXPECT_EQ(p.in_mu(), p.mu_weight() > 0.0);
+      weight_of_material[region.material()] += p.mu_weight();
+      mu_of_material[region.material()] += p.mu_weight() * p.mu();
+    }
+  }
+  // Every piece of every drag is in the map, imports included.
+  for (const auto& [trace, sample] : samples) {
+    for (int k = 0; k < sample->fit().pieces_size(); ++k) EXPECT_TRUE(seen.count({trace, k})) << trace << " " << k;
+  }
+  EXPECT_TRUE(seen.count({first.sample().trace_id(), 0}));
+  EXPECT_TRUE(seen.count({second.sample().trace_id(), 0}));
+  // A material's weights sum to one over its regions, and weigh its pieces to its mu.
+  for (const pb::MapRegion& region : map.map().regions()) {
+    EXPECT_NEAR(weight_of_material.at(region.material()), 1.0, 1e-9) << "region " << region.region();
+    EXPECT_NEAR(mu_of_material.at(region.material()), region.mu(), 1e-9) << "region " << region.region();
+  }
 }
 
 }  // namespace

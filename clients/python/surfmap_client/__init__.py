@@ -19,9 +19,9 @@ from .errors import SurfmapError
 from .map_file import map_to_document, write_map_file
 from .probe import FailureKind, Lease, ProbeCommand, RigFrameCommand, SubmitResult, check_trace, measured_trace
 from .records import (ArMethod, Fit, FrictionEstimate, ImportInfo, JobEvent, JobInfo, JobProgress, JobSpec, JobState,
-                      JobUpdate, LevelProgress, MapQuery, Mesh, ObjectInfo, Phase, Plan, PlanSite, ProbeParameters,
-                      Property, Provenance, RefitResult, RejectedTrace, RoughnessEstimate, Sample, SamplingMode,
-                      SiteState, SurfaceMap, Trace)
+                      JobUpdate, LevelProgress, MapQuery, MapRegion, MapRegionPiece, Mesh, ObjectInfo, Phase, Plan,
+                      PlanSite, ProbeParameters, Property, Provenance, RefitResult, RejectedTrace, RoughnessEstimate,
+                      Sample, SamplingMode, SiteState, SurfaceMap, Trace)
 from .rig import Rig, RigFailure, RigSummary, TracePending, TraceRejected, run_rig
 from .spool import TraceSpool, default_spool_dir
 
@@ -29,7 +29,8 @@ __all__ = [
     "connect", "SurfmapClient", "SurfmapError", "DEFAULT_TIMEOUT_S", "DEFAULT_WATCH_TIMEOUT_S",
     "map_to_document", "write_map_file",
     "ArMethod", "Fit", "FrictionEstimate", "JobEvent", "JobInfo", "JobProgress", "JobSpec", "JobState", "JobUpdate",
-    "LevelProgress", "MapQuery", "Mesh", "ObjectInfo", "Phase", "Plan", "PlanSite", "ProbeParameters",
+    "LevelProgress", "MapQuery", "MapRegion", "MapRegionPiece", "Mesh", "ObjectInfo", "Phase", "Plan", "PlanSite",
+    "ProbeParameters",
     "Property", "RefitResult", "RoughnessEstimate", "Sample", "SamplingMode", "SiteState", "SurfaceMap", "Trace",
     # import and provenance (issues 13, 14)
     "ImportInfo", "Provenance", "RejectedTrace",

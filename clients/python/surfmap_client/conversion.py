@@ -167,7 +167,10 @@ def surface_map(level_message, mesh_message=None) -> r.SurfaceMap:
         positions, normals, triangles = mm.positions, mm.normals, mm.triangles
     regions = tuple(r.MapRegion(g.region, g.mu, g.mu_se, g.mu_spread, g.piece_count, g.roughness_piece_count,
                                 tuple(g.reflection), tuple(g.ar_coefficients), g.sigma, g.area_mm2,
-                                g.material, g.own_mu, g.own_mu_se)
+                                g.material, g.own_mu, g.own_mu_se,
+                                tuple(r.MapRegionPiece(p.trace_id, p.fit_piece, p.start_mm, p.end_mm, p.split_by_map,
+                                                       p.mu, p.mu_se, p.effective_pairs, p.in_mu, p.mu_weight)
+                                      for p in g.pieces))
                     for g in m.regions)
     return r.SurfaceMap(job_id=m.job_id, level=m.level, vertex_count=m.vertex_count,
                         samples=tuple(sample(s) for s in m.samples), positions=positions, normals=normals,

@@ -327,6 +327,26 @@ class JobEvent:
 
 
 @dataclass(frozen=True)
+class MapRegionPiece:
+    """One drag piece behind a region (GetMap's ``MapRegion.pieces``):
+    ``trace_id`` and ``fit_piece`` name the sample and which of its fit's
+    pieces; ``start_mm``..``end_mm`` its stretch along the drag (a part of
+    the fit piece when ``split_by_map``); ``mu_se`` as the map weighs it;
+    ``mu_weight`` its share of the material's mu (0 unless ``in_mu``)."""
+
+    trace_id: int
+    fit_piece: int
+    start_mm: float
+    end_mm: float
+    split_by_map: bool
+    mu: float
+    mu_se: float
+    effective_pairs: float
+    in_mu: bool
+    mu_weight: float
+
+
+@dataclass(frozen=True)
 class MapRegion:
     """A region of the map: drag pieces that touch and are alike. Regions
     with the same ``material`` are alike wherever they lie and report the
@@ -346,6 +366,7 @@ class MapRegion:
     material: int = 0
     own_mu: float = 0.0
     own_mu_se: float = 0.0
+    pieces: Tuple[MapRegionPiece, ...] = ()
 
 
 @dataclass(frozen=True)

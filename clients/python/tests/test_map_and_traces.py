@@ -68,6 +68,20 @@ def test_query_at_the_samples_returns_their_measurement(client, completed_job):
     np.testing.assert_allclose(at_vertices.mu, surface.mu[:50], atol=1e-9)
     np.testing.assert_array_equal(at_vertices.region, surface.region[:50])
     assert len(surface.regions) >= 1 and surface.region.max() < len(surface.regions)
+    # Each region names the drag pieces behind it, by the samples' trace ids;
+    # a material's weights make its mu.
+    traces = {s.trace_id for s in surface.samples}
+    by_material: dict[int, list[float]] = {}
+    for region in surface.regions:
+        assert len(region.pieces) == region.piece_count
+        for piece in region.pieces:
+            assert piece.trace_id in traces and piece.fit_piece >= 0
+            weights = by_material.setdefault(region.material, [0.0, 0.0])
+            weights[0] += piece.mu_weight
+            weights[1] += piece.mu_weight * piece.mu
+    for region in surface.regions:
+        assert by_material[region.material][0] == pytest.approx(1.0, abs=1e-9)
+        assert by_material[region.material][1] == pytest.approx(region.mu, abs=1e-9)
     # A point 5 mm above the (z = 0) plate projects onto it.
     above = client.query_map(completed_job.job.job_id, [0.0, 0.0, 5.0])
     assert above.distance_mm[0] == pytest.approx(5.0, abs=1e-6)
