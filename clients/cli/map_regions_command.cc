@@ -76,9 +76,10 @@ void RunMapRegions(RemoteCli& cli, const MapRegionsArgs& args) {
     if (args.pieces) PrintPieces(r);
   }
   if (args.pieces) {
-    std::printf("piece: of the trace's fit (* = a part the map cut where it found a change).\n"
-                "weight: share of the material's mu (- = not counted: a piece under 4 mm where the material has\n"
-                "enough longer ones, or one whose series another material's texture explains better).\n");
+    std::printf("piece: of the trace's fit (* = a part the map cut where it found a change)\n"
+                "weight: share of the material's mu; - = not counted: under 4 mm where the\n"
+                "  material has enough longer pieces, or another material's texture explains\n"
+                "  its series better\n");
   }
 }
 
