@@ -154,12 +154,6 @@ TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
   EXPECT_EQ(map->split_pieces(), 1);
 }
 
-}  // namespace
-}  // namespace surfmap
-
-namespace surfmap {
-namespace {
-
 // Masonite drags on the right half of the plate with, among them, one piece
 // known precisely (se 0.005) that reads 0.40 with rubber's texture: alike to
 // masonite by the merge rule only because it has one independent pair, it

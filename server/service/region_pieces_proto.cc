@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <utility>
+#include <vector>
 
 namespace surfmap {
 
@@ -28,7 +29,11 @@ void FillRegionPieces(const RegionMap& map, int first_import_drag, const std::ve
   for (int r = 0; r < region_count; ++r) {
     const TextureRegion& region = map.regions()[r];
     double total_weight = 0.0;
-    for (int i : region.mu_pieces) total_weight += 1.0 / (statistics[i].mu_se * statistics[i].mu_se);
+    std::vector<bool> counted(map.pieces().size(), false);
+    for (int i : region.mu_pieces) {
+      total_weight += 1.0 / (statistics[i].mu_se * statistics[i].mu_se);
+      counted[i] = true;
+    }
     v1::MapRegion* o = out->mutable_regions(r);
     for (int i : region.pieces) {
       const MapPiece& piece = map.pieces()[i];
@@ -43,9 +48,8 @@ void FillRegionPieces(const RegionMap& map, int first_import_drag, const std::ve
       p->set_mu(s.mu);
       p->set_mu_se(s.mu_se);
       p->set_effective_pairs(s.effective_pairs);
-      const bool counted = std::find(region.mu_pieces.begin(), region.mu_pieces.end(), i) != region.mu_pieces.end();
-      p->set_in_mu(counted);
-      p->set_mu_weight(counted && total_weight > 0.0 ? 1.0 / (s.mu_se * s.mu_se) / total_weight : 0.0);
+      p->set_in_mu(counted[i]);
+      p->set_mu_weight(counted[i] && total_weight > 0.0 ? 1.0 / (s.mu_se * s.mu_se) / total_weight : 0.0);
     }
   }
 }

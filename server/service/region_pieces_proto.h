@@ -24,7 +24,9 @@ absl::flat_hash_map<int, int64_t> DragTraceIds(const std::vector<SampleRecord>& 
 
 // Fills out->regions(r).pieces for every region r of `map`; out->regions
 // must already hold the map's regions in order (FillMapLevel). A drag not
-// among `samples` (measured after the map was built) gets trace_id 0.
+// among `samples` gets trace_id 0: the plan records a drag before its write
+// commits, so a map can hold a trace that was not stored yet when the
+// samples were read.
 void FillRegionPieces(const RegionMap& map, int first_import_drag, const std::vector<SampleRecord>& samples,
                       v1::MapLevel* out);
 
