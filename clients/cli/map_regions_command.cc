@@ -78,8 +78,9 @@ void RunMapRegions(RemoteCli& cli, const MapRegionsArgs& args) {
   if (args.pieces) {
     std::printf("piece: of the trace's fit (* = a part the map cut where it found a change)\n"
                 "weight: share of the material's mu; - = not counted: under 4 mm where the\n"
-                "  material has enough longer pieces, or another material's texture explains\n"
-                "  its series better\n");
+                "  material has enough longer pieces, or its series fit the material of the\n"
+                "  region it was grouped in worse than another's (it is then moved to a region\n"
+                "  of its own of that other material)\n");
   }
 }
 

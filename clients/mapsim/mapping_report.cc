@@ -79,6 +79,8 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
                         run.map_changes, run.map_links, run.map_corners);
   absl::StrAppendFormat(&out, "  pieces split against the materials' textures: %d\n", run.map_split_pieces);
   absl::StrAppendFormat(&out, "  regions moved to the material whose texture fits them: %d\n", run.map_moved_regions);
+  absl::StrAppendFormat(&out, "  pieces moved out of their region to the material whose texture fits them: %d\n",
+                        run.map_moved_pieces);
   return out;
 }
 

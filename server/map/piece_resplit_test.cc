@@ -42,6 +42,17 @@ MapPiece PieceWithSeries(int drag, const Eigen::Vector3d& a, const Eigen::Vector
   return p;
 }
 
+// The mean of the pieces' mu weighted by 1 / mu_se^2, as a material pools it.
+double PrecisionWeightedMu(const std::vector<MapPiece>& pieces, const std::vector<int>& which) {
+  double weight = 0.0, weighted_mu = 0.0;
+  for (int i : which) {
+    const double w = 1.0 / (pieces[i].piece.mu_se * pieces[i].piece.mu_se);
+    weight += w;
+    weighted_mu += w * pieces[i].piece.texture.mu;
+  }
+  return weighted_mu / weight;
+}
+
 // Rubber drags on the left half of the plate, masonite on the right, and one
 // drag across the middle that holds 8 mm of each with no change detected.
 std::vector<MapPiece> HalvesAndOneMixedDrag() {
@@ -127,12 +138,6 @@ TEST(PieceResplitTest, APlanAddingDragsKeepsTheSplit) {
   EXPECT_EQ(map->pieces().size(), 11u);
 }
 
-}  // namespace
-}  // namespace surfmap
-
-namespace surfmap {
-namespace {
-
 TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
   const SurfaceLevel level = testing::Plate();
   auto map = RegionMap::Create(level);
@@ -177,15 +182,11 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsLeftOutOfItsMaterialsMu) {
   pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
   pieces.back().piece.effective_pairs = 1.0;
   pieces.back().piece.mu_se = 0.005;
-  double weight = 0.0, weighted_mu = 0.0;  // the masonite drags alone
-  for (int i : masonite) {
-    weight += 1.0 / (pieces[i].piece.mu_se * pieces[i].piece.mu_se);
-    weighted_mu += pieces[i].piece.texture.mu / (pieces[i].piece.mu_se * pieces[i].piece.mu_se);
-  }
   const SurfaceLevel level = Plate();
   for (const bool exclude : {true, false}) {
     RegionMapOptions options;
     options.exclude_misfit_pieces_from_mu = exclude;
+    options.move_misfit_pieces = false;  // stays in the region: MisfitPieceTest.* below moves it
     auto map = RegionMap::Create(level, options);
     ASSERT_TRUE(map.ok()) << map.status();
     ASSERT_TRUE(map->SetPieces(pieces).ok());
@@ -194,10 +195,74 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsLeftOutOfItsMaterialsMu) {
     const bool counted = std::count(region.mu_pieces.begin(), region.mu_pieces.end(), intruder) > 0;
     EXPECT_EQ(counted, !exclude);
     if (exclude) {
-      EXPECT_NEAR(region.statistics.mu, weighted_mu / weight, 1e-12);
+      EXPECT_NEAR(region.statistics.mu, PrecisionWeightedMu(pieces, masonite), 1e-12) << "the masonite drags alone";
     } else {
       EXPECT_GT(region.statistics.mu, 0.38) << "the intruder's precision takes the mean";
     }
+  }
+}
+
+// Rubber drags on the left half of the plate, masonite drags on the right,
+// and among the masonite drags two precise pieces of rubber's mu and
+// texture that the merge rule lets into the masonite region (each has one
+// independent pair). Moved, each is a region of its own of rubber's
+// material and the map reads rubber where it lies. Kept in the region (the
+// build before), the map reads masonite there. Either way each material's mu
+// is its own drags' alone.
+TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsMovedToThatMaterial) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  std::uint64_t seed = 31;
+  std::vector<int> rubber, masonite, intruders;
+  for (double x : {-40.0, -32.0, -24.0, -16.0}) {
+    rubber.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+  }
+  for (double x : {16.0, 24.0, 32.0, 40.0}) {
+    masonite.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+  }
+  for (double x : {20.0, 28.0}) {
+    intruders.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    pieces.back().piece.effective_pairs = 1.0;
+    pieces.back().piece.mu_se = 0.01;
+  }
+  const SurfaceLevel level = Plate();
+  for (const bool move : {true, false}) {
+    SCOPED_TRACE(move ? "moved" : "kept in its region");
+    RegionMapOptions options;
+    options.move_misfit_pieces = move;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    ASSERT_EQ(map->pieces().size(), pieces.size()) << "no piece was split";
+    const auto& regions = map->regions();
+    const int rubber_material = regions[map->piece_region()[rubber[0]]].material;
+    const int masonite_material = regions[map->piece_region()[masonite[0]]].material;
+    ASSERT_NE(rubber_material, masonite_material);
+    EXPECT_EQ(map->pieces_moved_by_texture(), move ? 2 : 0);
+    for (int i : intruders) {
+      const int region = map->piece_region()[i];
+      EXPECT_EQ(regions[region].material, move ? rubber_material : masonite_material) << "piece " << i;
+      if (move) {
+        EXPECT_EQ(regions[region].pieces, std::vector<int>{i}) << "a region of its own";
+      }
+      // The map's value midway along the intruder, 4 mm from the masonite drags beside it.
+      absl::StatusOr<MapValue> value = map->ValueAtPosition(pieces[i].points.front() + Eigen::Vector3d(0, 8, 0));
+      ASSERT_TRUE(value.ok()) << value.status();
+      EXPECT_NEAR(value->mu, move ? kRubber : kMasonite, 0.02) << "piece " << i;
+    }
+    // Moved or left out, the intruders count in neither material's mu.
+    EXPECT_NEAR(regions[map->piece_region()[masonite[0]]].statistics.mu, PrecisionWeightedMu(pieces, masonite), 1e-12);
+    EXPECT_NEAR(regions[map->piece_region()[rubber[0]]].statistics.mu, PrecisionWeightedMu(pieces, rubber), 1e-12);
+    // Their pieces number every piece once.
+    std::vector<int> all;
+    for (const TextureRegion& r : regions) all.insert(all.end(), r.pieces.begin(), r.pieces.end());
+    std::sort(all.begin(), all.end());
+    std::vector<int> expected(pieces.size());
+    std::iota(expected.begin(), expected.end(), 0);
+    EXPECT_EQ(all, expected);
   }
 }
 

@@ -247,15 +247,16 @@ absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
 }
 
 void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics,
-                          int order, const std::vector<bool>& misfit, TextureRegion* out) const {
+                          int order, const std::vector<int>& better_material, TextureRegion* out) const {
+  auto misfit = [&](int i) { return options_.exclude_misfit_pieces_from_mu && better_material[i] >= 0; };
   // Misfits count only when nothing else would.
-  const bool any_fits = std::any_of(piece_indices.begin(), piece_indices.end(), [&](int i) { return !misfit[i]; });
+  const bool any_fits = std::any_of(piece_indices.begin(), piece_indices.end(), [&](int i) { return !misfit(i); });
   std::vector<PieceStatistics> members, long_pieces;
   std::vector<int> member_indices, long_indices;
   std::vector<std::vector<double>> k(order);
   std::vector<double> log_sigma;
   for (int i : piece_indices) {
-    const bool counts = !any_fits || !misfit[i];
+    const bool counts = !any_fits || !misfit(i);
     if (counts) {
       members.push_back(statistics[i]);
       member_indices.push_back(i);
@@ -324,17 +325,17 @@ std::vector<int> RegionMap::AssignByTexture(const std::vector<PieceStatistics>& 
   return std::move(assigned.material);
 }
 
-std::vector<bool> RegionMap::MisfitPieces(const std::vector<int>& piece_material) const {
+std::vector<int> RegionMap::MisfitPieces(const std::vector<int>& piece_material) const {
   const int n = static_cast<int>(pieces_.size());
-  std::vector<bool> misfit(n, false);
-  if (!options_.exclude_misfit_pieces_from_mu) return misfit;
+  std::vector<int> better(n, -1);
+  if (!options_.exclude_misfit_pieces_from_mu && !options_.move_misfit_pieces) return better;
   const std::vector<std::optional<SeriesTexture>> textures =
       MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
   std::vector<int> textured;
   for (int m = 0; m < static_cast<int>(textures.size()); ++m) {
     if (textures[m].has_value()) textured.push_back(m);
   }
-  if (textured.size() < 2) return misfit;
+  if (textured.size() < 2) return better;
   // As for a region (texture_assignment.h): each likelihood ratio has
   // expectation 1 under the piece's own texture; Markov and the union bound.
   const double critical =
@@ -343,15 +344,44 @@ std::vector<bool> RegionMap::MisfitPieces(const std::vector<int>& piece_material
     const int own = piece_material[i];
     const std::vector<double>& x = pieces_[i].pair_mu;
     if (own < 0 || own >= static_cast<int>(textures.size()) || !textures[own].has_value() || x.size() < 3) continue;
-    const double own_log_likelihood = SeriesLogLikelihood(x, *textures[own]);
+    double best = SeriesLogLikelihood(x, *textures[own]) + critical;
     for (int m : textured) {
-      if (m != own && SeriesLogLikelihood(x, *textures[m]) - own_log_likelihood > critical) {
-        misfit[i] = true;
-        break;
-      }
+      if (m == own) continue;
+      const double log_likelihood = SeriesLogLikelihood(x, *textures[m]);
+      if (log_likelihood > best) best = log_likelihood, better[i] = m;
     }
   }
-  return misfit;
+  return better;
+}
+
+int RegionMap::MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, std::vector<int>* better_material,
+                                std::vector<int>* region_material, std::vector<PieceStatistics>* own,
+                                std::vector<int>* piece_material) {
+  std::vector<int>& better = *better_material;
+  int moved = 0;
+  const int region_count = static_cast<int>(regions_.size());
+  for (int r = 0; r < region_count; ++r) {
+    std::vector<int> fitting, misfits;
+    for (int i : regions_[r].pieces) (better[i] >= 0 ? misfits : fitting).push_back(i);
+    // A region all of misfits stays as it is: assign_by_texture tests the
+    // region as a whole, and its pieces are left out of the mu.
+    if (fitting.empty() || misfits.empty()) continue;
+    regions_[r].pieces = fitting;
+    std::vector<PieceStatistics> members;
+    for (int i : fitting) members.push_back(statistics[i]);
+    (*own)[r] = PoolStatistics(members);
+    for (int i : misfits) {
+      piece_region_[i] = static_cast<int>(regions_.size());
+      TextureRegion region;
+      region.pieces = {i};
+      regions_.push_back(std::move(region));
+      region_material->push_back(better[i]);
+      own->push_back(statistics[i]);
+      (*piece_material)[i] = better[i];
+      ++moved;
+    }
+  }
+  return moved;
 }
 
 void RegionMap::GroupPieces() {
@@ -408,7 +438,7 @@ void RegionMap::GroupPieces() {
     }
   }
   piece_region_ = MergeIntoRegions(statistics, adjacent, cannot_link, options_.merge);
-  const int region_count = n == 0 ? 0 : *std::max_element(piece_region_.begin(), piece_region_.end()) + 1;
+  int region_count = n == 0 ? 0 : *std::max_element(piece_region_.begin(), piece_region_.end()) + 1;
   regions_.assign(region_count, {});
   int order = 0;
   for (int i = 0; i < n; ++i) {
@@ -427,16 +457,19 @@ void RegionMap::GroupPieces() {
   std::vector<int> material = Materials(own);
   if (options_.assign_by_texture) material = AssignByTexture(own, std::move(material));
   const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
+  std::vector<int> piece_material(n);
+  for (int i = 0; i < n; ++i) piece_material[i] = material[piece_region_[i]];
+  std::vector<int> better_material = MisfitPieces(piece_material);
+  pieces_moved_by_texture_ =
+      options_.move_misfit_pieces ? MoveMisfitPieces(statistics, &better_material, &material, &own, &piece_material) : 0;
+  region_count = static_cast<int>(regions_.size());
   std::vector<std::vector<int>> material_pieces(material_count);
   for (int r = 0; r < region_count; ++r) {
     const std::vector<int>& p = regions_[r].pieces;
     material_pieces[material[r]].insert(material_pieces[material[r]].end(), p.begin(), p.end());
   }
-  std::vector<int> piece_material(n);
-  for (int i = 0; i < n; ++i) piece_material[i] = material[piece_region_[i]];
-  const std::vector<bool> misfit = MisfitPieces(piece_material);
   std::vector<TextureRegion> estimates(material_count);
-  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, misfit, &estimates[m]);
+  for (int m = 0; m < material_count; ++m) Summarise(material_pieces[m], statistics, order, better_material, &estimates[m]);
   for (int r = 0; r < region_count; ++r) {
     TextureRegion& region = regions_[r];
     const TextureRegion& of_material = estimates[material[r]];

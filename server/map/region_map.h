@@ -154,6 +154,22 @@ struct RegionMapOptions {
   // everywhere. Leaving a piece out costs only its precision. Off: every
   // piece counts (the build before).
   bool exclude_misfit_pieces_from_mu = true;
+  // A misfit piece (above) whose region has pieces that fit it is moved out
+  // of that region into one of its own, of the material whose texture
+  // explains its series best: the map then draws that material where the
+  // piece lies instead of the region's. The merge rule's pairwise tests let
+  // a region gather pieces of two materials of low contrast: on held_block
+  // (100 Hz, seed 2) one region held rubber pieces (0.300, 0.302) beside
+  // masonite ones (0.33-0.34), and the rubber strip mapped as masonite
+  // where they lay. Left out of the material's mu, the rubber pieces were
+  // still drawn with it. A moved piece, like any misfit, counts in no
+  // material's mu (with exclude_misfit_pieces_from_mu): its
+  // series fit the material it moved to better, not necessarily well (a
+  // piece that straddles a missed change is explained best by one side's
+  // texture and reads between the two), so the materials' estimates are
+  // those the exclusion above gives, and only where they are drawn changes.
+  // Off: a misfit stays in its region (the build before).
+  bool move_misfit_pieces = true;
   // A change is no crossing of a boundary when the piece on one side of it
   // is the drag's last (or first), shorter than this, and its mu within
   // end_piece_mark_z combined standard errors of the other side's: such a
@@ -256,6 +272,7 @@ class RegionMap {
   int boundary_links() const { return links_; }      // links drawn between crossings
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
   int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
+  int pieces_moved_by_texture() const { return pieces_moved_by_texture_; }    // move_misfit_pieces
   // Pieces given that were split against the map's materials
   // (RegionMapOptions::split_against_materials); pieces() holds their parts.
   int split_pieces() const { return split_pieces_; }
@@ -304,15 +321,23 @@ class RegionMap {
   void GroupPieces();
   absl::Status SpreadRegions();
   // `out`'s estimates (statistics, roughness) from pieces `piece_indices`;
-  // pieces with misfit[i] set are left out of its mu (when any other is
-  // left).
+  // misfits, moved or not (better_material[i] >= 0), are left out of its mu
+  // (exclude_misfit_pieces_from_mu; when any other is left).
   void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
-                 const std::vector<bool>& misfit, TextureRegion* out) const;
-  // Per piece: whether another material's texture explains its pair series
-  // better than its own material's beyond chance
-  // (exclude_misfit_pieces_from_mu); all false when the option is off or
-  // fewer than two materials have a texture.
-  std::vector<bool> MisfitPieces(const std::vector<int>& piece_material) const;
+                 const std::vector<int>& better_material, TextureRegion* out) const;
+  // Per piece: the material whose texture explains its pair series best,
+  // where that beats its own material's beyond chance; -1 where none does
+  // (its own fits), and everywhere when neither misfit option is on or fewer
+  // than two materials have a texture.
+  std::vector<int> MisfitPieces(const std::vector<int>& piece_material) const;
+  // Moves each misfit piece (better_material[i] >= 0) whose region keeps a
+  // piece that fits into a region of its own of that material, appended to
+  // regions_ (move_misfit_pieces); updates piece_region_, `region_material`,
+  // `own` and `piece_material` (better_material keeps marking the moved
+  // pieces, left out of every mu). Returns how many moved.
+  int MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, std::vector<int>* better_material,
+                       std::vector<int>* region_material, std::vector<PieceStatistics>* own,
+                       std::vector<int>* piece_material);
   // Each region's material (0..), given each region's own pool: alike
   // regions grouped, or each its own without pool_alike_regions.
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
@@ -336,6 +361,7 @@ class RegionMap {
   int links_ = 0;
   int corners_ = 0;
   int regions_moved_by_texture_ = 0;
+  int pieces_moved_by_texture_ = 0;
   std::vector<ChangeMark> marks_;
   // Data points (pieces' and links') by cell of near_data_mm, for the
   // near-data rule; empty when the rule is off.
