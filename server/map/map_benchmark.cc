@@ -134,7 +134,8 @@ BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark:
 // texture assignment, no chains carried on: PlanRegionMapOptions in
 // server/plan) / the served map's defaults (1) / the split alone (2) / the
 // served map's defaults linking regions instead of materials (3) / the
-// served map's defaults without the misfit-piece test (4); with
+// served map's defaults without the misfit-piece test, neither leaving
+// misfits out of the mu nor moving them (4); with
 // the split the pieces are grouped twice (once to find the materials, once
 // with the parts) and spread once.
 void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
@@ -147,7 +148,7 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
     options.link_materials = false;
   }
   if (state.range(0) == 3) options.link_materials = false;
-  if (state.range(0) == 4) options.exclude_misfit_pieces_from_mu = false;
+  if (state.range(0) == 4) options.exclude_misfit_pieces_from_mu = options.move_misfit_pieces = false;
   auto map = RegionMap::Create(level, options);
   if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
   const testing::Stretch rubber{0, 0.305, testing::kRubberLike}, masonite{0, 0.36, testing::kMasoniteLike};

@@ -49,6 +49,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -328,8 +329,11 @@ class RegionMap {
   // Per piece: the material whose texture explains its pair series best,
   // where that beats its own material's beyond chance; -1 where none does
   // (its own fits), and everywhere when neither misfit option is on or fewer
-  // than two materials have a texture.
-  std::vector<int> MisfitPieces(const std::vector<int>& piece_material) const;
+  // than two materials have a texture. `textures`: the materials' textures
+  // (MaterialTextures of `piece_material`) when already fitted; empty = fit
+  // them here.
+  std::vector<int> MisfitPieces(const std::vector<int>& piece_material,
+                                std::vector<std::optional<SeriesTexture>> textures) const;
   // Moves each misfit piece (better_material[i] >= 0) whose region keeps a
   // piece that fits into a region of its own of that material, appended to
   // regions_ (move_misfit_pieces); updates piece_region_, `region_material`,
@@ -343,7 +347,9 @@ class RegionMap {
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
   // `material` with regions moved to the material whose texture fits them
   // best (assign_by_texture, texture_assignment.h), renumbered 0...
-  std::vector<int> AssignByTexture(const std::vector<PieceStatistics>& own, std::vector<int> material);
+  // `fitted` gets the textures of the materials as given.
+  std::vector<int> AssignByTexture(const std::vector<PieceStatistics>& own, std::vector<int> material,
+                                   std::vector<std::optional<SeriesTexture>>* fitted);
   void RecomputeUncertainty();
   double PointVariance(int region, int second, double p, double d) const;
   double BoundaryVariance(int region, int second, double p) const;
