@@ -26,10 +26,13 @@ void FillRegionPieces(const RegionMap& map, int first_import_drag, const std::ve
   const absl::flat_hash_map<int, int64_t> traces = DragTraceIds(samples, first_import_drag);
   const std::vector<PieceStatistics>& statistics = map.piece_statistics();
   const int region_count = std::min<int>(static_cast<int>(map.regions().size()), out->regions_size());
+  // Flags of the region's counted pieces, set and cleared per region: one
+  // pass over its mu_pieces, not the map's pieces, since every moved misfit
+  // piece is a region of its own (RegionMapOptions::move_misfit_pieces).
+  std::vector<bool> counted(map.pieces().size(), false);
   for (int r = 0; r < region_count; ++r) {
     const TextureRegion& region = map.regions()[r];
     double total_weight = 0.0;
-    std::vector<bool> counted(map.pieces().size(), false);
     for (int i : region.mu_pieces) {
       total_weight += 1.0 / (statistics[i].mu_se * statistics[i].mu_se);
       counted[i] = true;
@@ -51,6 +54,7 @@ void FillRegionPieces(const RegionMap& map, int first_import_drag, const std::ve
       p->set_in_mu(counted[i]);
       p->set_mu_weight(counted[i] && total_weight > 0.0 ? 1.0 / (s.mu_se * s.mu_se) / total_weight : 0.0);
     }
+    for (int i : region.mu_pieces) counted[i] = false;
   }
 }
 
