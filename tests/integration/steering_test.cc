@@ -24,6 +24,13 @@ using std::chrono::seconds;
 // Each steering call gets this deadline: a lab operator's patience, and far
 // above what a healthy server needs (an fsync).
 constexpr double kSteeringDeadlineS = 5.0;
+// The watchers' streams end when the job is cancelled; their deadline only
+// guards against a hang, so it must outlast the whole test. The test's time is
+// the map rebuilds the watchers and GetMap ask for (~0.5 s each on the plate's
+// finest level, ~20 of them): 11 s here, 92 s under ThreadSanitizer alone and
+// 135 s beside another test on two cores, which a 120 s deadline cut short.
+// Under the ctest timeout (600 s), so a hang still fails as a hang.
+constexpr double kWatchDeadlineS = 300.0;
 
 grpc::Status Steer(Stubs& stubs, int64_t job_id, pb::JobState target, pb::SetJobStateResponse* response) {
   pb::SetJobStateRequest request;
@@ -162,7 +169,7 @@ TEST(Steering, WatchersWithTheMapAndFourRigsWhileTheJobIsPausedResumedAndCancell
   std::vector<WatchResult> watches(3);
   Watchers watchers;
   for (WatchResult& w : watches) {
-    grpc::ClientContext* context = watchers.contexts.emplace_back(Context(120)).get();
+    grpc::ClientContext* context = watchers.contexts.emplace_back(Context(kWatchDeadlineS)).get();
     watchers.threads.emplace_back(
         [&, context, address = scene.server->address()] { WatchWithMap(address, job.job_id(), context, &w); });
   }
