@@ -80,7 +80,8 @@ void RunMapRegions(RemoteCli& cli, const MapRegionsArgs& args) {
                 "weight: share of the material's mu; - = not counted: under 4 mm where the\n"
                 "  material has enough longer pieces, or its series fit the material of the\n"
                 "  region it was grouped in worse than another's (it is then moved to a region\n"
-                "  of its own of that other material)\n");
+                "  of its own of that other material), or it was of a material that two others\n"
+                "  explained as pieces straddling their boundary (dissolved into them)\n");
   }
 }
 

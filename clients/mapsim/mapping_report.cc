@@ -81,6 +81,7 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
   absl::StrAppendFormat(&out, "  regions moved to the material whose texture fits them: %d\n", run.map_moved_regions);
   absl::StrAppendFormat(&out, "  pieces moved out of their region to the material whose texture fits them: %d\n",
                         run.map_moved_pieces);
+  absl::StrAppendFormat(&out, "  materials dissolved as mixtures of two others: %d\n", run.map_dissolved_materials);
   return out;
 }
 

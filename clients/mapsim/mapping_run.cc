@@ -315,6 +315,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     result.map_split_pieces = map->split_pieces();
     result.map_moved_regions = map->regions_moved_by_texture();
     result.map_moved_pieces = map->pieces_moved_by_texture();
+    result.map_dissolved_materials = map->materials_dissolved();
     regions = std::move(*map);
     reader = [&regions](const Eigen::Vector3d& p) -> absl::StatusOr<MapReading> {
       absl::StatusOr<MapValue> v = regions->ValueAtPosition(p);

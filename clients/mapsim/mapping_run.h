@@ -134,6 +134,7 @@ struct MappingRunResult {
   int map_split_pieces = 0;                    // pieces split against the materials (piece_resplit.h)
   int map_moved_regions = 0;                   // regions moved by texture (texture_assignment.h)
   int map_moved_pieces = 0;                    // misfit pieces moved by texture (region_map.h)
+  int map_dissolved_materials = 0;             // mixtures of two others dissolved (mixture_materials.h)
   double elapsed_s = 0.0;            // the whole run: planning, simulation, fitting, the map
   int measured() const;
 };

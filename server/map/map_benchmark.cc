@@ -135,7 +135,8 @@ BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark:
 // server/plan) / the served map's defaults (1) / the split alone (2) / the
 // served map's defaults linking regions instead of materials (3) / the
 // served map's defaults without the misfit-piece test, neither leaving
-// misfits out of the mu nor moving them (4); with
+// misfits out of the mu nor moving them (4) / the served map's defaults
+// without dissolving mixture materials (5); with
 // the split the pieces are grouped twice (once to find the materials, once
 // with the parts) and spread once.
 void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
@@ -144,11 +145,13 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   if (state.range(0) == 0 || state.range(0) == 2) {
     options.split_against_materials = state.range(0) == 2;
     options.assign_by_texture = false;
+    options.dissolve_mixture_materials = false;
     options.links.max_extension_turn_deg = 0.0;
     options.link_materials = false;
   }
   if (state.range(0) == 3) options.link_materials = false;
   if (state.range(0) == 4) options.exclude_misfit_pieces_from_mu = options.move_misfit_pieces = false;
+  if (state.range(0) == 5) options.dissolve_mixture_materials = false;
   auto map = RegionMap::Create(level, options);
   if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
   const testing::Stretch rubber{0, 0.305, testing::kRubberLike}, masonite{0, 0.36, testing::kMasoniteLike};
@@ -195,7 +198,7 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   state.counters["regions"] = static_cast<double>(map->regions().size());
   state.counters["links"] = map->boundary_links();
 }
-BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace surfmap

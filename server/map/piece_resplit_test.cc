@@ -15,32 +15,12 @@ namespace {
 
 using testing::kRubberLike;
 using testing::kMasoniteLike;
+using testing::PieceWithSeries;
 using testing::Plate;
-using testing::Series;
 using testing::Stretch;
 using testing::StraightPiece;
 
 constexpr double kRubber = 0.305, kMasonite = 0.36;
-
-// A piece from a to b whose statistics and pair series are those of
-// `stretches` (0.1 mm apart), as one piece: no change was detected in it.
-MapPiece PieceWithSeries(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                         const std::vector<Stretch>& stretches, std::uint64_t seed) {
-  const std::vector<double> x = Series(stretches, seed);
-  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / x.size();
-  double var = 0.0;
-  for (double v : x) var += (v - mean) * (v - mean);
-  var /= x.size() - 1;
-  MapPiece p = StraightPiece(drag, a, b, mean);
-  p.piece.end_mm = 0.1 * (x.size() - 1);
-  p.piece.texture.mu_std = std::sqrt(var);
-  p.piece.effective_pairs = x.size() / 16.0;  // one independent pair per 1.6 mm
-  p.piece.mu_se = std::sqrt(var / p.piece.effective_pairs);
-  p.point_s_mm = {0.0, p.piece.end_mm};
-  for (std::size_t i = 0; i < x.size(); ++i) p.pair_s_mm.push_back(0.1 * i);
-  p.pair_mu = x;
-  return p;
-}
 
 // The mean of the pieces' mu weighted by 1 / mu_se^2, as a material pools it.
 double PrecisionWeightedMu(const std::vector<MapPiece>& pieces, const std::vector<int>& which) {

@@ -11,6 +11,7 @@
 #include "absl/strings/str_cat.h"
 #include "absl/strings/strip.h"
 #include "server/estimate/texture.h"
+#include "server/map/mixture_materials.h"
 #include "server/map/piece_resplit.h"
 #include "server/map/texture_assignment.h"
 
@@ -196,15 +197,20 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   }
   given_placed_ = std::move(placed);
   split_pieces_ = 0;
+  materials_dissolved_ = 0;
   parts_placed_.clear();
   pieces_ = std::move(pieces);
   GroupPieces();
   if (!options_.split_against_materials) return SpreadRegions();
 
   // Test every piece again against the materials just found, and build the
-  // map again from the split pieces where any was split.
+  // map again from the split pieces where any was split. The pieces of a
+  // dissolved material hold two materials each: they take no part in the
+  // textures.
   std::vector<int> piece_material(pieces_.size());
-  for (std::size_t i = 0; i < pieces_.size(); ++i) piece_material[i] = regions_[piece_region_[i]].material;
+  for (std::size_t i = 0; i < pieces_.size(); ++i) {
+    piece_material[i] = of_dissolved_material_[i] ? -1 : regions_[piece_region_[i]].material;
+  }
   const std::vector<SeriesTexture> textures =
       FittedTextures(MaterialTextures(pieces_, piece_material, options_.min_texture_rows));
   absl::StatusOr<std::vector<std::vector<MapPiece>>> found = SplitPiecesAgainst(pieces_, textures, options_.known_split);
@@ -248,7 +254,11 @@ absl::Status RegionMap::SetPendingPoints(std::vector<Eigen::Vector3d> points) {
 
 void RegionMap::Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics,
                           int order, const std::vector<int>& better_material, TextureRegion* out) const {
-  auto misfit = [&](int i) { return options_.exclude_misfit_pieces_from_mu && better_material[i] >= 0; };
+  // A piece of a dissolved material straddles a boundary and reads between
+  // two materials: like a misfit, it counts in no mu.
+  auto misfit = [&](int i) {
+    return (options_.exclude_misfit_pieces_from_mu && better_material[i] >= 0) || of_dissolved_material_[i];
+  };
   // Misfits count only when nothing else would.
   const bool any_fits = std::any_of(piece_indices.begin(), piece_indices.end(), [&](int i) { return !misfit(i); });
   std::vector<PieceStatistics> members, long_pieces;
@@ -352,6 +362,48 @@ std::vector<int> RegionMap::MisfitPieces(const std::vector<int>& piece_material,
     }
   }
   return better;
+}
+
+int RegionMap::DissolveMixtureMaterials(std::vector<int>* region_material,
+                                        std::vector<std::optional<SeriesTexture>>* textures,
+                                        std::vector<int>* piece_material) {
+  const std::vector<int> dissolved = MixtureMaterials(pieces_, *piece_material, *textures, options_.known_split);
+  if (dissolved.empty()) return 0;
+  const int materials = static_cast<int>(textures->size());
+  std::vector<bool> gone(materials, false);
+  for (int m : dissolved) gone[m] = true;
+  std::vector<int>& material = *region_material;
+  for (int r = 0; r < static_cast<int>(material.size()); ++r) {
+    if (!gone[material[r]]) continue;
+    // The material whose texture explains the region's series best: a
+    // dissolved material always leaves at least two with a texture.
+    int best = -1;
+    double best_log_likelihood = -std::numeric_limits<double>::infinity();
+    for (int m = 0; m < materials; ++m) {
+      if (gone[m] || !(*textures)[m].has_value()) continue;
+      double log_likelihood = 0.0;
+      for (int i : regions_[r].pieces) {
+        if (pieces_[i].pair_mu.size() >= 3) log_likelihood += SeriesLogLikelihood(pieces_[i].pair_mu, *(*textures)[m]);
+      }
+      if (log_likelihood > best_log_likelihood) best_log_likelihood = log_likelihood, best = m;
+    }
+    material[r] = best;
+    for (int i : regions_[r].pieces) of_dissolved_material_[i] = true;
+  }
+  // Renumbered 0.. in order of first region, as the assignment numbers them.
+  std::vector<int> renumber(materials, -1);
+  std::vector<std::optional<SeriesTexture>> kept;
+  int next = 0;
+  for (int& m : material) {
+    if (renumber[m] < 0) {
+      renumber[m] = next++;
+      kept.push_back((*textures)[m]);
+    }
+    m = renumber[m];
+  }
+  *textures = std::move(kept);
+  for (std::size_t i = 0; i < pieces_.size(); ++i) (*piece_material)[i] = material[piece_region_[i]];
+  return static_cast<int>(dissolved.size());
 }
 
 int RegionMap::MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, std::vector<int>* better_material,
@@ -464,9 +516,14 @@ void RegionMap::GroupPieces() {
     if (assigned != material) textures.clear();
     material = std::move(assigned);
   }
-  const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
   std::vector<int> piece_material(n);
   for (int i = 0; i < n; ++i) piece_material[i] = material[piece_region_[i]];
+  of_dissolved_material_.assign(n, false);
+  if (options_.dissolve_mixture_materials) {
+    if (textures.empty()) textures = MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
+    materials_dissolved_ += DissolveMixtureMaterials(&material, &textures, &piece_material);
+  }
+  const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
   std::vector<int> better_material = MisfitPieces(piece_material, std::move(textures));
   pieces_moved_by_texture_ =
       options_.move_misfit_pieces ? MoveMisfitPieces(statistics, &better_material, &material, &own, &piece_material) : 0;

@@ -171,6 +171,14 @@ struct RegionMapOptions {
   // those the exclusion above gives, and only where they are drawn changes.
   // Off: a misfit stays in its region (the build before).
   bool move_misfit_pieces = true;
+  // A material that the other materials explain better than its own
+  // texture does, its free choices paid (a mixture of pieces that straddle
+  // the boundary between two of them, mixture_materials.h), is dissolved:
+  // each of its regions moves to the material whose texture explains its
+  // pieces best, and its pieces take no part in fitting the textures the
+  // split against the materials tests with, so that it cuts them where
+  // they cross. Off: every material found stays (the build before).
+  bool dissolve_mixture_materials = true;
   // A change is no crossing of a boundary when the piece on one side of it
   // is the drag's last (or first), shorter than this, and its mu within
   // end_piece_mark_z combined standard errors of the other side's: such a
@@ -274,6 +282,9 @@ class RegionMap {
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
   int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
   int pieces_moved_by_texture() const { return pieces_moved_by_texture_; }    // move_misfit_pieces
+  // Materials dissolved (dissolve_mixture_materials), over both groupings
+  // when the pieces were split against the materials.
+  int materials_dissolved() const { return materials_dissolved_; }
   // Pieces given that were split against the map's materials
   // (RegionMapOptions::split_against_materials); pieces() holds their parts.
   int split_pieces() const { return split_pieces_; }
@@ -323,7 +334,8 @@ class RegionMap {
   absl::Status SpreadRegions();
   // `out`'s estimates (statistics, roughness) from pieces `piece_indices`;
   // misfits, moved or not (better_material[i] >= 0), are left out of its mu
-  // (exclude_misfit_pieces_from_mu; when any other is left).
+  // (exclude_misfit_pieces_from_mu), and so are the pieces of dissolved
+  // materials; either only when any other is left.
   void Summarise(const std::vector<int>& piece_indices, const std::vector<PieceStatistics>& statistics, int order,
                  const std::vector<int>& better_material, TextureRegion* out) const;
   // Per piece: the material whose texture explains its pair series best,
@@ -342,6 +354,13 @@ class RegionMap {
   int MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, std::vector<int>* better_material,
                        std::vector<int>* region_material, std::vector<PieceStatistics>* own,
                        std::vector<int>* piece_material);
+  // Dissolves the materials that the others explain (dissolve_mixture_
+  // materials): their regions move to the material whose texture explains
+  // their pieces best; `region_material` is renumbered 0.. and `textures`
+  // (the materials' textures, MaterialTextures of `piece_material`) and
+  // `piece_material` follow. Returns how many were dissolved.
+  int DissolveMixtureMaterials(std::vector<int>* region_material,
+                               std::vector<std::optional<SeriesTexture>>* textures, std::vector<int>* piece_material);
   // Each region's material (0..), given each region's own pool: alike
   // regions grouped, or each its own without pool_alike_regions.
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;
@@ -368,6 +387,10 @@ class RegionMap {
   int corners_ = 0;
   int regions_moved_by_texture_ = 0;
   int pieces_moved_by_texture_ = 0;
+  int materials_dissolved_ = 0;
+  // Per piece of pieces_: whether it was a piece of a dissolved material
+  // (left out of the textures the split against the materials tests with).
+  std::vector<bool> of_dissolved_material_;
   std::vector<ChangeMark> marks_;
   // Data points (pieces' and links') by cell of near_data_mm, for the
   // near-data rule; empty when the rule is off.

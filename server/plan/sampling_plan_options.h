@@ -40,13 +40,15 @@ enum class PlanMode {
 };
 
 // The plan's own region map: RegionMapOptions without the split against
-// the materials' textures, the texture assignment, the chains carried on,
+// the materials' textures, the texture assignment, the dissolving of
+// mixtures (measured on the served map only), the chains carried on,
 // the links longer than a drag, the lines, dots and cut corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
 // over the plan's drags, docs/method.md section 5).
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
   options.split_against_materials = false;
   options.assign_by_texture = false;
+  options.dissolve_mixture_materials = false;
   options.links.max_extension_turn_deg = 0.0;
   options.links.max_line_turn_deg = 0.0;
   options.links.max_dot_radius_mm = 0.0;

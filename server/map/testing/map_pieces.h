@@ -2,9 +2,13 @@
 // straight drags on a flat plate, for RegionMap and the planner's tests.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
+#include <numeric>
 #include <vector>
 
 #include <Eigen/Core>
+#include "server/estimate/series_for_test.h"
 #include "server/map/region_map.h"
 #include "server/map/testing/flat_grid_levels.h"
 
@@ -32,6 +36,26 @@ inline MapPiece StraightPiece(int drag, const Eigen::Vector3d& a, const Eigen::V
   }
   p.piece.mu_se = mu_se;
   p.piece.effective_pairs = 10.0;
+  return p;
+}
+
+// A piece from a to b whose statistics and pair series are those of
+// `stretches` (0.1 mm apart), as one piece: no change was detected in it.
+inline MapPiece PieceWithSeries(int drag, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                         const std::vector<Stretch>& stretches, std::uint64_t seed) {
+  const std::vector<double> x = Series(stretches, seed);
+  const double mean = std::accumulate(x.begin(), x.end(), 0.0) / x.size();
+  double var = 0.0;
+  for (double v : x) var += (v - mean) * (v - mean);
+  var /= x.size() - 1;
+  MapPiece p = StraightPiece(drag, a, b, mean);
+  p.piece.end_mm = 0.1 * (x.size() - 1);
+  p.piece.texture.mu_std = std::sqrt(var);
+  p.piece.effective_pairs = x.size() / 16.0;  // one independent pair per 1.6 mm
+  p.piece.mu_se = std::sqrt(var / p.piece.effective_pairs);
+  p.point_s_mm = {0.0, p.piece.end_mm};
+  for (std::size_t i = 0; i < x.size(); ++i) p.pair_s_mm.push_back(0.1 * i);
+  p.pair_mu = x;
   return p;
 }
 
