@@ -5,27 +5,40 @@
 #include <limits>
 #include <span>
 
+#include "absl/strings/str_cat.h"
+
 namespace surfmap {
 
-MixtureScore ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material, int m,
-                          const std::vector<std::optional<SeriesTexture>>& textures, const std::vector<int>& others,
-                          const KnownTextureSplitOptions& split) {
+absl::StatusOr<MixtureScore> ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material,
+                                          int m, const std::vector<std::optional<SeriesTexture>>& textures,
+                                          const std::vector<int>& others, const KnownTextureSplitOptions& split) {
+  if (pieces.size() != piece_material.size()) {
+    return absl::InvalidArgumentError(
+        absl::StrCat("mixture test: ", pieces.size(), " pieces but ", piece_material.size(), " piece materials"));
+  }
+  auto fitted = [&](int k) { return k >= 0 && k < static_cast<int>(textures.size()) && textures[k].has_value(); };
+  if (!fitted(m)) return absl::InvalidArgumentError(absl::StrCat("mixture test: material ", m, " has no texture"));
   MixtureScore score;
-  if (m < 0 || m >= static_cast<int>(textures.size()) || !textures[m].has_value()) return score;
   std::vector<SeriesTexture> explaining;
-  for (int o : others) explaining.push_back(*textures[o]);
+  for (int o : others) {
+    if (!fitted(o) || o == m) {
+      return absl::InvalidArgumentError(absl::StrCat("mixture test: explaining material ", o, " has no texture or is ", m));
+    }
+    explaining.push_back(*textures[o]);
+  }
   long rows = 0;
-  for (std::size_t i = 0; i < pieces.size() && i < piece_material.size(); ++i) {
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
     const std::vector<double>& x = pieces[i].pair_mu;
     if (piece_material[i] != m || x.size() < 3) continue;
     const int n = static_cast<int>(x.size());
     rows += n - 2;
     std::vector<ChangePoint> cuts;
     if (explaining.size() >= 2) {
-      // The pieces were validated by the map (sizes agree, textures have a
-      // positive variance): a failure leaves the piece whole.
       absl::StatusOr<std::vector<ChangePoint>> found = FindKnownTextureChanges(x, pieces[i].pair_s_mm, explaining, split);
-      if (found.ok()) cuts = *std::move(found);
+      if (!found.ok()) {
+        return absl::Status(found.status().code(), absl::StrCat("mixture test, piece ", i, ": ", found.status().message()));
+      }
+      cuts = *std::move(found);
     }
     // The parts as the split scores them: the transitional pair on each
     // side of a cut belongs to neither.
@@ -51,9 +64,10 @@ MixtureScore ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector
   return score;
 }
 
-std::vector<int> MixtureMaterials(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material,
-                                  const std::vector<std::optional<SeriesTexture>>& textures,
-                                  const KnownTextureSplitOptions& split) {
+absl::StatusOr<std::vector<int>> MixtureMaterials(const std::vector<MapPiece>& pieces,
+                                                  const std::vector<int>& piece_material,
+                                                  const std::vector<std::optional<SeriesTexture>>& textures,
+                                                  const KnownTextureSplitOptions& split) {
   const int materials = static_cast<int>(textures.size());
   std::vector<bool> explains(materials);
   for (int m = 0; m < materials; ++m) explains[m] = textures[m].has_value();
@@ -68,8 +82,9 @@ std::vector<int> MixtureMaterials(const std::vector<MapPiece>& pieces, const std
         if (o != m && explains[o]) others.push_back(o);
       }
       if (others.size() < 2) continue;
-      const double margin = ScoreMixture(pieces, piece_material, m, textures, others, split).margin();
-      if (margin > largest) largest = margin, worst = m;
+      absl::StatusOr<MixtureScore> score = ScoreMixture(pieces, piece_material, m, textures, others, split);
+      if (!score.ok()) return score.status();
+      if (score->margin() > largest) largest = score->margin(), worst = m;
     }
     if (worst < 0) return dissolved;
     dissolved.push_back(worst);

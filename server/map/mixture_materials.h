@@ -31,6 +31,7 @@
 #include <optional>
 #include <vector>
 
+#include "absl/status/statusor.h"
 #include "server/estimate/known_texture_split.h"
 #include "server/map/map_piece.h"
 
@@ -45,8 +46,12 @@ struct MixtureScore {
 
 // The score of material `m` (piece_material[i] of pieces[i]; -1 = none)
 // against the materials in `others` (indices into `textures`, each fitted).
-// Pieces with fewer than three pairs add nothing.
-MixtureScore ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material, int m,
+// Pieces with fewer than three pairs add nothing. Errors
+// (INVALID_ARGUMENT): sizes of `pieces` and `piece_material` that differ, an
+// `m` or an `others` entry that names no fitted texture (or `m` itself), and
+// what the split refuses (a piece whose pair positions and values differ in
+// size, naming the piece; invalid split options).
+absl::StatusOr<MixtureScore> ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material, int m,
                           const std::vector<std::optional<SeriesTexture>>& textures, const std::vector<int>& others,
                           const KnownTextureSplitOptions& split);
 
@@ -54,7 +59,8 @@ MixtureScore ScoreMixture(const std::vector<MapPiece>& pieces, const std::vector
 // positive margin, then again among the rest with it no longer an
 // explanation, until none is positive. Only materials with a texture are
 // tested, and only while at least two others have one (a cut needs two).
-std::vector<int> MixtureMaterials(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material,
+// Errors: as ScoreMixture's.
+absl::StatusOr<std::vector<int>> MixtureMaterials(const std::vector<MapPiece>& pieces, const std::vector<int>& piece_material,
                                   const std::vector<std::optional<SeriesTexture>>& textures,
                                   const KnownTextureSplitOptions& split);
 

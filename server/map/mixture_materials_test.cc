@@ -1,9 +1,11 @@
 #include "server/map/mixture_materials.h"
 
 #include <set>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include "absl/strings/str_cat.h"
 #include "server/map/piece_resplit.h"
 #include "server/map/testing/map_pieces.h"
 
@@ -59,11 +61,12 @@ TEST(MixtureMaterialsTest, PiecesThatCrossFromRubberToMasoniteAreDissolved) {
   ASSERT_TRUE(textures[kTested].has_value());
   EXPECT_GT(textures[kTested]->mean, kRubber + 0.01);
   EXPECT_LT(textures[kTested]->mean, kMasonite - 0.01);
-  const MixtureScore score = ScoreMixture(g.pieces, g.material, kTested, textures,
-                                          {kRubberMaterial, kMasoniteMaterial, kSandpaperMaterial}, {});
-  EXPECT_GT(score.margin(), 0.0);
-  EXPECT_GE(score.cuts, 6) << "most of the eight drags are cut where they cross";
-  EXPECT_EQ(MixtureMaterials(g.pieces, g.material, textures, {}), std::vector<int>{kTested});
+  const absl::StatusOr<MixtureScore> score = ScoreMixture(g.pieces, g.material, kTested, textures,
+                                                          {kRubberMaterial, kMasoniteMaterial, kSandpaperMaterial}, {});
+  ASSERT_TRUE(score.ok()) << score.status();
+  EXPECT_GT(score->margin(), 0.0);
+  EXPECT_GE(score->cuts, 6) << "most of the eight drags are cut where they cross";
+  EXPECT_EQ(MixtureMaterials(g.pieces, g.material, textures, {}).value(), std::vector<int>{kTested});
 }
 
 TEST(MixtureMaterialsTest, AMaterialOfItsOwnBetweenTwoOthersStays) {
@@ -74,9 +77,10 @@ TEST(MixtureMaterialsTest, AMaterialOfItsOwnBetweenTwoOthersStays) {
   ASSERT_TRUE(textures[kTested].has_value());
   EXPECT_LT(ScoreMixture(g.pieces, g.material, kTested, textures,
                          {kRubberMaterial, kMasoniteMaterial, kSandpaperMaterial}, {})
+                .value()
                 .margin(),
             0.0);
-  EXPECT_TRUE(MixtureMaterials(g.pieces, g.material, textures, {}).empty());
+  EXPECT_TRUE(MixtureMaterials(g.pieces, g.material, textures, {}).value().empty());
 }
 
 TEST(MixtureMaterialsTest, EveryMaterialOfTheTruthStays) {
@@ -87,23 +91,41 @@ TEST(MixtureMaterialsTest, EveryMaterialOfTheTruthStays) {
     if (!with_mixture) {
       for (int& m : g.material) m = m == kTested ? -1 : m;
     }
-    const std::vector<int> found = MixtureMaterials(g.pieces, g.material, Textures(g), {});
+    const std::vector<int> found = MixtureMaterials(g.pieces, g.material, Textures(g), {}).value();
     EXPECT_EQ(found, with_mixture ? std::vector<int>{kTested} : std::vector<int>{});
   }
 }
 
 TEST(MixtureMaterialsTest, NothingIsTestedWithoutTwoOtherTextures) {
+  const Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
   // Rubber and the mixture alone: one other texture cannot cut a piece.
-  Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
-  for (int& m : g.material) m = m == kMasoniteMaterial || m == kSandpaperMaterial ? -1 : m;
-  EXPECT_TRUE(MixtureMaterials(g.pieces, g.material, Textures(g), {}).empty());
+  std::vector<int> two = g.material;
+  for (int& m : two) m = m == kMasoniteMaterial || m == kSandpaperMaterial ? -1 : m;
+  EXPECT_TRUE(MixtureMaterials(g.pieces, two, MaterialTextures(g.pieces, two, 300), {}).value().empty());
   // A material without a texture (too few rows) is neither tested nor an
   // explanation.
-  std::vector<std::optional<SeriesTexture>> textures =
-      Textures(ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}}));
+  std::vector<std::optional<SeriesTexture>> textures = Textures(g);
   textures[kTested].reset();
-  const Grouped full = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
-  EXPECT_TRUE(MixtureMaterials(full.pieces, full.material, textures, {}).empty());
+  EXPECT_TRUE(MixtureMaterials(g.pieces, g.material, textures, {}).value().empty());
+}
+
+TEST(MixtureMaterialsTest, BadInputIsRefusedByName) {
+  Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
+  const std::vector<std::optional<SeriesTexture>> textures = Textures(g);
+  const std::vector<int> others = {kRubberMaterial, kMasoniteMaterial};
+  auto refused = [](const absl::Status& s, const std::string& naming) {
+    return s.code() == absl::StatusCode::kInvalidArgument && s.message().find(naming) != std::string::npos;
+  };
+  EXPECT_TRUE(refused(ScoreMixture(g.pieces, {0, 1}, kTested, textures, others, {}).status(), "piece materials"));
+  EXPECT_TRUE(refused(ScoreMixture(g.pieces, g.material, 7, textures, others, {}).status(), "material 7"));
+  EXPECT_TRUE(refused(ScoreMixture(g.pieces, g.material, kTested, textures, {kRubberMaterial, 9}, {}).status(),
+                      "explaining material 9"));
+  EXPECT_TRUE(refused(ScoreMixture(g.pieces, g.material, kTested, textures, {kRubberMaterial, kTested}, {}).status(),
+                      "explaining material 3"));
+  // A piece whose pair positions and values differ in size: named.
+  g.pieces.back().pair_s_mm.pop_back();
+  const absl::Status bad_piece = MixtureMaterials(g.pieces, g.material, textures, {}).status();
+  EXPECT_TRUE(refused(bad_piece, absl::StrCat("piece ", g.pieces.size() - 1))) << bad_piece;
 }
 
 // The piece with the roughness of its own series (an AR(2) fit, as

@@ -200,7 +200,7 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   materials_dissolved_ = 0;
   parts_placed_.clear();
   pieces_ = std::move(pieces);
-  GroupPieces();
+  if (absl::Status s = GroupPieces(); !s.ok()) return s;
   if (!options_.split_against_materials) return SpreadRegions();
 
   // Test every piece again against the materials just found, and build the
@@ -237,7 +237,7 @@ absl::Status RegionMap::SetPieces(std::vector<MapPiece> pieces) {
   pieces_ = std::move(split_pieces);
   parts_placed_ = std::move(split_placed);
   split_pieces_ = static_cast<int>(std::count_if(splits.begin(), splits.end(), [](const auto& s) { return !s.empty(); }));
-  GroupPieces();
+  if (absl::Status s = GroupPieces(); !s.ok()) return s;
   return SpreadRegions();
 }
 
@@ -364,46 +364,43 @@ std::vector<int> RegionMap::MisfitPieces(const std::vector<int>& piece_material,
   return better;
 }
 
-int RegionMap::DissolveMixtureMaterials(std::vector<int>* region_material,
-                                        std::vector<std::optional<SeriesTexture>>* textures,
-                                        std::vector<int>* piece_material) {
-  const std::vector<int> dissolved = MixtureMaterials(pieces_, *piece_material, *textures, options_.known_split);
-  if (dissolved.empty()) return 0;
+absl::StatusOr<int> RegionMap::DissolveMixtureMaterials(std::vector<int>* region_material,
+                                                        std::vector<std::optional<SeriesTexture>>* textures,
+                                                        std::vector<int>* piece_material) {
+  absl::StatusOr<std::vector<int>> dissolved =
+      MixtureMaterials(pieces_, *piece_material, *textures, options_.known_split);
+  if (!dissolved.ok()) return dissolved.status();
+  if (dissolved->empty()) return 0;
   const int materials = static_cast<int>(textures->size());
   std::vector<bool> gone(materials, false);
-  for (int m : dissolved) gone[m] = true;
+  for (int m : *dissolved) gone[m] = true;
   std::vector<int>& material = *region_material;
   for (int r = 0; r < static_cast<int>(material.size()); ++r) {
     if (!gone[material[r]]) continue;
-    // The material whose texture explains the region's series best: a
-    // dissolved material always leaves at least two with a texture.
+    const std::vector<int>& members = regions_[r].pieces;
+    const bool has_series =
+        std::any_of(members.begin(), members.end(), [&](int i) { return pieces_[i].pair_mu.size() >= 3; });
+    double region_mu = 0.0;
+    for (int i : members) region_mu += pieces_[i].piece.texture.mu / members.size();
+    // The material whose texture explains the region's series best, or, for
+    // a region without a series, whose texture's mean is nearest its mu (a
+    // dissolved material always leaves at least two with a texture).
     int best = -1;
-    double best_log_likelihood = -std::numeric_limits<double>::infinity();
+    double best_score = -std::numeric_limits<double>::infinity();
     for (int m = 0; m < materials; ++m) {
       if (gone[m] || !(*textures)[m].has_value()) continue;
-      double log_likelihood = 0.0;
-      for (int i : regions_[r].pieces) {
-        if (pieces_[i].pair_mu.size() >= 3) log_likelihood += SeriesLogLikelihood(pieces_[i].pair_mu, *(*textures)[m]);
-      }
-      if (log_likelihood > best_log_likelihood) best_log_likelihood = log_likelihood, best = m;
+      const double score = has_series ? RegionLogLikelihood(pieces_, members, *(*textures)[m])
+                                      : -std::abs((*textures)[m]->mean - region_mu);
+      if (score > best_score) best_score = score, best = m;
     }
     material[r] = best;
-    for (int i : regions_[r].pieces) of_dissolved_material_[i] = true;
+    for (int i : members) of_dissolved_material_[i] = true;
   }
-  // Renumbered 0.. in order of first region, as the assignment numbers them.
-  std::vector<int> renumber(materials, -1);
   std::vector<std::optional<SeriesTexture>> kept;
-  int next = 0;
-  for (int& m : material) {
-    if (renumber[m] < 0) {
-      renumber[m] = next++;
-      kept.push_back((*textures)[m]);
-    }
-    m = renumber[m];
-  }
+  for (int old : RenumberInOrderOfFirstRegion(&material)) kept.push_back((*textures)[old]);
   *textures = std::move(kept);
   for (std::size_t i = 0; i < pieces_.size(); ++i) (*piece_material)[i] = material[piece_region_[i]];
-  return static_cast<int>(dissolved.size());
+  return static_cast<int>(dissolved->size());
 }
 
 int RegionMap::MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, std::vector<int>* better_material,
@@ -436,7 +433,7 @@ int RegionMap::MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, 
   return moved;
 }
 
-void RegionMap::GroupPieces() {
+absl::Status RegionMap::GroupPieces() {
   const int n = static_cast<int>(pieces_.size());
   const int nv = vertex_count();
   std::vector<LabelledSeed> seeds;
@@ -521,7 +518,9 @@ void RegionMap::GroupPieces() {
   of_dissolved_material_.assign(n, false);
   if (options_.dissolve_mixture_materials) {
     if (textures.empty()) textures = MaterialTextures(pieces_, piece_material, options_.min_texture_rows);
-    materials_dissolved_ += DissolveMixtureMaterials(&material, &textures, &piece_material);
+    absl::StatusOr<int> dissolved = DissolveMixtureMaterials(&material, &textures, &piece_material);
+    if (!dissolved.ok()) return dissolved.status();  // SetPieces validated the pieces: a broken invariant
+    materials_dissolved_ += *dissolved;
   }
   const int material_count = region_count == 0 ? 0 : *std::max_element(material.begin(), material.end()) + 1;
   std::vector<int> better_material = MisfitPieces(piece_material, std::move(textures));
@@ -547,6 +546,7 @@ void RegionMap::GroupPieces() {
     region.sigma = of_material.sigma;
   }
   piece_statistics_ = std::move(statistics);
+  return absl::OkStatus();
 }
 
 absl::Status RegionMap::SpreadRegions() {

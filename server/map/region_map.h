@@ -330,7 +330,8 @@ class RegionMap {
   // (merge rule, estimates), then spreading the regions over the surface
   // (diagram, random walker, links, corners, values). A split against the
   // materials groups twice and spreads once.
-  void GroupPieces();
+  // Errors: a broken invariant (the pieces were validated by SetPieces).
+  absl::Status GroupPieces();
   absl::Status SpreadRegions();
   // `out`'s estimates (statistics, roughness) from pieces `piece_indices`;
   // misfits, moved or not (better_material[i] >= 0), are left out of its mu
@@ -358,9 +359,11 @@ class RegionMap {
   // materials): their regions move to the material whose texture explains
   // their pieces best; `region_material` is renumbered 0.. and `textures`
   // (the materials' textures, MaterialTextures of `piece_material`) and
-  // `piece_material` follow. Returns how many were dissolved.
-  int DissolveMixtureMaterials(std::vector<int>* region_material,
-                               std::vector<std::optional<SeriesTexture>>* textures, std::vector<int>* piece_material);
+  // `piece_material` follow. Returns how many were dissolved; errors as
+  // MixtureMaterials'.
+  absl::StatusOr<int> DissolveMixtureMaterials(std::vector<int>* region_material,
+                                               std::vector<std::optional<SeriesTexture>>* textures,
+                                               std::vector<int>* piece_material);
   // Each region's material (0..), given each region's own pool: alike
   // regions grouped, or each its own without pool_alike_regions.
   std::vector<int> Materials(const std::vector<PieceStatistics>& own) const;

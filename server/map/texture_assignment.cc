@@ -6,6 +6,27 @@
 
 namespace surfmap {
 
+double RegionLogLikelihood(const std::vector<MapPiece>& pieces, const std::vector<int>& region_pieces,
+                           const SeriesTexture& texture) {
+  double log_likelihood = 0.0;
+  for (int i : region_pieces) log_likelihood += SeriesLogLikelihood(pieces[i].pair_mu, texture);
+  return log_likelihood;
+}
+
+std::vector<int> RenumberInOrderOfFirstRegion(std::vector<int>* material) {
+  std::vector<int> renumbered, old_of_new;
+  for (int& m : *material) {
+    if (m < 0) continue;
+    if (m >= static_cast<int>(renumbered.size())) renumbered.resize(m + 1, -1);
+    if (renumbered[m] < 0) {
+      renumbered[m] = static_cast<int>(old_of_new.size());
+      old_of_new.push_back(m);
+    }
+    m = renumbered[m];
+  }
+  return old_of_new;
+}
+
 TextureAssignment AssignRegionsByTexture(const std::vector<MapPiece>& pieces,
                                          const std::vector<std::vector<int>>& region_pieces,
                                          const std::vector<int>& region_material,
@@ -30,8 +51,7 @@ TextureAssignment AssignRegionsByTexture(const std::vector<MapPiece>& pieces,
       int best_material = own;
       for (int m : textured) {
         if (m != own && !may_join(r, m)) continue;
-        double log_likelihood = 0.0;
-        for (int i : region_pieces[r]) log_likelihood += SeriesLogLikelihood(pieces[i].pair_mu, *material_texture[m]);
+        const double log_likelihood = RegionLogLikelihood(pieces, region_pieces[r], *material_texture[m]);
         if (m == own) own_log_likelihood = log_likelihood;
         if (log_likelihood > best) best = log_likelihood, best_material = m;
       }
@@ -41,20 +61,8 @@ TextureAssignment AssignRegionsByTexture(const std::vector<MapPiece>& pieces,
       }
     }
   }
-  // Renumber: materials in order of their first region, none left empty.
-  std::vector<int> renumbered(std::max(materials, 0), -1);
-  int next = 0;
-  out.material.resize(regions);
-  for (int r = 0; r < regions; ++r) {
-    const int m = material[r];
-    if (m < 0) {
-      out.material[r] = -1;
-      continue;
-    }
-    if (m >= static_cast<int>(renumbered.size())) renumbered.resize(m + 1, -1);
-    if (renumbered[m] < 0) renumbered[m] = next++;
-    out.material[r] = renumbered[m];
-  }
+  RenumberInOrderOfFirstRegion(&material);
+  out.material = std::move(material);
   return out;
 }
 

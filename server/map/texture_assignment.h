@@ -39,6 +39,15 @@
 
 namespace surfmap {
 
+// The log-likelihood of a region's pair series under a texture: the sum over
+// its pieces (indices into `pieces`) of SeriesLogLikelihood.
+double RegionLogLikelihood(const std::vector<MapPiece>& pieces, const std::vector<int>& region_pieces,
+                           const SeriesTexture& texture);
+
+// Renumbers `material` (per region; -1 = none, kept) 0.. in order of first
+// region, none left empty. Returns, per new number, the old one.
+std::vector<int> RenumberInOrderOfFirstRegion(std::vector<int>* material);
+
 struct TextureAssignment {
   std::vector<int> material;  // per region, renumbered 0.. in order of first region
   int moved = 0;              // regions moved to another material
