@@ -8,6 +8,7 @@
 
 #include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
+#include "server/map/boundary_bridges.h"
 #include "server/map/boundary_chains.h"
 #include "server/map/boundary_corners.h"
 #include "server/map/boundary_extensions.h"
@@ -30,7 +31,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"max_extension_length_mm", max_extension_length_mm},
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
                                                     {"max_dot_residual_mm", max_dot_residual_mm},
-                                                    {"max_corner_side_residual_mm", max_corner_side_residual_mm}};
+                                                    {"max_corner_side_residual_mm", max_corner_side_residual_mm},
+                                                    {"max_bridge_mm", max_bridge_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
   }
@@ -124,6 +126,8 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   drawn = ReplaceCutCorners(marks, std::move(drawn), grid, o, &corner_points, &cut_corners);
   if (corners != nullptr) *corners += cut_corners;
   out = LinkSeeds(marks, drawn, grid, o);
+  const std::vector<LabelledPoint> bridge_points = BoundaryBridgePoints(marks, drawn, grid, o);
+  out.insert(out.end(), bridge_points.begin(), bridge_points.end());
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   out.insert(out.end(), corner_points.begin(), corner_points.end());
   for (const BoundaryDot& dot : dots) {

@@ -121,6 +121,12 @@ struct BoundaryLinkOptions {
   // 10 degrees as an extension's turn: a corner turns by min_corner_turn_deg
   // or more.
   double max_line_turn_deg = 10.0;
+  // Bridges (boundary_bridges.h): two chain ends that share one region and
+  // point at each other within max_line_turn_deg are joined across a
+  // stretch where the region beyond them changes, up to this long (0 = off).
+  // A drag length and a half either side of a patch a strip runs through:
+  // big_block_m's 40 mm patch leaves 41-48 mm between the strip's chain ends.
+  double max_bridge_mm = 60.0;
   // Dots (boundary_dots.h): round regions whose crossings lie on a circle of
   // at most this radius (0 = off): half the longest link, so the dot is
   // smaller than a drag and no two of its crossings are farther apart than

@@ -1,0 +1,164 @@
+#include "server/map/boundary_bridges.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <tuple>
+
+#include <Eigen/Geometry>
+
+namespace surfmap {
+namespace {
+
+double CosDegrees(double degrees) { return std::cos(degrees * std::numbers::pi / 180.0); }
+
+// Whether `direction` (from an end's mark) turns from the end's chain
+// direction `out` by at most acos(min_cos), in the plane of `normal`.
+bool Straight(const Eigen::Vector3d& direction, const Eigen::Vector3d& out, const Eigen::Vector3d& normal,
+              double min_cos) {
+  const Eigen::Vector3d along = InPlane(direction, normal), chain = InPlane(out, normal);
+  if (along.norm() < 1e-9 || chain.norm() < 1e-9) return false;
+  return along.normalized().dot(chain.normalized()) >= min_cos;
+}
+
+struct Bridge {
+  double length = 0.0;
+  int first = -1;  // indices into the chain ends
+  int second = -1;
+  int region = -1;                                           // R, on both ends
+  Eigen::Vector3d towards_region = Eigen::Vector3d::Zero();  // unit, across the chord
+  std::vector<BoundarySegment> stretches;                    // one far region each
+};
+
+// The region of the data point nearest x on the side away from
+// `towards_region`, other than `region`, within `reach`; -1 when none.
+int FarRegion(const LabelledPointGrid& data, const Eigen::Vector3d& x, const Eigen::Vector3d& towards_region,
+              int region, double reach) {
+  int best = -1;
+  double best_d2 = reach * reach;
+  data.ForEachNear(x, x, reach, [&](const LabelledPoint& point) {
+    if (point.label == region) return;
+    const Eigen::Vector3d d = point.point - x;
+    if (d.dot(towards_region) >= 0.0) return;
+    if (const double d2 = d.squaredNorm(); d2 < best_d2) best_d2 = d2, best = point.label;
+  });
+  return best;
+}
+
+// The bridge from p to q with `region` on the side of `towards_region`, cut
+// into stretches of one far region each; empty when data contradicts one of
+// them, or when both ends have the same far region and nothing else lies
+// beyond the chord (a chain to extend, not a bridge).
+std::vector<BoundarySegment> Stretches(const ChangeMark& p, const ChangeMark& q, int region,
+                                       const Eigen::Vector3d& towards_region, int far1, int far2,
+                                       const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  // The surface bows off the chord; the parabola through p, the bowed middle
+  // and q stands for it, as in the corridor check.
+  const Eigen::Vector3d bow = ChordBow(p.position, q.position, p.normal, q.normal);
+  auto at = [&](double t) -> Eigen::Vector3d {
+    return p.position + t * (q.position - p.position) + 4.0 * t * (1.0 - t) * bow;
+  };
+  const double length = (q.position - p.position).norm();
+  const double step = o.max_dot_chord_mm;
+  const int n = std::max(1, static_cast<int>(std::ceil(length / step)));
+  std::vector<int> far(n + 1);
+  bool third = false;
+  for (int k = 0; k <= n; ++k) {
+    const double t = static_cast<double>(k) / n;
+    far[k] = FarRegion(data, at(t), towards_region, region, o.max_length_mm);
+    if (far[k] < 0) far[k] = t < 0.5 ? far1 : far2;
+    third |= far[k] != far1 && far[k] != far2;
+  }
+  if (far1 == far2 && !third) return {};
+  // Where the far region changes, the data of both lie beside the chord:
+  // each stretch is checked clear of its inner ends by the corridor and a step.
+  const double margin = (o.corridor_mm + step) / length;
+  // The chord is known from its two ends only, each located to ~0.1-0.4 mm
+  // along its drag: data on the wrong side by less than a dot's residual
+  // (the same location error) does not contradict it.
+  BoundaryLinkOptions check = o;
+  check.seed_offset_mm = std::max(o.seed_offset_mm, o.max_dot_residual_mm);
+  std::vector<BoundarySegment> out;
+  for (int begin = 0; begin < n;) {
+    int end = begin + 1;
+    while (end < n && far[end] == far[begin]) ++end;
+    const double t0 = begin == 0 ? 0.0 : (begin - 0.5) / n;
+    const double t1 = end == n ? 1.0 : (end - 0.5) / n;
+    auto segment = [&](double from, double to) {
+      const Eigen::Vector3d a = at(from), b = at(to);
+      return BoundarySegment{a, b, towards_region, region, far[begin], at(0.5 * (from + to)) - 0.5 * (a + b)};
+    };
+    const double c0 = begin == 0 ? t0 : t0 + margin, c1 = end == n ? t1 : t1 - margin;
+    if (c1 > c0 && SegmentContradicted(segment(c0, c1), data, check)) return {};
+    out.push_back(segment(t0, t1));
+    begin = end;
+  }
+  return out;
+}
+
+// The bridge between two chain ends, if they make one. Ends of the same two
+// regions (the two edges of a strip through a patch end outside it) may keep
+// either on the near side: the one whose far side changes to a third region
+// is kept; when both do, which is meant is not known and none is drawn.
+bool Bridges(const std::vector<ChangeMark>& marks, const ChainEnd& e1, const ChainEnd& e2,
+             const LabelledPointGrid& data, const BoundaryLinkOptions& o, Bridge* out) {
+  const ChangeMark& p = marks[e1.mark];
+  const ChangeMark& q = marks[e2.mark];
+  if (p.drag == q.drag || p.normal.dot(q.normal) < CosDegrees(o.max_corner_normal_deg)) return false;
+  const Eigen::Vector3d chord = q.position - p.position;
+  const double length = chord.norm();
+  if (length < o.min_corner_link_mm || length > o.max_bridge_mm) return false;
+  const double min_cos = CosDegrees(o.max_line_turn_deg);
+  if (!Straight(chord, e1.out, p.normal, min_cos) || !Straight(-chord, e2.out, q.normal, min_cos)) return false;
+  Eigen::Vector3d across = chord.cross((p.normal + q.normal).normalized());
+  if (across.norm() < 1e-9) return false;
+  across.normalize();
+  int found = 0;
+  for (int region : {e1.a, e1.b}) {
+    if (region != e2.a && region != e2.b) continue;
+    auto towards = [&](const ChainEnd& e) { return e.a == region ? e.towards_a : Eigen::Vector3d(-e.towards_a); };
+    const double s1 = towards(e1).dot(across), s2 = towards(e2).dot(across);
+    if (s1 * s2 <= 0.0) continue;
+    const Eigen::Vector3d towards_region = s1 > 0.0 ? across : Eigen::Vector3d(-across);
+    const int far1 = e1.a == region ? e1.b : e1.a, far2 = e2.a == region ? e2.b : e2.a;
+    std::vector<BoundarySegment> stretches = Stretches(p, q, region, towards_region, far1, far2, data, o);
+    if (stretches.empty()) continue;
+    ++found;
+    *out = {length, -1, -1, region, towards_region, std::move(stretches)};
+  }
+  return found == 1;
+}
+
+}  // namespace
+
+std::vector<LabelledPoint> BoundaryBridgePoints(const std::vector<ChangeMark>& marks,
+                                                const std::vector<DrawnLink>& links, const LabelledPointGrid& data,
+                                                const BoundaryLinkOptions& o, int* bridges) {
+  if (bridges != nullptr) *bridges = 0;
+  std::vector<LabelledPoint> out;
+  if (!(o.max_bridge_mm > 0.0)) return out;
+  const std::vector<ChainEnd> ends = ChainEnds(marks, links, o.min_corner_link_mm);
+  std::vector<Bridge> candidates;
+  for (int i = 0; i < static_cast<int>(ends.size()); ++i) {
+    for (int j = i + 1; j < static_cast<int>(ends.size()); ++j) {
+      Bridge bridge;
+      if (!Bridges(marks, ends[i], ends[j], data, o, &bridge)) continue;
+      bridge.first = i;
+      bridge.second = j;
+      candidates.push_back(std::move(bridge));
+    }
+  }
+  std::sort(candidates.begin(), candidates.end(), [](const Bridge& x, const Bridge& y) {
+    return x.length != y.length ? x.length < y.length : std::tie(x.first, x.second) < std::tie(y.first, y.second);
+  });
+  std::vector<bool> used(ends.size(), false);
+  for (const Bridge& bridge : candidates) {
+    if (used[bridge.first] || used[bridge.second]) continue;
+    used[bridge.first] = used[bridge.second] = true;
+    for (const BoundarySegment& s : bridge.stretches) AppendSegmentSeeds(s, o, &out);
+    if (bridges != nullptr) ++*bridges;
+  }
+  return out;
+}
+
+}  // namespace surfmap
