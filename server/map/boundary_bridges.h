@@ -10,8 +10,12 @@
 // 30 mm masonite patch) the map drew 50-60 of the strip's 400 scored points
 // as masonite on most seeds, the scene's most frequent missed goal.
 //
-// Two chain ends E1 and E2 (boundary_chains.h) that share a region R, with
-// different regions O1 and O2 beyond them, are bridged when
+// Two chain ends E1 and E2 (boundary_chains.h) that share a region R are
+// bridged when the region beyond the chord changes along it: O1 and O2
+// beyond the two ends differ, or (a strip's edge, rubber/wood at both ends
+// outside the patch) the data beyond the chord's middle is of a third
+// region; where either of the two regions of such ends could be R, the one
+// whose far side changes is, and when both could, none is drawn. And
 //  - each end's chain points at the other: the chord E1 -> E2 turns from
 //    E1's direction, and E2 -> E1 from E2's, by at most max_line_turn_deg
 //    (a straight boundary; the same bound as a line of three crossings);

@@ -1,0 +1,136 @@
+#include "server/map/boundary_bridges.h"
+
+#include <limits>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include "server/map/boundary_links.h"
+#include "server/map/testing/boundary_crossings.h"
+
+namespace surfmap {
+namespace {
+
+using testing::Crossing;
+using testing::DragData;
+
+// A strip's edge, the line x = 0: the strip (region 0) at x < 0. Beyond the
+// edge lies wood (region 1), except where a patch of masonite (region 2)
+// meets it, for |y| < 20. Drags crossed the edge outside the patch only: at
+// y = -40, -30 and 30, 40, each pair linked, so the two chains end 60 mm
+// apart and point at each other.
+struct StripThroughPatch {
+  std::vector<ChangeMark> marks = {Crossing(-40.0, 0), Crossing(-30.0, 1), Crossing(30.0, 2), Crossing(40.0, 3)};
+  std::vector<DrawnLink> links = {{0, 1, 0, 1, -Eigen::Vector3d::UnitX()}, {2, 3, 0, 1, -Eigen::Vector3d::UnitX()}};
+  std::vector<LabelledPoint> data;
+  BoundaryLinkOptions options;
+
+  StripThroughPatch() {
+    data = DragData(marks);
+    // Drags inside the patch, 6 mm off the strip's edge, saw only masonite.
+    for (double y = -18.0; y <= 18.0; y += 2.0) data.push_back({{6.0, y, 0.0}, 2});
+    options.max_bridge_mm = 65.0;
+  }
+
+  std::vector<LabelledPoint> Bridge(int* bridges) const {
+    return BoundaryBridgePoints(marks, links, LabelledPointGrid(data, 5.0), options, bridges);
+  }
+};
+
+// The label of the point nearest `at` among `points`; -1 when there are none.
+int LabelNearest(const std::vector<LabelledPoint>& points, const Eigen::Vector3d& at) {
+  int label = -1;
+  double best = std::numeric_limits<double>::infinity();
+  for (const LabelledPoint& p : points) {
+    if (const double d = (p.point - at).norm(); d < best) best = d, label = p.label;
+  }
+  return label;
+}
+
+TEST(BoundaryBridges, AStripsEdgeIsCarriedThroughAPatchAgainstThePatchsRegion) {
+  const StripThroughPatch scene;
+  int bridges = 0;
+  const std::vector<LabelledPoint> points = scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 1);
+  // The strip's side all along; beyond the edge, the region the data there
+  // shows: wood next to the chains' ends, masonite along the patch.
+  for (double y : {-25.0, -10.0, 0.0, 10.0, 25.0}) EXPECT_EQ(LabelNearest(points, {-0.25, y, 0.0}), 0) << y;
+  for (double y : {-10.0, 0.0, 10.0}) EXPECT_EQ(LabelNearest(points, {0.25, y, 0.0}), 2) << y;
+  for (double y : {-27.0, 27.0}) EXPECT_EQ(LabelNearest(points, {0.25, y, 0.0}), 1) << y;
+  // Nothing is drawn past the chains' ends: the links draw those.
+  for (const LabelledPoint& p : points) EXPECT_LE(std::abs(p.point.y()), 30.0 + 1e-9);
+}
+
+TEST(BoundaryBridges, DataAcrossTheChordBeyondTheEndsLocationErrorStopsTheBridge) {
+  StripThroughPatch scene;
+  int bridges = 0;
+  // The strip found 0.3 mm past the chord: within the ends' location error.
+  scene.data.push_back({{0.3, 5.0, 0.0}, 0});
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 1);
+  // 0.8 mm past it: the strip's edge is not where the chains say.
+  scene.data.push_back({{0.8, 5.0, 0.0}, 0});
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 0);
+}
+
+TEST(BoundaryBridges, ChainsThatDoNotPointAtEachOtherAreNotBridged) {
+  // The upper chain turns away: its second crossing lies 5 mm off the line,
+  // so the chain leaves its end 27 degrees off the chord to the lower one.
+  StripThroughPatch scene;
+  scene.marks[3].position.x() = 5.0;
+  int bridges = 0;
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 0);
+  // 1.5 mm off: 8.5 degrees, within a line's turn (10 degrees).
+  scene.marks[3].position.x() = 1.5;
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 1);
+}
+
+TEST(BoundaryBridges, AGapWithTheSameRegionBeyondItIsLeftToExtensions) {
+  StripThroughPatch scene;
+  for (LabelledPoint& p : scene.data) {
+    if (p.label == 2) p.label = 1;  // no patch: wood all along
+  }
+  int bridges = 0;
+  EXPECT_TRUE(scene.Bridge(&bridges).empty());
+  EXPECT_EQ(bridges, 0);
+}
+
+TEST(BoundaryBridges, ABridgeIsNoLongerThanItsLimit) {
+  StripThroughPatch scene;
+  int bridges = 0;
+  scene.options.max_bridge_mm = 55.0;  // the ends are 60 mm apart
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 0);
+  scene.options.max_bridge_mm = 0.0;  // off
+  EXPECT_TRUE(scene.Bridge(&bridges).empty());
+  EXPECT_EQ(bridges, 0);
+}
+
+TEST(BoundaryBridges, TheLinksDrawTheBridgeWithTheirOwnChains) {
+  // Through BoundaryLinkPoints: the two pairs of crossings are linked, and
+  // the bridge adds the patch's stretch between them.
+  const StripThroughPatch scene;
+  BoundaryLinkOptions off = scene.options;
+  off.max_bridge_mm = 0.0;
+  int links = 0;
+  const std::vector<LabelledPoint> without = BoundaryLinkPoints(scene.marks, scene.data, off, &links);
+  EXPECT_EQ(links, 2);
+  EXPECT_EQ(LabelNearest(without, {0.25, 0.0, 0.0}), 1);  // the nearest link point is a chain's, 30 mm away
+  const std::vector<LabelledPoint> with = BoundaryLinkPoints(scene.marks, scene.data, scene.options, &links);
+  EXPECT_EQ(links, 2);
+  EXPECT_EQ(LabelNearest(with, {0.25, 0.0, 0.0}), 2);
+  EXPECT_EQ(LabelNearest(with, {-0.25, 0.0, 0.0}), 0);
+}
+
+TEST(BoundaryBridges, OptionsRefuseANegativeLimitByName) {
+  BoundaryLinkOptions options;
+  options.max_bridge_mm = -1.0;
+  std::string why;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("max_bridge_mm"), std::string::npos) << why;
+}
+
+}  // namespace
+}  // namespace surfmap
