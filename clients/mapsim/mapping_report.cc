@@ -75,8 +75,10 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
                           r.mu_se, r.spread, r.pieces, r.roughness_pieces, 100.0 * r.vertex_share,
                           truth.empty() ? "-" : truth);
   }
-  absl::StrAppendFormat(&out, "  boundaries: %d crossings between regions, %d links and %d corners drawn through them\n",
-                        run.map_changes, run.map_links, run.map_corners);
+  absl::StrAppendFormat(&out,
+                        "  boundaries: %d crossings between regions, %d links and %d corners drawn through them, "
+                        "%d carried across a change beyond them\n",
+                        run.map_changes, run.map_links, run.map_corners, run.map_bridges);
   absl::StrAppendFormat(&out, "  pieces split against the materials' textures: %d\n", run.map_split_pieces);
   absl::StrAppendFormat(&out, "  regions moved to the material whose texture fits them: %d\n", run.map_moved_regions);
   absl::StrAppendFormat(&out, "  pieces moved out of their region to the material whose texture fits them: %d\n",

@@ -70,6 +70,17 @@ std::vector<BoundarySegment> Stretches(const ChangeMark& p, const ChangeMark& q,
     third |= far[k] != far1 && far[k] != far2;
   }
   if (far1 == far2 && !third) return {};
+  // A third region beyond the chord for less than a link's length is as
+  // likely data beyond a narrow neighbour that no drag measured there as a
+  // region the boundary meets (held-out pebble: a 6 mm masonite strip's
+  // edge bridged against the glass beyond it for 9.6 mm); a patch the
+  // boundary runs along shows for longer (big_block_m: 35 mm).
+  for (int begin = 0; begin < n;) {
+    int end = begin + 1;
+    while (end < n && far[end] == far[begin]) ++end;
+    if (far[begin] != far1 && far[begin] != far2 && (end - begin) * length / n < o.max_length_mm) return {};
+    begin = end;
+  }
   // Where the far region changes, the data of both lie beside the chord:
   // each stretch is checked clear of its inner ends by the corridor and a step.
   const double margin = (o.corridor_mm + step) / length;

@@ -22,6 +22,11 @@
 //  - it is longer than min_corner_link_mm and at most max_bridge_mm, the
 //    two normals within max_corner_normal_deg;
 //  - R lies on the same side of the chord at both ends;
+//  - a third region shows beyond the chord for at least max_length_mm (a
+//    link's length) wherever it shows: shorter, it is as likely the data
+//    beyond a narrow neighbour that no drag measured there (measured: the
+//    bridges drawn on 141 stored jobs against a third region for 4-10 mm
+//    were all wrong, the 35 mm ones right; docs/method.md);
 //  - no data contradicts it: the chord is cut where the nearest data on its
 //    far side (within max_length_mm) changes region, and each stretch is
 //    checked as a link between R and that region (boundary_corridor.h).

@@ -97,6 +97,22 @@ TEST(BoundaryBridges, AGapWithTheSameRegionBeyondItIsLeftToExtensions) {
   EXPECT_EQ(bridges, 0);
 }
 
+TEST(BoundaryBridges, AThirdRegionShorterThanALinkBeyondTheChordIsNoBridge) {
+  // Wood measured 9 mm off the edge all along, masonite 6 mm off it only for
+  // |y| <= 3: the masonite is nearest the chord for about 19 mm, shorter
+  // than a link, as the data beyond a narrow neighbour would be.
+  StripThroughPatch scene;
+  std::erase_if(scene.data, [](const LabelledPoint& p) { return p.label == 2 && std::abs(p.point.y()) > 3.0; });
+  for (double y = -28.0; y <= 28.0; y += 2.0) scene.data.push_back({{9.0, y, 0.0}, 1});
+  int bridges = 0;
+  EXPECT_TRUE(scene.Bridge(&bridges).empty());
+  EXPECT_EQ(bridges, 0);
+  // With a link's length of 10 mm it is long enough.
+  scene.options.max_length_mm = 10.0;
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 1);
+}
+
 TEST(BoundaryBridges, ABridgeIsNoLongerThanItsLimit) {
   StripThroughPatch scene;
   int bridges = 0;

@@ -55,7 +55,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
 
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
-                                              const BoundaryLinkOptions& o, int* links, int* corners) {
+                                              const BoundaryLinkOptions& o, int* links, int* corners,
+                                              int* bridges) {
   const int n = static_cast<int>(marks.size());
   const LabelledPointGrid grid(data, std::max(1.0, o.max_length_mm / 4.0));
   // Per mark and side along the boundary: the nearest consistent partner.
@@ -126,7 +127,7 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   drawn = ReplaceCutCorners(marks, std::move(drawn), grid, o, &corner_points, &cut_corners);
   if (corners != nullptr) *corners += cut_corners;
   out = LinkSeeds(marks, drawn, grid, o);
-  const std::vector<LabelledPoint> bridge_points = BoundaryBridgePoints(marks, drawn, grid, o);
+  const std::vector<LabelledPoint> bridge_points = BoundaryBridgePoints(marks, drawn, grid, o, bridges);
   out.insert(out.end(), bridge_points.begin(), bridge_points.end());
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   out.insert(out.end(), corner_points.begin(), corner_points.end());

@@ -136,7 +136,8 @@ BENCHMARK(BM_RegionMapRebuild)->ArgsProduct({{0, 1}, {10, 50}})->Unit(benchmark:
 // served map's defaults linking regions instead of materials (3) / the
 // served map's defaults without the misfit-piece test, neither leaving
 // misfits out of the mu nor moving them (4) / the served map's defaults
-// without dissolving mixture materials (5); with
+// without dissolving mixture materials (5) / the served map's defaults
+// without bridges (6, boundary_bridges.h); with
 // the split the pieces are grouped twice (once to find the materials, once
 // with the parts) and spread once.
 void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
@@ -147,11 +148,13 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
     options.assign_by_texture = false;
     options.dissolve_mixture_materials = false;
     options.links.max_extension_turn_deg = 0.0;
+    options.links.max_bridge_mm = 0.0;
     options.link_materials = false;
   }
   if (state.range(0) == 3) options.link_materials = false;
   if (state.range(0) == 4) options.exclude_misfit_pieces_from_mu = options.move_misfit_pieces = false;
   if (state.range(0) == 5) options.dissolve_mixture_materials = false;
+  if (state.range(0) == 6) options.links.max_bridge_mm = 0.0;
   auto map = RegionMap::Create(level, options);
   if (!map.ok()) return state.SkipWithError(std::string(map.status().message()).c_str());
   const testing::Stretch rubber{0, 0.305, testing::kRubberLike}, masonite{0, 0.36, testing::kMasoniteLike};
@@ -198,7 +201,7 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   state.counters["regions"] = static_cast<double>(map->regions().size());
   state.counters["links"] = map->boundary_links();
 }
-BENCHMARK(BM_RegionMapSplitAgainstMaterials)->Arg(0)->Arg(1)->Arg(2)->Arg(3)->Arg(4)->Arg(5)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_RegionMapSplitAgainstMaterials)->DenseRange(0, 6)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace surfmap

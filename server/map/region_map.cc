@@ -614,6 +614,7 @@ absl::Status RegionMap::SpreadRegions() {
   }
   links_ = 0;
   corners_ = 0;
+  bridges_ = 0;
   marks_ = std::move(marks);
   // Linking materials, the links see the data by material; the plan's map
   // (rebuilt after every drag) links regions and copies nothing.
@@ -623,7 +624,7 @@ absl::Status RegionMap::SpreadRegions() {
     for (LabelledPoint& p : material_data) p.label = regions_[p.label].material;
   }
   const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(
-      marks_, options_.link_materials ? material_data : data, options_.links, &links_, &corners_);
+      marks_, options_.link_materials ? material_data : data, options_.links, &links_, &corners_, &bridges_);
   // The region of `material` whose data lies nearest a link point: searched
   // in growing boxes, since a link's middle can lie a link's length from its
   // ends.

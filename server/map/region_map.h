@@ -280,6 +280,7 @@ class RegionMap {
   int roughness_order() const { return static_cast<int>(reflection_.size()); }
   int boundary_links() const { return links_; }      // links drawn between crossings
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
+  int boundary_bridges() const { return bridges_; }  // boundaries carried across a change beyond them
   int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
   int pieces_moved_by_texture() const { return pieces_moved_by_texture_; }    // move_misfit_pieces
   // Materials dissolved (dissolve_mixture_materials), over both groupings
@@ -388,6 +389,7 @@ class RegionMap {
   std::vector<std::vector<double>> probability_;  // [region][vertex]
   int links_ = 0;
   int corners_ = 0;
+  int bridges_ = 0;
   int regions_moved_by_texture_ = 0;
   int pieces_moved_by_texture_ = 0;
   int materials_dissolved_ = 0;
