@@ -28,8 +28,12 @@
 //    bridges drawn on 141 stored jobs against a third region for 4-10 mm
 //    were all wrong, the 35 mm ones right; docs/method.md);
 //  - no data contradicts it: the chord is cut where the nearest data on its
-//    far side (within max_length_mm) changes region, and each stretch is
-//    checked as a link between R and that region (boundary_corridor.h).
+//    far side (within max_length_mm) changes region, and no stretch has
+//    data of a third region within corridor_mm of it (as a link) or data on
+//    the wrong side by more than bridge_tolerance_mm (out to twice that): a
+//    link refuses a quarter of a millimetre, but a bridge's chord is known
+//    only from its two ends, and the pieces beside it are where their drags'
+//    change tests and the map's split put the changes.
 // The bridge is then drawn as those stretches, each with its own far
 // region. Nearest pairs first; an end takes part in one bridge.
 #pragma once

@@ -26,8 +26,12 @@ struct StripThroughPatch {
 
   StripThroughPatch() {
     data = DragData(marks);
-    // Drags inside the patch, 6 mm off the strip's edge, saw only masonite.
-    for (double y = -18.0; y <= 18.0; y += 2.0) data.push_back({{6.0, y, 0.0}, 2});
+    // Drags inside the patch, 6 mm off the strip's edge, saw only masonite;
+    // one ran along the strip, 3.5 mm inside it.
+    for (double y = -18.0; y <= 18.0; y += 2.0) {
+      data.push_back({{6.0, y, 0.0}, 2});
+      data.push_back({{-3.5, y, 0.0}, 0});
+    }
     options.max_bridge_mm = 65.0;
   }
 
@@ -60,15 +64,27 @@ TEST(BoundaryBridges, AStripsEdgeIsCarriedThroughAPatchAgainstThePatchsRegion) {
   for (const LabelledPoint& p : points) EXPECT_LE(std::abs(p.point.y()), 30.0 + 1e-9);
 }
 
-TEST(BoundaryBridges, DataAcrossTheChordBeyondTheEndsLocationErrorStopsTheBridge) {
+TEST(BoundaryBridges, DataAcrossTheChordBeyondItsToleranceStopsTheBridge) {
   StripThroughPatch scene;
+  const double tolerance = scene.options.bridge_tolerance_mm;
   int bridges = 0;
-  // The strip found 0.3 mm past the chord: within the ends' location error.
-  scene.data.push_back({{0.3, 5.0, 0.0}, 0});
+  // Masonite within the tolerance on the strip's side of the chord: what
+  // the chord (known from its ends) and a piece's end leave uncertain.
+  scene.data.push_back({{-0.8 * tolerance, 5.0, 0.0}, 2});
   scene.Bridge(&bridges);
   EXPECT_EQ(bridges, 1);
-  // 0.8 mm past it: the strip's edge is not where the chains say.
-  scene.data.push_back({{0.8, 5.0, 0.0}, 0});
+  // Beyond it, into the strip: a drag found masonite where the strip should be.
+  scene.data.push_back({{-1.5 * tolerance, 5.0, 0.0}, 2});
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 0);
+  // The strip beyond it in the patch: as much a contradiction.
+  scene.data.pop_back();
+  scene.data.push_back({{1.5 * tolerance, -5.0, 0.0}, 0});
+  scene.Bridge(&bridges);
+  EXPECT_EQ(bridges, 0);
+  // A fourth region (neither side's) within the corridor.
+  scene.data.pop_back();
+  scene.data.push_back({{-0.5, 0.0, 0.0}, 3});
   scene.Bridge(&bridges);
   EXPECT_EQ(bridges, 0);
 }
@@ -141,11 +157,13 @@ TEST(BoundaryBridges, TheLinksDrawTheBridgeWithTheirOwnChains) {
 }
 
 TEST(BoundaryBridges, OptionsRefuseANegativeLimitByName) {
-  BoundaryLinkOptions options;
-  options.max_bridge_mm = -1.0;
-  std::string why;
-  EXPECT_FALSE(options.IsValid(&why));
-  EXPECT_NE(why.find("max_bridge_mm"), std::string::npos) << why;
+  for (const char* name : {"max_bridge_mm", "bridge_tolerance_mm"}) {
+    BoundaryLinkOptions options;
+    (std::string(name) == "max_bridge_mm" ? options.max_bridge_mm : options.bridge_tolerance_mm) = -1.0;
+    std::string why;
+    EXPECT_FALSE(options.IsValid(&why)) << name;
+    EXPECT_NE(why.find(name), std::string::npos) << why;
+  }
 }
 
 }  // namespace

@@ -32,7 +32,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
                                                     {"max_dot_residual_mm", max_dot_residual_mm},
                                                     {"max_corner_side_residual_mm", max_corner_side_residual_mm},
-                                                    {"max_bridge_mm", max_bridge_mm}};
+                                                    {"max_bridge_mm", max_bridge_mm},
+                                                    {"bridge_tolerance_mm", bridge_tolerance_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
   }

@@ -127,6 +127,9 @@ struct BoundaryLinkOptions {
   // A drag length and a half either side of a patch a strip runs through:
   // big_block_m's 40 mm patch leaves 41-48 mm between the strip's chain ends.
   double max_bridge_mm = 60.0;
+  // A bridge's stretch is contradicted by data on the wrong side of its
+  // chord by more than this, out to twice it (boundary_bridges.h).
+  double bridge_tolerance_mm = 2.0;
   // Dots (boundary_dots.h): round regions whose crossings lie on a circle of
   // at most this radius (0 = off): half the longest link, so the dot is
   // smaller than a drag and no two of its crossings are farther apart than

@@ -200,6 +200,7 @@ void BM_RegionMapSplitAgainstMaterials(benchmark::State& state) {
   state.counters["split"] = map->split_pieces();
   state.counters["regions"] = static_cast<double>(map->regions().size());
   state.counters["links"] = map->boundary_links();
+  state.counters["bridges"] = map->boundary_bridges();
 }
 BENCHMARK(BM_RegionMapSplitAgainstMaterials)->DenseRange(0, 6)->Unit(benchmark::kMillisecond);
 
