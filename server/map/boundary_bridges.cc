@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <tuple>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -45,41 +46,32 @@ int FarRegion(const LabelledPointGrid& data, const Eigen::Vector3d& x, const Eig
   return best;
 }
 
-// Whether data contradicts a stretch of a bridge. A link's check
-// (SegmentContradicted) refuses data a quarter of a millimetre on the wrong
-// side of its chord; a bridge's chord is known only from its two ends, up to
-// 60 mm apart, and the pieces beside it end where their drags' change tests
-// and the map's split put the changes: on big_block_m (500 Hz, seed 7) both
-// edges of the strip through the patch had masonite data 0.6-1.9 mm on the
-// strip's side, the ends of parts that the split cut from drags across the
-// whole strip. So a stretch is contradicted by data of a third region within
-// the corridor of it (as a link), or by data on the wrong side by more than
-// bridge_tolerance_mm, out to twice that: a drag that crossed the chord
-// where the bridge says no boundary is puts its points there.
-bool BridgeContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
-  const Eigen::Vector3d chord = s.q - s.p;
-  const double length = chord.norm();
-  if (!(length > 1e-9)) return false;
-  const Eigen::Vector3d t = chord / length;
-  const double reach = std::max(o.corridor_mm, 2.0 * o.bridge_tolerance_mm);
-  bool contradicted = false;
-  data.ForEachNear(s.p, s.q, reach + s.bow.norm(), [&](const LabelledPoint& x) {
-    if (contradicted) return;
-    const Eigen::Vector3d r = x.point - s.p;
-    const double along = r.dot(t);
-    if (along < 0.0 || along > length) return;
-    const double u = along / length;
-    const Eigen::Vector3d off = r - along * t - 4.0 * u * (1.0 - u) * s.bow;  // from the surface's arc
-    const double distance = off.norm();
-    if (distance > reach) return;
-    const double side = off.dot(s.towards_a);  // > 0: a's side
-    if (x.label != s.a && x.label != s.b) {
-      contradicted = distance <= o.corridor_mm;
-    } else {
-      contradicted = (x.label == s.a && side < -o.bridge_tolerance_mm) || (x.label == s.b && side > o.bridge_tolerance_mm);
-    }
-  });
-  return contradicted;
+// What contradicts a stretch of a bridge. A link's check refuses data a
+// quarter of a millimetre on the wrong side of its chord; a bridge's chord is
+// known only from its two ends, up to 60 mm apart, and the pieces beside it
+// end where their drags' change tests and the map's split put the changes:
+// on big_block_m (500 Hz, seed 7) both edges of the strip through the patch
+// had masonite data 0.6-1.9 mm on the strip's side, the ends of parts that
+// the split cut from drags across the whole strip. So a stretch is
+// contradicted by data of a third region within the corridor of it (as a
+// link), or by data on the wrong side by more than bridge_tolerance_mm, out
+// to twice that: a drag that crossed the chord where the bridge says no
+// boundary is puts its points there.
+CorridorCheck BridgeCheck(const BoundaryLinkOptions& o) {
+  return {o.corridor_mm, o.bridge_tolerance_mm, 2.0 * o.bridge_tolerance_mm};
+}
+
+// The runs [begin, end) of equal values in values[0..n) (the last sample,
+// values[n], belongs to the last run).
+std::vector<std::pair<int, int>> Runs(const std::vector<int>& values, int n) {
+  std::vector<std::pair<int, int>> runs;
+  for (int begin = 0; begin < n;) {
+    int end = begin + 1;
+    while (end < n && values[end] == values[begin]) ++end;
+    runs.emplace_back(begin, end);
+    begin = end;
+  }
+  return runs;
 }
 
 // The bridge from p to q with `region` on the side of `towards_region`, cut
@@ -107,24 +99,20 @@ std::vector<BoundarySegment> Stretches(const ChangeMark& p, const ChangeMark& q,
     third |= far[k] != far1 && far[k] != far2;
   }
   if (far1 == far2 && !third) return {};
+  const std::vector<std::pair<int, int>> runs = Runs(far, n);
   // A third region beyond the chord for less than a link's length is as
   // likely data beyond a narrow neighbour that no drag measured there as a
   // region the boundary meets (held-out pebble: a 6 mm masonite strip's
   // edge bridged against the glass beyond it for 9.6 mm); a patch the
   // boundary runs along shows for longer (big_block_m: 35 mm).
-  for (int begin = 0; begin < n;) {
-    int end = begin + 1;
-    while (end < n && far[end] == far[begin]) ++end;
+  for (const auto& [begin, end] : runs) {
     if (far[begin] != far1 && far[begin] != far2 && (end - begin) * length / n < o.max_length_mm) return {};
-    begin = end;
   }
   // Where the far region changes, the data of both lie beside the chord:
   // each stretch is checked clear of its inner ends by the corridor and a step.
   const double margin = (o.corridor_mm + step) / length;
   std::vector<BoundarySegment> out;
-  for (int begin = 0; begin < n;) {
-    int end = begin + 1;
-    while (end < n && far[end] == far[begin]) ++end;
+  for (const auto& [begin, end] : runs) {
     const double t0 = begin == 0 ? 0.0 : (begin - 0.5) / n;
     const double t1 = end == n ? 1.0 : (end - 0.5) / n;
     auto segment = [&](double from, double to) {
@@ -132,9 +120,8 @@ std::vector<BoundarySegment> Stretches(const ChangeMark& p, const ChangeMark& q,
       return BoundarySegment{a, b, towards_region, region, far[begin], at(0.5 * (from + to)) - 0.5 * (a + b)};
     };
     const double c0 = begin == 0 ? t0 : t0 + margin, c1 = end == n ? t1 : t1 - margin;
-    if (c1 > c0 && BridgeContradicted(segment(c0, c1), data, o)) return {};
+    if (c1 > c0 && SegmentContradicted(segment(c0, c1), data, BridgeCheck(o))) return {};
     out.push_back(segment(t0, t1));
-    begin = end;
   }
   return out;
 }

@@ -26,13 +26,14 @@ Eigen::Vector3d ChordBow(const Eigen::Vector3d& p, const Eigen::Vector3d& q, con
   return (opens >= 0.0 ? sagitta : -sagitta) * mean.normalized();
 }
 
-bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const CorridorCheck& check) {
   const Eigen::Vector3d chord = s.q - s.p;
   const double length = chord.norm();
   if (!(length > 1e-9)) return false;
   const Eigen::Vector3d t = chord / length;
+  const double reach = std::max(check.reach_mm, check.third_region_mm);
   bool contradicted = false;
-  data.ForEachNear(s.p, s.q, o.corridor_mm + s.bow.norm(), [&](const LabelledPoint& x) {
+  data.ForEachNear(s.p, s.q, reach + s.bow.norm(), [&](const LabelledPoint& x) {
     if (contradicted) return;
     const Eigen::Vector3d r = x.point - s.p;
     const double along = r.dot(t);
@@ -40,15 +41,19 @@ bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data
     // Off the surface's arc over the chord, not the chord itself.
     const double u = along / length;
     const Eigen::Vector3d off = r - along * t - 4.0 * u * (1.0 - u) * s.bow;
-    if (off.norm() > o.corridor_mm) return;
-    const double side = off.dot(s.towards_a);  // > 0: a's side
+    const double distance = off.norm();
     if (x.label != s.a && x.label != s.b) {
-      contradicted = true;
-    } else if ((x.label == s.a && side < -o.seed_offset_mm) || (x.label == s.b && side > o.seed_offset_mm)) {
-      contradicted = true;
+      contradicted = distance <= check.third_region_mm;
+    } else if (distance <= check.reach_mm) {
+      const double side = off.dot(s.towards_a);  // > 0: a's side
+      contradicted = (x.label == s.a && side < -check.wrong_side_mm) || (x.label == s.b && side > check.wrong_side_mm);
     }
   });
   return contradicted;
+}
+
+bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  return SegmentContradicted(s, data, CorridorCheck{o.corridor_mm, o.seed_offset_mm, o.corridor_mm});
 }
 
 void AppendSegmentSeeds(const BoundarySegment& s, const BoundaryLinkOptions& o, std::vector<LabelledPoint>* out) {

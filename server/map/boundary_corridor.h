@@ -71,10 +71,19 @@ struct BoundarySegment {
 Eigen::Vector3d ChordBow(const Eigen::Vector3d& p, const Eigen::Vector3d& q, const Eigen::Vector3d& n_p,
                          const Eigen::Vector3d& n_q);
 
-// True when data contradicts the segment: within options.corridor_mm of it
-// (between its ends; measured from the arc p -> p + bow -> q, a parabola,
-// where the surface lies), a point of a lies more than seed_offset_mm on b's
-// side, or of b on a's, or a point of any third region lies there.
+// What contradicts a segment, measured from the arc p -> p + bow -> q (a
+// parabola, where the surface lies) between its ends: a point of a third
+// region within third_region_mm of it, or, within reach_mm of it, a point of
+// a more than wrong_side_mm on b's side or of b on a's.
+struct CorridorCheck {
+  double third_region_mm = 0.0;
+  double wrong_side_mm = 0.0;
+  double reach_mm = 0.0;
+};
+bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const CorridorCheck& check);
+
+// A link's check: within options.corridor_mm of the segment, any third region,
+// or a or b more than seed_offset_mm on the other's side.
 bool SegmentContradicted(const BoundarySegment& s, const LabelledPointGrid& data, const BoundaryLinkOptions& options);
 
 // The segment's labelled points: every seed_spacing_mm along it,
