@@ -80,6 +80,7 @@ int Main(int argc, char** argv) {
   bool details = false;
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
+  double misclassification_cost = SamplingPlanOptions{}.misclassification_cost;
   bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
@@ -122,6 +123,11 @@ int Main(int argc, char** argv) {
   app.add_option("--continuation-prior", continuation_prior,
                  "boundary plans: weight of a drag across where a crossed boundary would go on straight (0: off, the build before)")
       ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
+  app.add_option("--misclassification-cost", misclassification_cost,
+                 "boundary plans: what a point given the wrong material costs, mu^2, on top of its squared error "
+                 "(boundary_selection.h; 0: squared error alone, the build before)")
+      ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_flag("--friction-boundary-cost", friction_boundary_cost,
                "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
@@ -239,6 +245,7 @@ int Main(int argc, char** argv) {
   base.seed = seed;
   base.follow_boundaries = follow;
   base.continuation_prior = continuation_prior;
+  base.misclassification_cost = misclassification_cost;
   base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;

@@ -29,10 +29,11 @@ constexpr int kShortlist = 16;
 }  // namespace
 
 BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
-                                   const TextureDistanceOptions& metric)
+                                   const TextureDistanceOptions& metric, double misclassification_cost)
     : level_(&level),
       drag_length_mm_(drag_length_mm),
       metric_(metric),
+      misclassification_cost_(misclassification_cost),
       half_window_mm_(0.5 * kWindowShare * drag_length_mm),
       corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
@@ -96,12 +97,28 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   // for bit, as before metrics existed); another rescales both terms.
   const bool friction = metric_.property == TextureProperty::kFriction;
   const double far_scale = friction ? 1.0 : map.PriorTextureVariance(metric_) / map.PriorTextureVariance(Friction());
+  const auto& regions = map.regions();
+  double squared_total = 0.0, misclassified_total = 0.0;
   for (int v = 0; v < nv; ++v) {
     const double p = map.boundary_probability()[v];
+    const int a = map.region()[v], b = map.second_region()[v];
     r.far[v] = area_[v] * map.far_variance()[v] * far_scale;
     r.boundary[v] = friction ? area_[v] * map.boundary_variance()[v]
-                             : area_[v] * p * (1.0 - p) * map.ConfusionCost(map.region()[v], map.second_region()[v], metric_);
+                             : area_[v] * p * (1.0 - p) * map.ConfusionCost(a, b, metric_);
+    squared_total += r.boundary[v];
+    if (misclassification_cost_ > 0.0 && a >= 0 && b >= 0 && regions[a].material != regions[b].material) {
+      const double misclassified = area_[v] * p * (1.0 - p) * misclassification_cost_;
+      r.boundary[v] += misclassified;
+      misclassified_total += misclassified;
+    }
     if (r.boundary[v] > 0.0) r.across[v] = map.CrossingDirection(v);
+  }
+  // The far-from-data term grows with the boundaries' total, so the share of
+  // drags that explore stays what it was and the cost only re-shares the
+  // boundaries' drags among them.
+  if (squared_total > 0.0 && misclassified_total > 0.0) {
+    const double far_growth = (squared_total + misclassified_total) / squared_total;
+    for (double& f : r.far) f *= far_growth;
   }
   for (const Eigen::Vector3d& p : covered) {
     ForEachWithin(p, reach_mm(), [&](int v) { r.far[v] = r.boundary[v] = 0.0; });

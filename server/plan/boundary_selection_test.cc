@@ -106,5 +106,48 @@ TEST(BoundarySelectorTest, TextureCostWeighsABoundaryByItsRoughnessToo) {
   EXPECT_NEAR(far_gain(texture, rough_gap) / far_gain(friction, rough_gap), far_ratio, 1e-6 * far_ratio);
 }
 
+// A misclassification cost c adds c to the squared jump of each boundary
+// between two materials: the low-contrast boundary (masonite | wood, 0.06
+// apart) gains on the glass one (0.23) by the ratio of (jump^2 + c) to
+// jump^2. The far-from-data term grows by the boundaries' total growth, the
+// same factor everywhere, so exploring keeps its share. c = 0 is the squared
+// error alone, to the bit.
+TEST(BoundarySelectorTest, AMisclassificationCostLiftsALowContrastBoundary) {
+  const SurfaceLevel level = testing::Plate();
+  absl::StatusOr<RegionMap> map = GlassMasoniteWood(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  constexpr double kCost = 0.03;
+  const BoundarySelector squared(level, kDragLengthMm), zero(level, kDragLengthMm, BoundarySelector::Friction(), 0.0),
+      priced(level, kDragLengthMm, BoundarySelector::Friction(), kCost);
+  const int jump_gap = squared.NearestVertex({-27.5, 0, 0}, 5.0), rough_gap = squared.NearestVertex({5, 0, 0}, 5.0);
+  ASSERT_TRUE(jump_gap >= 0 && rough_gap >= 0);
+  const std::vector<char> every(level.limit_positions.size(), 1);
+  const BoundarySelection a = squared.Select(*map, every, {}), b = zero.Select(*map, every, {});
+  EXPECT_EQ(a.vertex, b.vertex);
+  EXPECT_EQ(a.gain, b.gain);
+  EXPECT_EQ(a.direction, b.direction);
+  const auto parts = [&](const BoundarySelector& s, int v) {
+    const BoundarySelection x = s.BestDirection(*map, v, {});
+    return std::pair<double, double>{x.gain * x.boundary_share, x.gain * (1.0 - x.boundary_share)};
+  };
+  const auto [jump0, jump_far0] = parts(squared, jump_gap);
+  const auto [rough0, rough_far0] = parts(squared, rough_gap);
+  const auto [jump1, jump_far1] = parts(priced, jump_gap);
+  const auto [rough1, rough_far1] = parts(priced, rough_gap);
+  ASSERT_TRUE(jump0 > 0.0 && rough0 > 0.0);
+  const double jump2 = std::pow(0.23, 2), rough2 = std::pow(0.06, 2);
+  // Nearly every vertex near each gap's middle lies between its own two
+  // regions (a few between glass and wood): 5 %.
+  EXPECT_NEAR(jump1 / jump0, (jump2 + kCost) / jump2, 0.05 * (jump2 + kCost) / jump2);
+  EXPECT_NEAR(rough1 / rough0, (rough2 + kCost) / rough2, 0.05 * (rough2 + kCost) / rough2);
+  EXPECT_GT(rough1 / jump1, 5.0 * rough0 / jump0);
+  const double far_growth = rough_far1 / rough_far0;
+  EXPECT_NEAR(jump_far1 / jump_far0, far_growth, 1e-9 * far_growth);
+  // Between the two boundaries' growths: the total is theirs (and the few
+  // vertices between glass and wood), weighed by their squared errors.
+  EXPECT_GT(far_growth, (jump2 + kCost) / jump2);
+  EXPECT_LT(far_growth, (rough2 + kCost) / rough2);
+}
+
 }  // namespace
 }  // namespace surfmap

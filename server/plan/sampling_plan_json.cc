@@ -164,6 +164,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"quiet_coverage_skip_share", o.quiet_coverage_skip_share},
       {"continuation_prior", o.continuation_prior},
       {"boundary_cost_follows_property", o.boundary_cost_follows_property},
+      {"misclassification_cost", o.misclassification_cost},
   };
 }
 
@@ -248,6 +249,9 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   o.continuation_prior = j.contains("continuation_prior") ? in.Double(j, "options", "continuation_prior") : 0.0;
   // Added later: a plan saved before goes on weighing boundaries by their mu jump, whatever its property.
   o.boundary_cost_follows_property = j.contains("boundary_cost_follows_property") && in.Bool(j, "options", "boundary_cost_follows_property");
+  // Added later: a plan saved before goes on weighing squared error alone.
+  o.misclassification_cost =
+      j.contains("misclassification_cost") ? in.Double(j, "options", "misclassification_cost") : 0.0;
   return o;
 }
 

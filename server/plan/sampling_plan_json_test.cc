@@ -201,6 +201,14 @@ TEST(SaveRestoreTest, APlanSavedBeforeTheBoundaryCostFollowedThePropertyRestores
   ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::boundary_cost_follows_property, "boundary_cost_follows_property", false);
 }
 
+TEST(SaveRestoreTest, APlanSavedBeforeTheMisclassificationCostRestoresWeighingSquaredErrorAlone) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  ASSERT_GT(o.misclassification_cost, 0.0);
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::misclassification_cost, "misclassification_cost", 0.0);
+  o.misclassification_cost = -0.01;
+  EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

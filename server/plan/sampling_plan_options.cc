@@ -37,6 +37,9 @@ bool SamplingPlanOptions::IsValid(std::string* why) const {
   if (!(continuation_prior >= 0.0 && continuation_prior <= 1.0)) {
     return fail(absl::StrCat("continuation_prior must be in [0, 1], got ", continuation_prior));
   }
+  if (!(misclassification_cost >= 0.0 && std::isfinite(misclassification_cost))) {
+    return fail(absl::StrCat("misclassification_cost must be finite and >= 0, got ", misclassification_cost));
+  }
   if (!(coverage_skip_share >= 0.0 && coverage_skip_share <= 1.0)) {
     return fail(absl::StrCat("coverage_skip_share must be in [0, 1], got ", coverage_skip_share));
   }
