@@ -27,7 +27,10 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // from the motion over at least 0.1 mm (friction.cc); at 100 Hz fits are
 // unchanged. Version 6: a piece's mu_se and effective_pairs of such a rig
 // come from its pairs in those groups (drag_pieces.h); at 100 Hz unchanged.
-inline constexpr const char* kEstimatorVersion = "6";
+// Version 7: where no single split is significant, a band inside the stretch
+// (one model outside, another inside) is tested (change_points.h), so a
+// drag across a low-contrast strip finds both its edges.
+inline constexpr const char* kEstimatorVersion = "7";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 // Missing keys keep their defaults; unknown keys and wrong types are errors.

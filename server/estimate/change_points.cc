@@ -149,6 +149,60 @@ Split BestSplit(const ArRowSums& sums, std::span<const double> s, const ChangePo
   return best;
 }
 
+// A band narrower than the stretch: [k1, k2) of one material inside [a, b)
+// of another (a drag across a strip). Binary segmentation's single split sees
+// it diluted: either side of any one split holds both materials, and a 7 mm
+// rubber strip inside masonite was found in ~1 of 4 drags (its edge alone, in
+// every one). The alternative "one model outside, another inside" is tested
+// directly: LR as above with the outside's rows (both stretches, no lag
+// reaching across k1 or k2) fitted together, so still 4 parameters more than
+// the null, over every allowed (k1, k2): each of the three pieces at least the
+// minimum. Scanned every kCoarseStride in both, then every pair within
+// kCoarseStride of the best.
+struct BandSplit {
+  int first = -1;  // -1: no band allowed
+  int second = -1;
+  int candidates = 0;
+  double ratio = 0.0;
+};
+
+double BandLikelihoodRatio(const ArRowSums& sums, int a, int k1, int k2, int b) {
+  const ArRowSums::Sums outside = Add(sums.Rows(a, k1), sums.Rows(k2, b)), inside = sums.Rows(k1, k2);
+  const double n1 = outside[0], n2 = inside[0], n = n1 + n2;
+  return n * std::log(sums.Rss(Add(outside, inside)) / n) - n1 * std::log(sums.Rss(outside) / n1) -
+         n2 * std::log(sums.Rss(inside) / n2);
+}
+
+bool BandAllowed(std::span<const double> s, const ChangePointOptions& o, int a, int k1, int k2, int b) {
+  return SplitAllowed(s, o, a, k1, k2) && SplitAllowed(s, o, k1, k2, b);
+}
+
+BandSplit BestBand(const ArRowSums& sums, std::span<const double> s, const ChangePointOptions& o, int a, int b) {
+  BandSplit best;
+  auto consider = [&](int k1, int k2) {
+    const double ratio = BandLikelihoodRatio(sums, a, k1, k2, b);
+    if (best.first < 0 || ratio > best.ratio) best = {k1, k2, best.candidates, ratio};
+  };
+  for (int k1 = a + 1; k1 < b; ++k1) {
+    int first_k2 = -1;
+    for (int k2 = k1 + 1; k2 < b; ++k2) {
+      if (!BandAllowed(s, o, a, k1, k2, b)) continue;
+      if (first_k2 < 0) first_k2 = k2;
+      ++best.candidates;
+      if ((k1 - a) % kCoarseStride == 0 && (k2 - first_k2) % kCoarseStride == 0) consider(k1, k2);
+    }
+  }
+  if (best.first < 0) return best;
+  const int c1 = best.first, c2 = best.second;
+  for (int k1 = c1 - kCoarseStride + 1; k1 < c1 + kCoarseStride; ++k1) {
+    for (int k2 = c2 - kCoarseStride + 1; k2 < c2 + kCoarseStride; ++k2) {
+      if ((k1 == c1 && k2 == c2) || k1 <= a || k2 >= b || k2 <= k1 || !BandAllowed(s, o, a, k1, k2, b)) continue;
+      consider(k1, k2);
+    }
+  }
+  return best;
+}
+
 // The AR(2) rows leave the two rows after a split out of both sides, so the
 // likelihood ratio is nearly flat over k = c - 2 .. c for a change at c and
 // the first maximum sits up to 2 pairs early. Re-place k within that
@@ -270,7 +324,22 @@ std::vector<ChangePoint> Segment(const ArRowSums& sums, std::span<const double> 
     const Split split = BestSplit(sums, s_mm, options, a, b);
     if (split.index < 0) continue;
     const double critical = ChiSquare4UpperQuantile(options.false_alarm_probability / split.candidates);
-    if (!(split.ratio > critical)) continue;
+    if (!(split.ratio > critical)) {
+      // No one split: a band inside the stretch, tested on its own at the
+      // same false-alarm probability over its own candidates.
+      const BandSplit band = BestBand(sums, s_mm, options, a, b);
+      if (band.first < 0) continue;
+      const double band_critical = ChiSquare4UpperQuantile(options.false_alarm_probability / band.candidates);
+      if (!(band.ratio > band_critical)) continue;
+      const int k1 = RefineSplit(values, a, band.first, band.second);
+      const int k2 = RefineSplit(values, band.first, band.second, b);
+      changes.push_back({k1, 0.5 * (s_mm[k1 - 1] + s_mm[k1]), band.ratio, band_critical});
+      changes.push_back({k2, 0.5 * (s_mm[k2 - 1] + s_mm[k2]), band.ratio, band_critical});
+      stack.push_back({k2 + kChangeGuardPairs, b});
+      stack.push_back({k1 + kChangeGuardPairs, k2 - kChangeGuardPairs});
+      stack.push_back({a, k1 - kChangeGuardPairs});
+      continue;
+    }
     const int k = RefineSplit(values, a, split.index, b);
     changes.push_back({k, 0.5 * (s_mm[k - 1] + s_mm[k]), split.ratio, critical});
     stack.push_back({k + kChangeGuardPairs, b});

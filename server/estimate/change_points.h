@@ -24,7 +24,11 @@
 // "no change"; the split is placed at the largest LR and kept when that
 // exceeds the Bonferroni critical value over the stretch's candidates at the
 // family-wise false-alarm probability (conservative: neighbouring candidates
-// are strongly correlated). Both sides are then searched again. At the end
+// are strongly correlated). Where no split is kept, a band is tested: one
+// model on [k1, k2), another on the rest of the stretch (a drag across a
+// strip; each side of any single split would hold both materials), the same
+// LR with 4 degrees of freedom over every allowed (k1, k2), Bonferroni over
+// those. Both sides (all three pieces) are then searched again. At the end
 // every change is re-placed at the largest LR within the stretch between its
 // neighbouring changes.
 //
