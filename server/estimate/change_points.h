@@ -64,7 +64,9 @@ namespace surfmap {
 inline constexpr int kChangeGuardPairs = 1;
 
 struct ChangePointOptions {
-  // Family-wise false-alarm probability per drag. A map takes ~100-200 drags;
+  // Family-wise false-alarm probability per drag, spent by the split test and
+  // again by the band test where no split is kept (change_points_rates_benchmark
+  // measures what both together fire). A map takes ~100-200 drags;
   // at 1e-3 a whole map expects ~0.1-0.2 false changes, and a false change
   // only splits a drag into two pieces that the map then finds alike.
   double false_alarm_probability = 1e-3;
