@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <utility>
 
 #include "absl/status/status.h"
@@ -165,10 +166,17 @@ Split BestSplit(const ArRowSums& sums, std::span<const double> s, const ChangePo
 // the maps were measured with through the service.
 constexpr int kBandStride = kCoarseStride;
 
+// The widest band tested, in pairs (51 mm at the paper's 0.1 mm): three
+// times a 20 mm drag's window, so a plan's drags are tested for every band.
+// A band wider than that holds enough pairs for a single split at its edge to
+// find it, and the bound keeps the scan O(n) for a drag of any length (a
+// trace of the server's 1,000,000 samples would otherwise take hours).
+constexpr int kMaxBandPairs = 512;
+
 struct BandSplit {
   int first = -1;  // -1: no band allowed
   int second = -1;
-  int candidates = 0;
+  std::int64_t candidates = 0;
   double ratio = 0.0;
 };
 
@@ -191,7 +199,8 @@ BandSplit BestBand(const ArRowSums& sums, std::span<const double> s, const Chang
   };
   // For each k1 the allowed k2 are one interval: the inside's minimum is
   // met from some k2 on, which only moves forward as k1 does (positions do
-  // not decrease), and the right side's from the same last k2 for every k1.
+  // not decrease), and the right side's from the same last k2 for every k1;
+  // the band is at most kMaxBandPairs wide.
   int high = b - 1;
   while (high > a && !(b - high >= o.min_piece_pairs && s[b - 1] - s[high - 1] >= o.min_piece_mm)) --high;
   int low = a + 1;
@@ -200,15 +209,20 @@ BandSplit BestBand(const ArRowSums& sums, std::span<const double> s, const Chang
     low = std::max(low, k1 + 1);
     while (low <= high && !BandAllowed(s, o, a, k1, low, b)) ++low;
     if (low > high) break;
-    best.candidates += high - low + 1;
+    const int last = std::min(high, k1 + kMaxBandPairs);
+    if (low > last) continue;
+    best.candidates += last - low + 1;
     if ((k1 - a) % kBandStride != 0) continue;
-    for (int k2 = low; k2 <= high; k2 += kBandStride) consider(k1, k2);
+    for (int k2 = low; k2 <= last; k2 += kBandStride) consider(k1, k2);
   }
   if (best.first < 0) return best;
   const int c1 = best.first, c2 = best.second;
   for (int k1 = c1 - kBandStride + 1; k1 < c1 + kBandStride; ++k1) {
     for (int k2 = c2 - kBandStride + 1; k2 < c2 + kBandStride; ++k2) {
-      if ((k1 == c1 && k2 == c2) || k1 <= a || k2 >= b || k2 <= k1 || !BandAllowed(s, o, a, k1, k2, b)) continue;
+      if ((k1 == c1 && k2 == c2) || k1 <= a || k2 >= b || k2 <= k1 || k2 - k1 > kMaxBandPairs ||
+          !BandAllowed(s, o, a, k1, k2, b)) {
+        continue;
+      }
       consider(k1, k2);
     }
   }

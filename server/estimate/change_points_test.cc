@@ -111,6 +111,31 @@ TEST(ChangePointsTest, FindsBothEdgesOfALowContrastStripInsideAnotherTexture) {
   }
 }
 
+TEST(ChangePointsTest, FindsStripsInsideALongDragNarrowerAndWiderThanTheBandScan) {
+  // 150 mm of masonite either side: the 7 mm rubber strip is found by the
+  // band test over far more candidates (measured 16 of 20 with both edges
+  // within 1.5 mm), and a 60 mm band, wider than the band test looks
+  // (kMaxBandPairs), by single splits at its edges (measured 19 of 20).
+  constexpr int kSide = 1500;
+  constexpr double kLocationToleranceMm = 1.5;
+  for (const auto& [band, floor] : {std::pair{70, 14}, std::pair{600, 17}}) {
+    int both = 0;
+    for (int seed = 1; seed <= 20; ++seed) {
+      const std::vector<double> s = Positions(2 * kSide + band);
+      auto changes = DetectChangePoints(
+          s, Series({{kSide, 0.36, kMasoniteLike}, {band, 0.305, kRubberLike}, {kSide, 0.36, kMasoniteLike}}, seed));
+      ASSERT_TRUE(changes.ok());
+      auto found_near = [&](int edge) {
+        const double at = 0.5 * (s[edge - 1] + s[edge]);
+        return std::any_of(changes->begin(), changes->end(),
+                           [&](const ChangePoint& c) { return std::abs(c.s_mm - at) <= kLocationToleranceMm; });
+      };
+      both += found_near(kSide) && found_near(kSide + band);
+    }
+    EXPECT_GE(both, floor) << "band of " << band << " pairs";
+  }
+}
+
 TEST(ChangePointsTest, SplitsNearTheEndsButNotShorterThanTheMinimumPiece) {
   const std::vector<double> s = Positions(kPairs);
   ChangePointOptions options;  // min_piece_mm 1.5, min_piece_pairs 12

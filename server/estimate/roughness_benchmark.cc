@@ -84,11 +84,26 @@ void ChangePointsBenchmark(benchmark::State& state, bool with_end) {
   }
   state.SetItemsProcessed(state.iterations());
 }
+// One material over state.range(0) pairs at 0.1 mm: the band test's scan is
+// bounded in width (change_points.cc, kMaxBandPairs), so the time grows
+// about linearly with the drag's length, not with its square.
+void BM_ChangePointsLongDrag(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  std::vector<double> s(n), x(n);
+  const Eigen::VectorXd t = SimulateRoughness(ArParams{{0.60, 0.25}, 0.022}, n, 7);
+  for (int i = 0; i < n; ++i) s[i] = 0.1 * i, x[i] = 0.305 + t(i);
+  for (auto _ : state) {
+    auto changes = DetectChangePoints(s, x);
+    benchmark::DoNotOptimize(changes);
+  }
+  state.SetItemsProcessed(state.iterations() * n);  // items = pairs
+}
 void BM_ChangePointsOneMaterial(benchmark::State& state) { ChangePointsBenchmark(state, false); }
 void BM_ChangePointsEndAndBands(benchmark::State& state) { ChangePointsBenchmark(state, true); }
 
 BENCHMARK(BM_ChangePointsOneMaterial);
 BENCHMARK(BM_ChangePointsEndAndBands);
+BENCHMARK(BM_ChangePointsLongDrag)->Arg(1600)->Arg(16000)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_LagProductsPortable);
 BENCHMARK(BM_LagProductsAvx2);
 
