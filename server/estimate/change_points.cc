@@ -150,6 +150,20 @@ Split BestSplit(const ArRowSums& sums, std::span<const double> s, const ChangePo
   return best;
 }
 
+// How many values at the start of [a, b) the split test cannot split off:
+// the first k - a with k an allowed left side (SplitAllowed's left rule).
+int UnsplittableStart(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
+  int k = a + 1;
+  while (k < b && !(k - a >= o.min_piece_pairs && s[k] - s[a] >= o.min_piece_mm)) ++k;
+  return k - a;
+}
+
+int UnsplittableEnd(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
+  int k = b - 1;
+  while (k > a && !(b - k >= o.min_piece_pairs && s[b - 1] - s[k - 1] >= o.min_piece_mm)) --k;
+  return b - k;
+}
+
 // A band narrower than the stretch: [k1, k2) of one material inside [a, b)
 // of another (a drag across a strip). Binary segmentation's single split sees
 // it diluted: either side of any one split holds both materials, and a 7 mm
@@ -201,11 +215,9 @@ BandSplit BestBand(const ArRowSums& sums, std::span<const double> s, const Chang
   // met from some k2 on, which only moves forward as k1 does (positions do
   // not decrease), and the right side's from the same last k2 for every k1;
   // the band is at most kMaxBandPairs wide.
-  int high = b - 1;
-  while (high > a && !(b - high >= o.min_piece_pairs && s[b - 1] - s[high - 1] >= o.min_piece_mm)) --high;
+  const int high = b - UnsplittableEnd(s, o, a, b);
   int low = a + 1;
-  for (int k1 = a + 1; k1 < b; ++k1) {
-    if (!(k1 - a >= o.min_piece_pairs && s[k1] - s[a] >= o.min_piece_mm)) continue;
+  for (int k1 = a + UnsplittableStart(s, o, a, b); k1 < b; ++k1) {
     low = std::max(low, k1 + 1);
     while (low <= high && !BandAllowed(s, o, a, k1, low, b)) ++low;
     if (low > high) break;
@@ -338,6 +350,11 @@ EndSplit EndChange(std::span<const double> x, int tested, int min_end, double z_
   return {best, best_z};
 }
 
+// The change before element k, midway between it and the one before.
+ChangePoint ChangeAt(std::span<const double> s_mm, int k, double statistic, double critical_value) {
+  return {k, 0.5 * (s_mm[k - 1] + s_mm[k]), statistic, critical_value};
+}
+
 // Binary segmentation of [a, b) (the method above), each change re-placed
 // within the stretch between its neighbours at the end.
 std::vector<ChangePoint> Segment(const ArRowSums& sums, std::span<const double> s_mm, std::span<const double> values,
@@ -359,15 +376,15 @@ std::vector<ChangePoint> Segment(const ArRowSums& sums, std::span<const double> 
       if (!(band.ratio > band_critical)) continue;
       const int k1 = RefineSplit(values, a, band.first, band.second);
       const int k2 = RefineSplit(values, band.first, band.second, b);
-      changes.push_back({k1, 0.5 * (s_mm[k1 - 1] + s_mm[k1]), band.ratio, band_critical});
-      changes.push_back({k2, 0.5 * (s_mm[k2 - 1] + s_mm[k2]), band.ratio, band_critical});
+      changes.push_back(ChangeAt(s_mm, k1, band.ratio, band_critical));
+      changes.push_back(ChangeAt(s_mm, k2, band.ratio, band_critical));
       stack.push_back({k2 + kChangeGuardPairs, b});
       stack.push_back({k1 + kChangeGuardPairs, k2 - kChangeGuardPairs});
       stack.push_back({a, k1 - kChangeGuardPairs});
       continue;
     }
     const int k = RefineSplit(values, a, split.index, b);
-    changes.push_back({k, 0.5 * (s_mm[k - 1] + s_mm[k]), split.ratio, critical});
+    changes.push_back(ChangeAt(s_mm, k, split.ratio, critical));
     stack.push_back({k + kChangeGuardPairs, b});
     stack.push_back({a, k - kChangeGuardPairs});
   }
@@ -386,20 +403,6 @@ std::vector<ChangePoint> Segment(const ArRowSums& sums, std::span<const double> 
     }
   }
   return changes;
-}
-
-// How many values at the start of [a, b) the split test cannot split off:
-// the first k - a with k an allowed left side (SplitAllowed's left rule).
-int UnsplittableStart(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
-  int k = a + 1;
-  while (k < b && !(k - a >= o.min_piece_pairs && s[k] - s[a] >= o.min_piece_mm)) ++k;
-  return k - a;
-}
-
-int UnsplittableEnd(std::span<const double> s, const ChangePointOptions& o, int a, int b) {
-  int k = b - 1;
-  while (k > a && !(b - k >= o.min_piece_pairs && s[b - 1] - s[k - 1] >= o.min_piece_mm)) --k;
-  return b - k;
 }
 
 // Ends of a series split off by EndChange: the start from the stretch
@@ -501,7 +504,7 @@ absl::StatusOr<std::vector<ChangePoint>> DetectChangePoints(std::span<const doub
   std::vector<ChangePoint> changes;
   auto end_point = [&](const EndSplit& e) {
     const int k = e.index;
-    return ChangePoint{k, 0.5 * (s_mm[k - 1] + s_mm[k]), e.z * e.z, ends.z_critical * ends.z_critical};
+    return ChangeAt(s_mm, k, e.z * e.z, ends.z_critical * ends.z_critical);
   };
   if (ends.start.index >= 0) changes.push_back(end_point(ends.start));
   if (b - a > 0) {

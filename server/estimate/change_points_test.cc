@@ -79,6 +79,19 @@ TEST(ChangePointsTest, FindsBothEdgesOfABandNarrowerThanTheDrag) {
   }
 }
 
+// Whether a change lies within 1.5 mm of the boundary before pair `first` and
+// of the one before pair `second` (masonite's texture blurs an edge by about
+// that much: FindsAChangeOfTextureAtAlmostTheSameMu).
+bool BothEdgesFound(const std::vector<ChangePoint>& changes, const std::vector<double>& s, int first, int second) {
+  constexpr double kLocationToleranceMm = 1.5;
+  auto found_near = [&](int edge) {
+    const double at = 0.5 * (s[edge - 1] + s[edge]);
+    return std::any_of(changes.begin(), changes.end(),
+                       [&](const ChangePoint& c) { return std::abs(c.s_mm - at) <= kLocationToleranceMm; });
+  };
+  return found_near(first) && found_near(second);
+}
+
 TEST(ChangePointsTest, FindsBothEdgesOfALowContrastStripInsideAnotherTexture) {
   // A 7 mm rubber strip (0.305) crossed inside masonite (0.36), centred and
   // off centre. No single split separates it: each side of any one holds
@@ -87,7 +100,6 @@ TEST(ChangePointsTest, FindsBothEdgesOfALowContrastStripInsideAnotherTexture) {
   // measured 84, 88 and 81, with at most one change more in 99, 99 and 96
   // (masonite's texture, oscillating with a ~1.9 mm period, sometimes shows
   // a third: FindsAChangeOfTextureAtAlmostTheSameMu).
-  constexpr double kLocationToleranceMm = 1.5;
   for (const auto& [left, right] : {std::pair{60, 30}, std::pair{45, 45}, std::pair{30, 60}}) {
     constexpr int kStrip = 70;
     int both = 0, at_most_one_more = 0;
@@ -98,12 +110,7 @@ TEST(ChangePointsTest, FindsBothEdgesOfALowContrastStripInsideAnotherTexture) {
                                                    {right, 0.36, kMasoniteLike}},
                                                   seed));
       ASSERT_TRUE(changes.ok());
-      auto found_near = [&](int edge) {
-        const double at = 0.5 * (s[edge - 1] + s[edge]);
-        return std::any_of(changes->begin(), changes->end(),
-                           [&](const ChangePoint& c) { return std::abs(c.s_mm - at) <= kLocationToleranceMm; });
-      };
-      both += found_near(left) && found_near(left + kStrip);
+      both += BothEdgesFound(*changes, s, left, left + kStrip);
       at_most_one_more += changes->size() <= 3;
     }
     EXPECT_GE(both, 75) << left << " | strip | " << right;
@@ -117,7 +124,6 @@ TEST(ChangePointsTest, FindsStripsInsideALongDragNarrowerAndWiderThanTheBandScan
   // within 1.5 mm), and a 60 mm band, wider than the band test looks
   // (kMaxBandPairs), by single splits at its edges (measured 19 of 20).
   constexpr int kSide = 1500;
-  constexpr double kLocationToleranceMm = 1.5;
   for (const auto& [band, floor] : {std::pair{70, 14}, std::pair{600, 17}}) {
     int both = 0;
     for (int seed = 1; seed <= 20; ++seed) {
@@ -125,12 +131,7 @@ TEST(ChangePointsTest, FindsStripsInsideALongDragNarrowerAndWiderThanTheBandScan
       auto changes = DetectChangePoints(
           s, Series({{kSide, 0.36, kMasoniteLike}, {band, 0.305, kRubberLike}, {kSide, 0.36, kMasoniteLike}}, seed));
       ASSERT_TRUE(changes.ok());
-      auto found_near = [&](int edge) {
-        const double at = 0.5 * (s[edge - 1] + s[edge]);
-        return std::any_of(changes->begin(), changes->end(),
-                           [&](const ChangePoint& c) { return std::abs(c.s_mm - at) <= kLocationToleranceMm; });
-      };
-      both += found_near(kSide) && found_near(kSide + band);
+      both += BothEdgesFound(*changes, s, kSide, kSide + band);
     }
     EXPECT_GE(both, floor) << "band of " << band << " pairs";
   }
