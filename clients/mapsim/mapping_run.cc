@@ -12,6 +12,8 @@
 #include "server/map/friction_map.h"
 #include "server/map/map_level.h"
 #include "server/map/region_map.h"
+#include "server/mesh/control_simplify.h"
+#include "server/mesh/dense_surface.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/plan_request.h"
@@ -89,7 +91,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.regions.assign_by_texture = options.plan_assign_by_texture;
   plan_options.regions.link_materials = options.plan_link_materials;
   plan_options.regions.links = options.plan_link_options;
-  std::vector<const SurfaceLevel*> levels = PlanLevels(bench.rig().surface());
+  std::vector<const SurfaceLevel*> levels = PlanLevels(bench.surface());
   levels.resize(finest + 1);  // the plan's finest level is its map's
   absl::StatusOr<SamplingPlan> plan = SamplingPlan::Create(levels, plan_options);
   if (!plan.ok()) return plan.status();
@@ -216,12 +218,34 @@ bool MappingRunOptions::IsValid(std::string* why) const {
 absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, std::uint64_t rig_seed,
                                                                    int rig_surface_level, int map_level,
                                                                    const SurfaceScoreOptions& score) {
-  if (map_level == -1) map_level = MapLevelFor(scene.mesh);
-  if (map_level < 0 || map_level > 6) {
+  if (map_level < -1 || map_level > 6) {
     return absl::InvalidArgumentError(absl::StrCat("map level must be in 0..6, got ", map_level));
   }
   if (rig_surface_level < 0 || rig_surface_level > 6) {
     return absl::InvalidArgumentError(absl::StrCat("rig surface level must be in 0..6, got ", rig_surface_level));
+  }
+  std::unique_ptr<MappingBench> bench(new MappingBench());
+  absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(
+      scene.mesh, DefaultSiteSpacingMm(PlanMode::kBoundary, ProbeParameters{}.segment_length_mm));
+  if (!control.ok()) return control.status();
+  if (control->simplified) {
+    // As the service resolves its levels (ResolveAutoLevels): from the limit
+    // positions of level 0, on the scan.
+    const DenseSurface dense(scene.mesh);
+    if (map_level == -1) {
+      absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = LoopSurface::Create(control->mesh, 0, dense.Projection());
+      if (!coarse.ok()) return coarse.status();
+      ControlMesh limit;
+      limit.positions = (*coarse)->level(0).limit_positions;
+      limit.triangles = (*coarse)->level(0).triangles;
+      map_level = MapLevelFor(limit);
+    }
+    absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
+        LoopSurface::Create(control->mesh, map_level, dense.Projection());
+    if (!surface.ok()) return surface.status();
+    bench->simplified_ = *std::move(surface);
+  } else if (map_level == -1) {
+    map_level = MapLevelFor(scene.mesh);
   }
   absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(scene, score);
   if (!scorer.ok()) return scorer.status();
@@ -230,7 +254,6 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
   rig_options.seed = rig_seed;
   absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(std::move(scene), rig_options);
   if (!rig.ok()) return rig.status();
-  std::unique_ptr<MappingBench> bench(new MappingBench());
   bench->rig_ = *std::move(rig);
   bench->map_level_ = map_level;
   bench->scorer_ = std::make_unique<SurfaceScorer>(*std::move(scorer));

@@ -25,6 +25,7 @@
 #include "server/estimate/line_sample.h"
 #include "server/estimate/texture.h"
 #include "server/map/map_level.h"
+#include "server/mesh/loop_surface.h"
 #include "server/plan/reachability.h"
 #include "server/plan/sampling_plan_options.h"
 
@@ -143,14 +144,21 @@ struct MappingRunResult {
 
 // The scene's rig, levels and scorer, created once and shared by several
 // runs (runs do not modify it).
+//
+// The plan and the map run where the service's would: on the scene's mesh
+// when it is coarse enough to be a control mesh (the hand-made scenes), and
+// on the control mesh the service makes of a dense one otherwise (a scan:
+// ControlMeshForSpacing at the BOUNDARY default spacing, its limit surface
+// projected onto the scan; server/jobs/surface_cache.cc). The rig always
+// drags the scene's own surface, as a real rig drags the object.
 class MappingBench {
  public:
   // The rig's surface is refined to max(rig_surface_level, map_level - 1)
   // (finer = smoother drag paths; ~2 mm edges are as smooth as a drag needs);
-  // map_level -1 = MapLevelFor(scene mesh): edges of ~1 mm, the plan
+  // map_level -1 = MapLevelFor(control mesh): edges of ~1 mm, the plan
   // kPlanLevelsBelowMap coarser, as the service chooses them. Errors:
   // INVALID_ARGUMENT for levels outside 0..6 or a scene mesh the rig
-  // rejects; the scorer's errors.
+  // rejects; the scorer's errors; a dense mesh that cannot be simplified.
   static absl::StatusOr<std::unique_ptr<MappingBench>> Create(Scene scene, std::uint64_t rig_seed,
                                                               int rig_surface_level = 3, int map_level = -1,
                                                               const SurfaceScoreOptions& score = {});
@@ -159,14 +167,19 @@ class MappingBench {
   const Scene& scene() const { return rig_->scene(); }
   int map_level() const { return map_level_; }
   int plan_level() const { return std::max(0, map_level_ - kPlanLevelsBelowMap); }
-  const SurfaceLevel& level(int k) const { return rig_->surface().level(k); }
+  // The plan's and the map's surface: the rig's, or the simplified one.
+  const LoopSurface& surface() const { return simplified_ ? *simplified_ : rig_->surface(); }
+  const SurfaceLevel& level(int k) const { return surface().level(k); }
   const SurfaceLevel& map_surface() const { return level(map_level_); }
   const SurfaceScorer& scorer() const { return *scorer_; }
-  int control_vertices() const { return static_cast<int>(scene().mesh.positions.size()); }
+  // Of the control mesh the plan runs on (the budget's unit).
+  int control_vertices() const { return static_cast<int>(level(0).limit_positions.size()); }
+  bool simplified() const { return simplified_ != nullptr; }
 
  private:
   MappingBench() = default;
   std::unique_ptr<SimulatedRig> rig_;
+  std::unique_ptr<LoopSurface> simplified_;  // null: the scene's mesh is the control mesh
   int map_level_ = 0;
   std::unique_ptr<SurfaceScorer> scorer_;
 };

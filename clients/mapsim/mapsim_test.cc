@@ -6,6 +6,7 @@
 #include "clients/mapsim/mapping_report.h"
 #include "clients/mapsim/mapping_run.h"
 #include "clients/sim/rig/scene.h"
+#include "server/mesh/dense_surface.h"
 
 namespace surfmap::mapsim {
 namespace {
@@ -71,6 +72,48 @@ TEST(MappingRunTest, SummarisesTheMapsRegionsWithTheTruthUnderTheirPieces) {
   const std::string table = FormatMapRegions(*run, (*bench)->scene());
   EXPECT_NE(table.find("truth under its pieces"), std::string::npos) << table;
   EXPECT_NE(table.find("wood 100 %"), std::string::npos) << table;  // the plate itself
+}
+
+// A scan is mapped on the control mesh the service makes of it, not on the
+// scan's own vertices: before, surfmap-mapsim planned scan_vase_m's 2,500
+// scan vertices as level-0 sites (a run took over 10 minutes) and mapped
+// scan_pebble_m with 122 drags where the service gives it ~250.
+TEST(MappingBenchTest, PlansAScanOnTheServicesSimplifiedControlMesh) {
+  absl::StatusOr<Scene> scene = LoadSceneByName("scan_pebble_m");
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const ControlMesh scan = scene->mesh;
+  absl::StatusOr<std::unique_ptr<MappingBench>> bench = MappingBench::Create(*std::move(scene), 5);
+  ASSERT_TRUE(bench.ok()) << bench.status();
+  const MappingBench& b = **bench;
+  EXPECT_TRUE(b.simplified());
+  // Sites ~13 mm apart over a pebble of ~28,000 mm^2: on the order of 170,
+  // a fifteenth of the scan's vertices.
+  EXPECT_LT(b.control_vertices(), static_cast<int>(scan.positions.size()) / 8);
+  EXPECT_GT(b.control_vertices(), 50);
+  EXPECT_EQ(b.map_surface().limit_positions.size(), b.surface().level(b.map_level()).limit_positions.size());
+  // Every level lies on the scan (projected there), not on the control
+  // mesh's chords: within the scan's own 0.05 mm noise and rounding.
+  const DenseSurface dense(scan);
+  for (int k : {0, b.plan_level(), b.map_level()}) {
+    double worst = 0.0;
+    for (const Eigen::Vector3d& p : b.level(k).limit_positions) {
+      Eigen::Vector3d q = p, n = Eigen::Vector3d::UnitZ();
+      dense.Project(q, n);
+      worst = std::max(worst, (q - p).norm());
+    }
+    EXPECT_LT(worst, 1e-6) << "level " << k;
+  }
+}
+
+TEST(MappingBenchTest, PlansAHandMadeControlMeshAsItIs) {
+  absl::StatusOr<Scene> scene = LoadSceneByName("plate");
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const int vertices = static_cast<int>(scene->mesh.positions.size());
+  absl::StatusOr<std::unique_ptr<MappingBench>> bench = MappingBench::Create(*std::move(scene), 5);
+  ASSERT_TRUE(bench.ok()) << bench.status();
+  EXPECT_FALSE((*bench)->simplified());
+  EXPECT_EQ((*bench)->control_vertices(), vertices);
+  EXPECT_EQ(&(*bench)->surface(), &(*bench)->rig().surface());
 }
 
 }  // namespace

@@ -179,8 +179,4 @@ absl::StatusOr<JobParams> JobParamsFromJson(const nlohmann::json& j) {
   return p;
 }
 
-double DefaultSiteSpacingMm(PlanMode mode, double drag_length_mm) {
-  return mode == PlanMode::kBoundary ? kBoundarySiteSpacingShare * drag_length_mm : drag_length_mm;
-}
-
 }  // namespace surfmap

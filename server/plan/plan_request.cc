@@ -17,4 +17,8 @@ SamplingPlanOptions PlanOptionsFor(const PlanRequest& r) {
   return o;
 }
 
+double DefaultSiteSpacingMm(PlanMode mode, double drag_length_mm) {
+  return mode == PlanMode::kBoundary ? kBoundarySiteSpacingShare * drag_length_mm : drag_length_mm;
+}
+
 }  // namespace surfmap

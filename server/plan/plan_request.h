@@ -37,6 +37,22 @@ struct PlanRequest {
   Reachability reach = DefaultPlanOptions().reach;  // sites outside are not planned
 };
 
+// BOUNDARY's default site spacing as a share of the drag length. Its budget
+// is 1.5 drags per level-0 site, so on a scan the server simplifies, the
+// spacing sets how many drags the object gets. A drag apart (the other
+// modes' default), two scan-like held-out objects (clients/sim/scenes
+// scan_pebble_m, scan_vase_m) lost whole drag-sized features on half their
+// seeds (worst region 34 % mean); the bundled scenes, on which the method was
+// developed, have hand-made control meshes 13-20 mm apart (sqrt(area /
+// vertices) for 20 mm drags), and 0.65 puts a scan at the dense end of that
+// range (docs/method.md, "A scan's site spacing").
+inline constexpr double kBoundarySiteSpacingShare = 0.65;
+
+// The spacing a job gets when its spec leaves it at 0: the drag length for
+// UNIFORM, ADAPTIVE and UNCERTAINTY (each site is dragged once, a drag
+// apart), kBoundarySiteSpacingShare of it for BOUNDARY.
+double DefaultSiteSpacingMm(PlanMode mode, double drag_length_mm);
+
 // Everything the request does not name keeps SamplingPlanOptions' default.
 SamplingPlanOptions PlanOptionsFor(const PlanRequest& request);
 
