@@ -81,6 +81,7 @@ int Main(int argc, char** argv) {
   bool follow = false;
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double misclassification_cost = SamplingPlanOptions{}.misclassification_cost;
+  bool material_mu_risk = SamplingPlanOptions{}.material_mu_risk;
   bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
@@ -128,6 +129,10 @@ int Main(int argc, char** argv) {
                  "boundary plans: what a point given the wrong material costs, mu^2, on top of its squared error "
                  "(boundary_selection.h; 0: squared error alone, the build before)")
       ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--material-mu-risk", material_mu_risk,
+                 "boundary plans: a drag also gains by settling a material's mu known too roughly to tell from "
+                 "another's (boundary_selection.h; false: the build before) (true|false)")
       ->capture_default_str();
   app.add_flag("--friction-boundary-cost", friction_boundary_cost,
                "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
@@ -246,6 +251,7 @@ int Main(int argc, char** argv) {
   base.follow_boundaries = follow;
   base.continuation_prior = continuation_prior;
   base.misclassification_cost = misclassification_cost;
+  base.material_mu_risk = material_mu_risk;
   base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;

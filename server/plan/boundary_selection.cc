@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <tuple>
 
@@ -28,12 +29,22 @@ constexpr int kShortlist = 16;
 
 }  // namespace
 
+double MaterialMuRiskGain(double area_mm2, double mu_se, double gap, double piece_mm, double length_mm,
+                          double misclassification_cost) {
+  if (!(mu_se > 0.0) || !(length_mm > 0.0) || !(piece_mm > 0.0) || !(area_mm2 > 0.0)) return 0.0;
+  auto wrong = [gap](double se) { return std::erfc(gap / (2.0 * se * std::numbers::sqrt2)); };
+  const double se_after = mu_se * std::sqrt(piece_mm / (piece_mm + length_mm));
+  return area_mm2 * misclassification_cost * (wrong(mu_se) - wrong(se_after));
+}
+
 BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
-                                   const TextureDistanceOptions& metric, double misclassification_cost)
+                                   const TextureDistanceOptions& metric, double misclassification_cost,
+                                   bool material_mu_risk)
     : level_(&level),
       drag_length_mm_(drag_length_mm),
       metric_(metric),
       misclassification_cost_(misclassification_cost),
+      material_mu_risk_(material_mu_risk),
       half_window_mm_(0.5 * kWindowShare * drag_length_mm),
       corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
@@ -120,10 +131,84 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
     const double far_growth = (squared_total + misclassified_total) / squared_total;
     for (double& f : r.far) f *= far_growth;
   }
+  AddMaterialRisks(map, &r);
   for (const Eigen::Vector3d& p : covered) {
-    ForEachWithin(p, reach_mm(), [&](int v) { r.far[v] = r.boundary[v] = 0.0; });
+    ForEachWithin(p, reach_mm(), [&](int v) {
+      r.far[v] = r.boundary[v] = r.material_density[v] = 0.0;
+      if (!r.material.empty()) r.material[v] = -1;
+    });
   }
   return r;
+}
+
+
+void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) const {
+  const int nv = static_cast<int>(level_->limit_positions.size());
+  r->material_density.assign(nv, 0.0);
+  if (!material_mu_risk_ || misclassification_cost_ <= 0.0) return;
+  const auto& regions = map.regions();
+  int materials = 0;
+  for (const TextureRegion& region : regions) materials = std::max(materials, region.material + 1);
+  if (materials < 2) return;
+  std::vector<MaterialRisk>& m = r->materials;
+  m.assign(materials, {});
+  std::vector<double> mu(materials, 0.0);
+  std::vector<bool> seen(materials, false);
+  for (const TextureRegion& region : regions) {
+    if (region.material < 0 || seen[region.material]) continue;
+    seen[region.material] = true;
+    MaterialRisk& risk = m[region.material];
+    mu[region.material] = region.statistics.mu;
+    risk.mu_se = region.statistics.mu_se;
+    for (int i : region.mu_pieces) {
+      const LinePiece& piece = map.pieces()[i].piece;
+      risk.piece_mm += piece.end_mm - piece.start_mm;
+    }
+  }
+  for (int a = 0; a < materials; ++a) {
+    m[a].gap = std::numeric_limits<double>::infinity();
+    for (int b = 0; b < materials; ++b) {
+      if (b != a && seen[b]) m[a].gap = std::min(m[a].gap, std::abs(mu[a] - mu[b]));
+    }
+  }
+  r->material.assign(nv, -1);
+  for (int v = 0; v < nv; ++v) {
+    const int region = map.region()[v];
+    if (region < 0) continue;
+    r->material[v] = regions[region].material;
+    if (r->material[v] >= 0) m[r->material[v]].area += area_[v];
+  }
+  // For the shortlist: a drag inside the material gains Gain(window) over
+  // its disc.
+  const double window = 2.0 * half_window_mm_, disc = std::numbers::pi * half_window_mm_ * half_window_mm_;
+  std::vector<double> density(materials);
+  for (int a = 0; a < materials; ++a) density[a] = Gain(m[a], window) / disc;
+  for (int v = 0; v < nv; ++v) {
+    if (r->material[v] >= 0) r->material_density[v] = area_[v] * density[r->material[v]];
+  }
+}
+
+double BoundarySelector::MaterialGainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
+                                           const Removable& removable) const {
+  if (removable.materials.empty()) return 0.0;
+  const auto& x = level_->limit_positions;
+  const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
+  // The share of the window in each material: of the area within half the
+  // corridor of its path.
+  const double band = 0.5 * corridor_mm_;
+  std::vector<double> in(removable.materials.size(), 0.0);
+  double total = 0.0;
+  for (int w : near) {
+    if (DistanceToSegment(x[w], a, b) > band) continue;
+    total += area_[w];
+    if (removable.material[w] >= 0) in[removable.material[w]] += area_[w];
+  }
+  if (!(total > 0.0)) return 0.0;
+  double gain = 0.0;
+  for (std::size_t m = 0; m < in.size(); ++m) {
+    if (in[m] > 0.0) gain += Gain(removable.materials[m], 2.0 * half_window_mm_ * in[m] / total);
+  }
+  return gain;
 }
 
 std::pair<double, double> BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
@@ -151,7 +236,7 @@ BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& remov
     const double angle = std::numbers::pi * k / kDirections;
     const Eigen::Vector3d u = std::cos(angle) * t1 + std::sin(angle) * t2;
     const auto [far, on_boundary] = GainAlong(v, u, near, removable);
-    const double gain = far + on_boundary;
+    const double gain = far + on_boundary + MaterialGainAlong(v, u, near, removable);
     if (gain > best.gain) {
       best.vertex = v;
       best.gain = gain;
@@ -176,7 +261,9 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
   for (int c = 0; c < candidates; ++c) {
     if (!candidate[c]) continue;
     double sum = 0.0;
-    ForEachWithin(x[c], half_window_mm_, [&](int v) { sum += removable.far[v] + removable.boundary[v]; });
+    ForEachWithin(x[c], half_window_mm_, [&](int v) {
+      sum += removable.far[v] + removable.boundary[v] + removable.material_density[v];
+    });
     if (sum > 0.0) scored.emplace_back(-sum, c);
   }
   const std::size_t keep = std::min<std::size_t>(kShortlist, scored.size());
@@ -193,7 +280,7 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
     std::vector<int> near;
     ForEachWithin(x[d.vertex], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
     const auto [far, on_boundary] = GainAlong(d.vertex, d.direction, near, removable);
-    const double gain = far + on_boundary + d.extra_gain;
+    const double gain = far + on_boundary + d.extra_gain + MaterialGainAlong(d.vertex, d.direction, near, removable);
     if (gain > best.gain) {
       best.vertex = d.vertex;
       best.gain = gain;

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 #include "server/map/testing/map_pieces.h"
 
@@ -147,6 +148,76 @@ TEST(BoundarySelectorTest, AMisclassificationCostLiftsALowContrastBoundary) {
   // vertices between glass and wood), weighed by their squared errors.
   EXPECT_GT(far_growth, (jump2 + kCost) / jump2);
   EXPECT_LT(far_growth, (rough2 + kCost) / rough2);
+}
+
+// The pebble's strip (MaterialMuRiskGain's comment): 260 mm^2 of masonite
+// read 0.325 +- 0.017 from 80 mm of pieces, 0.02 from rubber's mu; a 16 mm
+// drag along it lowers the chance it reads nearer rubber than its own truth
+// from 0.556 to 0.519 (normal quantiles), worth 260 x 0.03 x 0.037.
+TEST(MaterialMuRiskGainTest, IsTheFallInTheChanceOfReadingNearerAnotherMaterial) {
+  EXPECT_NEAR(MaterialMuRiskGain(260.0, 0.017, 0.02, 80.0, 16.0, 0.03), 0.28895, 1e-5);
+  // A longer drag settles more; a settled or an unseparated mu gains nothing.
+  EXPECT_GT(MaterialMuRiskGain(260.0, 0.017, 0.02, 80.0, 32.0, 0.03), MaterialMuRiskGain(260.0, 0.017, 0.02, 80.0, 16.0, 0.03));
+  EXPECT_LT(MaterialMuRiskGain(260.0, 0.002, 0.055, 80.0, 16.0, 0.03), 1e-12);
+  EXPECT_EQ(MaterialMuRiskGain(260.0, 0.017, 0.0, 80.0, 16.0, 0.03), 0.0);
+  EXPECT_EQ(MaterialMuRiskGain(260.0, 0.017, 0.02, 80.0, 16.0, 0.0), 0.0);
+  EXPECT_EQ(MaterialMuRiskGain(260.0, 0.017, 0.02, 0.0, 16.0, 0.03), 0.0);  // no pieces: nothing to settle
+}
+
+// Rubber (0.305, known to 0.002) over x < 0; a masonite strip x in (5, 11)
+// crossed by two 6 mm pieces reading `strip_mu` +- `strip_se`; wood (0.42)
+// beyond x = 20.
+absl::StatusOr<RegionMap> RubberStripWood(const SurfaceLevel& level, double strip_mu, double strip_se) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-45.0, -35.0, -25.0, -15.0, -5.0}) {
+    pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.305, 0.0, true));
+  }
+  for (double y : {-15.0, 15.0}) {
+    MapPiece strip = testing::MasonitePiece(drag++, {5, y, 0}, {11, y, 0});
+    strip.piece.texture.mu = strip_mu;
+    strip.piece.texture.mu_std = 0.13;  // masonite's per-pair spread: unlike rubber's
+    strip.piece.mu_se = strip_se;
+    pieces.push_back(strip);
+  }
+  for (double x : {25.0, 35.0, 45.0}) pieces.push_back(testing::WoodPiece(drag++, {x, -20, 0}, {x, 20, 0}));
+  return testing::MapOfPieces(level, pieces);
+}
+
+TEST(BoundarySelectorTest, AMaterialWhoseMuIsNotSettledDrawsADragWhileItIsNearAnothers) {
+  const SurfaceLevel level = testing::Plate();
+  constexpr double kCost = 0.03;
+  const BoundarySelector plain(level, kDragLengthMm, BoundarySelector::Friction(), kCost),
+      risk(level, kDragLengthMm, BoundarySelector::Friction(), kCost, /*material_mu_risk=*/true);
+  const int middle = plain.NearestVertex({8, 12, 0}, 3.0);
+  ASSERT_GE(middle, 0);
+  // Unsettled: 0.33 +- 0.03 per piece, 0.025 from rubber.
+  absl::StatusOr<RegionMap> rough = RubberStripWood(level, 0.33, 0.03);
+  ASSERT_TRUE(rough.ok()) << rough.status();
+  // The drag is placed on the strip where a piece crossed it.
+  const TextureRegion& under = rough->regions()[rough->region()[middle]];
+  ASSERT_NEAR(under.statistics.mu, 0.33, 1e-9);
+  const BoundarySelection without = plain.BestDirection(*rough, middle, {});
+  const BoundarySelection with = risk.BestDirection(*rough, middle, {});
+  ASSERT_GT(without.gain, 0.0);
+  // The surplus is positive, and at most what a whole window of 16 mm on
+  // the strip's material would gain: its area as the map draws it (a third
+  // of each triangle to each corner), its two pieces' 12 mm behind its mu.
+  double area = 0.0;
+  const auto& x = level.limit_positions;
+  for (const auto& t : level.triangles) {
+    const double third = 0.5 * (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm() / 3.0;
+    for (int v : t) area += rough->regions()[rough->region()[v]].material == under.material ? third : 0.0;
+  }
+  const double whole = MaterialMuRiskGain(area, under.statistics.mu_se, 0.025, 12.0, 16.0, kCost);
+  EXPECT_GT(with.gain, without.gain);
+  EXPECT_LT(with.gain - without.gain, whole);
+  // Settled: 0.36 +- 0.002, 0.055 from rubber; the risk adds nothing at all.
+  absl::StatusOr<RegionMap> settled = RubberStripWood(level, 0.36, 0.002);
+  ASSERT_TRUE(settled.ok()) << settled.status();
+  const BoundarySelection a = plain.BestDirection(*settled, middle, {}), b = risk.BestDirection(*settled, middle, {});
+  EXPECT_NEAR(a.gain, b.gain, 1e-12 * a.gain);
+  EXPECT_EQ(a.direction, b.direction);
 }
 
 }  // namespace

@@ -165,6 +165,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"continuation_prior", o.continuation_prior},
       {"boundary_cost_follows_property", o.boundary_cost_follows_property},
       {"misclassification_cost", o.misclassification_cost},
+      {"material_mu_risk", o.material_mu_risk},
   };
 }
 
@@ -252,6 +253,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   // Added later: a plan saved before goes on weighing squared error alone.
   o.misclassification_cost =
       j.contains("misclassification_cost") ? in.Double(j, "options", "misclassification_cost") : 0.0;
+  // Added later: a plan saved before goes on without the materials' mu risk.
+  o.material_mu_risk = j.contains("material_mu_risk") && in.Bool(j, "options", "material_mu_risk");
   return o;
 }
 
