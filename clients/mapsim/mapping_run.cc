@@ -236,10 +236,7 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
     if (map_level == -1) {
       absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = LoopSurface::Create(control->mesh, 0, dense.Projection());
       if (!coarse.ok()) return coarse.status();
-      ControlMesh limit;
-      limit.positions = (*coarse)->level(0).limit_positions;
-      limit.triangles = (*coarse)->level(0).triangles;
-      map_level = MapLevelFor(limit);
+      map_level = MapLevelFor((*coarse)->level(0));
     }
     absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
         LoopSurface::Create(control->mesh, map_level, dense.Projection());

@@ -92,12 +92,7 @@ PlanRequest PlanRequestOf(const JobParams& p) {
 SamplingPlanOptions PlanOptionsFor(const JobParams& p) { return PlanOptionsFor(PlanRequestOf(p)); }
 
 void ResolveAutoLevels(const SurfaceLevel& control, JobParams& p) {
-  // The median edge of level 0 (limit positions: within a fraction of an
-  // edge of the control mesh's), halved per level.
-  ControlMesh mesh;
-  mesh.positions = control.limit_positions;
-  mesh.triangles = control.triangles;
-  const int auto_map = MapLevelFor(mesh);
+  const int auto_map = MapLevelFor(control);
   if (p.finest_level == kAutoLevel) {
     const int map = p.map_level == kAutoLevel ? auto_map : p.map_level;
     p.finest_level = std::max(p.coarsest_level, map - kPlanLevelsBelowMap);

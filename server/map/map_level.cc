@@ -28,4 +28,11 @@ int MapLevelFor(const ControlMesh& mesh, double edge_mm, int max_level) {
   return level;
 }
 
+int MapLevelFor(const SurfaceLevel& level0, double edge_mm, int max_level) {
+  ControlMesh mesh;
+  mesh.positions = level0.limit_positions;
+  mesh.triangles = level0.triangles;
+  return MapLevelFor(mesh, edge_mm, max_level);
+}
+
 }  // namespace surfmap

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "server/mesh/control_mesh.h"
+#include "server/mesh/loop_surface.h"
 
 namespace surfmap {
 
@@ -26,5 +27,11 @@ inline constexpr int kMaxMapLevel = 5;
 // edge once per level, is at most `edge_mm`, capped at `max_level`; 0 for an
 // empty mesh.
 int MapLevelFor(const ControlMesh& mesh, double edge_mm = kMapEdgeMm, int max_level = kMaxMapLevel);
+
+// The same from a surface's level 0: its limit positions lie within a
+// fraction of an edge of the control mesh's, and on the scan where the
+// control mesh is a simplification (the service's jobs and surfmap-mapsim
+// both choose the map level this way).
+int MapLevelFor(const SurfaceLevel& level0, double edge_mm = kMapEdgeMm, int max_level = kMaxMapLevel);
 
 }  // namespace surfmap

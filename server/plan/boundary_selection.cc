@@ -141,7 +141,6 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   return r;
 }
 
-
 void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) const {
   const int nv = static_cast<int>(level_->limit_positions.size());
   r->material_density.assign(nv, 0.0);
@@ -188,40 +187,32 @@ void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) cons
   }
 }
 
-double BoundarySelector::MaterialGainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
-                                           const Removable& removable) const {
-  if (removable.materials.empty()) return 0.0;
-  const auto& x = level_->limit_positions;
-  const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
-  // The share of the window in each material: of the area within half the
-  // corridor of its path.
-  const double band = 0.5 * corridor_mm_;
-  std::vector<double> in(removable.materials.size(), 0.0);
-  double total = 0.0;
-  for (int w : near) {
-    if (DistanceToSegment(x[w], a, b) > band) continue;
-    total += area_[w];
-    if (removable.material[w] >= 0) in[removable.material[w]] += area_[w];
-  }
-  if (!(total > 0.0)) return 0.0;
-  double gain = 0.0;
-  for (std::size_t m = 0; m < in.size(); ++m) {
-    if (in[m] > 0.0) gain += Gain(removable.materials[m], 2.0 * half_window_mm_ * in[m] / total);
-  }
-  return gain;
-}
-
-std::pair<double, double> BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
-                                                     const Removable& removable) const {
+BoundarySelector::Gains BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
+                                                   const Removable& removable) const {
   const auto& x = level_->limit_positions;
   const Eigen::Vector3d a = x[v] - half_window_mm_ * u, b = x[v] + half_window_mm_ * u;
   const double h2 = half_window_mm_ * half_window_mm_;
-  double far = 0.0, on_boundary = 0.0;
+  // The window's share in each material: of the area within half the
+  // corridor of its path.
+  const double band = 0.5 * corridor_mm_;
+  std::vector<double> in(removable.materials.size(), 0.0);
+  double band_area = 0.0;
+  Gains g;
   for (int w : near) {
-    if (DistanceToSegment(x[w], a, b) <= corridor_mm_) far += removable.far[w];
-    if ((x[w] - x[v]).squaredNorm() <= h2) on_boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
+    const double d = DistanceToSegment(x[w], a, b);
+    if (d <= corridor_mm_) g.far += removable.far[w];
+    if ((x[w] - x[v]).squaredNorm() <= h2) g.boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
+    if (!in.empty() && d <= band) {
+      band_area += area_[w];
+      if (removable.material[w] >= 0) in[removable.material[w]] += area_[w];
+    }
   }
-  return {far, on_boundary};
+  if (band_area > 0.0) {
+    for (std::size_t m = 0; m < in.size(); ++m) {
+      if (in[m] > 0.0) g.material += Gain(removable.materials[m], 2.0 * half_window_mm_ * in[m] / band_area);
+    }
+  }
+  return g;
 }
 
 BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& removable) const {
@@ -235,12 +226,12 @@ BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& remov
   for (int k = 0; k < kDirections; ++k) {
     const double angle = std::numbers::pi * k / kDirections;
     const Eigen::Vector3d u = std::cos(angle) * t1 + std::sin(angle) * t2;
-    const auto [far, on_boundary] = GainAlong(v, u, near, removable);
-    const double gain = far + on_boundary + MaterialGainAlong(v, u, near, removable);
+    const Gains g = GainAlong(v, u, near, removable);
+    const double gain = g.total();
     if (gain > best.gain) {
       best.vertex = v;
       best.gain = gain;
-      best.boundary_share = on_boundary / gain;
+      best.boundary_share = g.boundary / gain;
       best.direction = u;
     }
   }
@@ -279,12 +270,12 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
     if (d.vertex < 0 || d.vertex >= nv) continue;
     std::vector<int> near;
     ForEachWithin(x[d.vertex], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
-    const auto [far, on_boundary] = GainAlong(d.vertex, d.direction, near, removable);
-    const double gain = far + on_boundary + d.extra_gain + MaterialGainAlong(d.vertex, d.direction, near, removable);
+    const Gains g = GainAlong(d.vertex, d.direction, near, removable);
+    const double gain = g.far + g.boundary + d.extra_gain + g.material;
     if (gain > best.gain) {
       best.vertex = d.vertex;
       best.gain = gain;
-      best.boundary_share = (on_boundary + d.extra_gain) / gain;
+      best.boundary_share = (g.boundary + d.extra_gain) / gain;
       best.direction = d.direction;
       best.directed = i;
     }

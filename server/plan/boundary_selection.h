@@ -162,12 +162,15 @@ class BoundarySelector {
   BoundarySelection ScanDirections(int v, const Removable& removable) const;
   // far + boundary gain of a drag at v along u (unit tangent), over `near`
   // (the vertices within the window's reach of v).
-  std::pair<double, double> GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
-                                      const Removable& removable) const;
-  // The material gain of a drag at v along u (MaterialRisk::Gain of the
-  // window's length in each material).
-  double MaterialGainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
-                           const Removable& removable) const;
+  // What a drag at v along u (unit tangent) gains, over `near` (the
+  // vertices within the window's reach of v), in one pass: far from data,
+  // at boundaries, and by settling the materials' mu (MaterialMuRiskGain of
+  // the window's length in each material).
+  struct Gains {
+    double far = 0.0, boundary = 0.0, material = 0.0;
+    double total() const { return far + boundary + material; }
+  };
+  Gains GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near, const Removable& removable) const;
   // The materials' risks (material_mu_risk; nothing without it or c).
   void AddMaterialRisks(const RegionMap& map, Removable* r) const;
   double Gain(const MaterialRisk& m, double length_mm) const {
