@@ -75,6 +75,10 @@ struct MappingRunOptions {
   // RegionMapOptions::assign_by_texture, likewise.
   bool plan_assign_by_texture = false;
   bool map_assign_by_texture = true;
+  // RegionMapOptions::move_only_to_alike_material of the map scored (the
+  // plan's map keeps its own default): false alone compares the build
+  // before on the same drags.
+  bool map_move_only_to_alike_material = RegionMapOptions{}.move_only_to_alike_material;
   // The links of the map scored (the plan's map carries no chain on,
   // PlanRegionMapOptions).
   BoundaryLinkOptions map_link_options;

@@ -91,6 +91,7 @@ int Main(int argc, char** argv) {
   bool map_assign = MappingRunOptions{}.map_assign_by_texture;
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
+  bool map_move_only_alike = MappingRunOptions{}.map_move_only_to_alike_material;
   double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
@@ -178,6 +179,10 @@ int Main(int argc, char** argv) {
                  "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-move-only-alike", map_move_only_alike,
+                 "the scored map moves a misfit piece only to a material its mu is alike to (true|false; "
+                 "false: the build before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
@@ -259,6 +264,7 @@ int Main(int argc, char** argv) {
   base.map_split_against_materials = map_split;
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
+  base.map_move_only_to_alike_material = map_move_only_alike;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map_min_mu_piece_mm = map_mu_min_mm;

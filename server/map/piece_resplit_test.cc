@@ -246,5 +246,51 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsMovedToThatMaterial) {
   }
 }
 
+// The first test's intruder: rubber's texture, but a mu of 0.40 known to
+// 0.005, which no merge rule calls rubber's (0.305). Rubber's texture
+// explains its series best, so it counts in no material's mu; with
+// move_only_to_alike_material it stays in the masonite region it joined and
+// the map reads masonite where it lies; without it (the build before) it
+// moves to rubber and the map reads 0.305 over a piece that measured 0.40.
+TEST(MisfitPieceTest, APieceMovesOnlyToAMaterialItsMuIsAlikeTo) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  std::uint64_t seed = 11;
+  std::vector<int> rubber, masonite;
+  for (double x : {-40.0, -32.0, -24.0, -16.0}) {
+    rubber.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+  }
+  for (double x : {16.0, 24.0, 32.0, 40.0}) {
+    masonite.push_back(drag);
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+  }
+  const int intruder = drag;
+  pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
+  pieces.back().piece.effective_pairs = 1.0;
+  pieces.back().piece.mu_se = 0.005;
+  const SurfaceLevel level = Plate();
+  for (const bool only_alike : {true, false}) {
+    SCOPED_TRACE(only_alike ? "only to an alike material" : "to any (the build before)");
+    RegionMapOptions options;
+    options.move_only_to_alike_material = only_alike;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(pieces).ok());
+    const auto& regions = map->regions();
+    const int rubber_material = regions[map->piece_region()[rubber[0]]].material;
+    const int masonite_material = regions[map->piece_region()[masonite[0]]].material;
+    ASSERT_NE(rubber_material, masonite_material);
+    EXPECT_EQ(map->pieces_moved_by_texture(), only_alike ? 0 : 1);
+    EXPECT_EQ(regions[map->piece_region()[intruder]].material, only_alike ? masonite_material : rubber_material);
+    absl::StatusOr<MapValue> value = map->ValueAtPosition(pieces[intruder].points.front() + Eigen::Vector3d(0, 8, 0));
+    ASSERT_TRUE(value.ok()) << value.status();
+    EXPECT_NEAR(value->mu, only_alike ? kMasonite : kRubber, 0.02);
+    // Either way it counts in neither material's mu.
+    EXPECT_NEAR(regions[map->piece_region()[masonite[0]]].statistics.mu, PrecisionWeightedMu(pieces, masonite), 1e-12);
+    EXPECT_NEAR(regions[map->piece_region()[rubber[0]]].statistics.mu, PrecisionWeightedMu(pieces, rubber), 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace surfmap

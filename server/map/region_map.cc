@@ -409,9 +409,27 @@ int RegionMap::MoveMisfitPieces(const std::vector<PieceStatistics>& statistics, 
   std::vector<int>& better = *better_material;
   int moved = 0;
   const int region_count = static_cast<int>(regions_.size());
+  // Each material's pieces pooled, for the merge rule's test.
+  std::vector<PieceStatistics> pooled;
+  if (options_.move_only_to_alike_material) {
+    const int n = static_cast<int>(pieces_.size());
+    std::vector<std::vector<PieceStatistics>> members;
+    for (int i = 0; i < n; ++i) {
+      const int m = (*piece_material)[i];
+      if (m < 0) continue;
+      if (m >= static_cast<int>(members.size())) members.resize(m + 1);
+      members[m].push_back(statistics[i]);
+    }
+    for (const auto& of_material : members) pooled.push_back(PoolStatistics(of_material));
+  }
+  auto moves = [&](int i) {
+    if (better[i] < 0) return false;
+    if (pooled.empty()) return true;
+    return better[i] < static_cast<int>(pooled.size()) && TexturesAlike(statistics[i], pooled[better[i]], options_.merge);
+  };
   for (int r = 0; r < region_count; ++r) {
     std::vector<int> fitting, misfits;
-    for (int i : regions_[r].pieces) (better[i] >= 0 ? misfits : fitting).push_back(i);
+    for (int i : regions_[r].pieces) (moves(i) ? misfits : fitting).push_back(i);
     // A region all of misfits stays as it is: assign_by_texture tests the
     // region as a whole, and its pieces are left out of the mu.
     if (fitting.empty() || misfits.empty()) continue;

@@ -171,6 +171,21 @@ struct RegionMapOptions {
   // those the exclusion above gives, and only where they are drawn changes.
   // Off: a misfit stays in its region (the build before).
   bool move_misfit_pieces = true;
+  // A misfit moves only to a material its statistics are alike to by the
+  // merge rule (TexturesAlike against the material's pooled pieces), as a
+  // region moves only among such materials (texture_assignment.h); one
+  // that is not stays in its region, still left out of the mu. The
+  // conditional likelihood of a slow texture barely sees its mean: under
+  // masonite's (a1 + a2 = 0.88) a series 0.076 above masonite's mu costs
+  // innovations of 0.12 x 0.076 = 0.009 against their sd of 0.16, so a wood
+  // piece (0.431) with a transitional pair or two, far less likely under
+  // wood's narrow innovations, moved to masonite (0.355 +- 0.009). On
+  // held_block (seed 7, in-process) it lay 0.8 mm outside the 9 mm
+  // sandpaper dot's edge, a third material that contradicted the dot's
+  // circle (boundary_dots.h), and the dot was drawn from its crossings
+  // alone: 83.5 % right, 91.0 % with this rule. Off: a misfit moves to the
+  // material of the best texture whatever its mu (the build before).
+  bool move_only_to_alike_material = true;
   // A material that the other materials explain better than its own
   // texture does, its free choices paid (a mixture of pieces that straddle
   // the boundary between two of them, mixture_materials.h), is dissolved:

@@ -49,6 +49,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.split_against_materials = false;
   options.assign_by_texture = false;
   options.dissolve_mixture_materials = false;
+  options.move_only_to_alike_material = false;  // the plan issues the drags it issued before the rule
   options.links.max_extension_turn_deg = 0.0;
   options.links.max_line_turn_deg = 0.0;
   options.links.max_dot_radius_mm = 0.0;
