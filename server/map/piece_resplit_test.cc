@@ -146,22 +146,36 @@ TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
 // material's mean (0.397 for the masonite drags' 0.364). Rubber drags on the
 // left give a second texture, which explains its series far better than
 // masonite's does.
-TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsLeftOutOfItsMaterialsMu) {
+struct IntruderScene {
   std::vector<MapPiece> pieces;
+  std::vector<int> rubber, masonite;
+  int intruder = -1;
+};
+IntruderScene RubberMasoniteAndAnIntruder() {
+  IntruderScene scene;
   int drag = 0;
   std::uint64_t seed = 11;
   for (double x : {-40.0, -32.0, -24.0, -16.0}) {
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    scene.rubber.push_back(drag);
+    scene.pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
   }
-  std::vector<int> masonite;
   for (double x : {16.0, 24.0, 32.0, 40.0}) {
-    masonite.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+    scene.masonite.push_back(drag);
+    scene.pieces.push_back(
+        PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
   }
-  const int intruder = drag;
-  pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
-  pieces.back().piece.effective_pairs = 1.0;
-  pieces.back().piece.mu_se = 0.005;
+  scene.intruder = drag;
+  scene.pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
+  scene.pieces.back().piece.effective_pairs = 1.0;
+  scene.pieces.back().piece.mu_se = 0.005;
+  return scene;
+}
+
+TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsLeftOutOfItsMaterialsMu) {
+  const IntruderScene scene = RubberMasoniteAndAnIntruder();
+  const std::vector<MapPiece>& pieces = scene.pieces;
+  const std::vector<int>& masonite = scene.masonite;
+  const int intruder = scene.intruder;
   const SurfaceLevel level = Plate();
   for (const bool exclude : {true, false}) {
     RegionMapOptions options;
@@ -253,22 +267,11 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsMovedToThatMaterial) {
 // the map reads masonite where it lies; without it (the build before) it
 // moves to rubber and the map reads 0.305 over a piece that measured 0.40.
 TEST(MisfitPieceTest, APieceMovesOnlyToAMaterialItsMuIsAlikeTo) {
-  std::vector<MapPiece> pieces;
-  int drag = 0;
-  std::uint64_t seed = 11;
-  std::vector<int> rubber, masonite;
-  for (double x : {-40.0, -32.0, -24.0, -16.0}) {
-    rubber.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
-  }
-  for (double x : {16.0, 24.0, 32.0, 40.0}) {
-    masonite.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
-  }
-  const int intruder = drag;
-  pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
-  pieces.back().piece.effective_pairs = 1.0;
-  pieces.back().piece.mu_se = 0.005;
+  const IntruderScene scene = RubberMasoniteAndAnIntruder();
+  const std::vector<MapPiece>& pieces = scene.pieces;
+  const std::vector<int>& rubber = scene.rubber;
+  const std::vector<int>& masonite = scene.masonite;
+  const int intruder = scene.intruder;
   const SurfaceLevel level = Plate();
   for (const bool only_alike : {true, false}) {
     SCOPED_TRACE(only_alike ? "only to an alike material" : "to any (the build before)");
