@@ -10,6 +10,10 @@ function(surfmap_add_test)
   # Test code gets the same warnings as the code it tests (and -Werror with
   # SURFMAP_WERROR): a warning in a test hides bugs in the test.
   target_compile_options(${T_NAME} PRIVATE ${SURFMAP_WARNINGS})
+  # A test's own code (assertions, fixtures, scene set-up) is compiled -O1: it
+  # halves these files' build time, and the code under test keeps -O2 in its
+  # library. Tests are most of the build (docs/benchmarks.md, "Build time").
+  target_compile_options(${T_NAME} PRIVATE $<$<CONFIG:RelWithDebInfo,Release>:-O1>)
   if(NOT T_TIMEOUT)
     set(T_TIMEOUT 300)
   endif()
