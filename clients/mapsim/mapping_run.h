@@ -79,6 +79,9 @@ struct MappingRunOptions {
   // plan's map keeps its own default): false alone compares the build
   // before on the same drags.
   bool map_move_only_to_alike_material = RegionMapOptions{}.move_only_to_alike_material;
+  // RegionMapOptions::boundaries_ignore_unconfirmed_end_pieces of the map
+  // scored: false alone compares the build before on the same drags.
+  bool map_ignore_unconfirmed_end_pieces = RegionMapOptions{}.boundaries_ignore_unconfirmed_end_pieces;
   // The links of the map scored (the plan's map carries no chain on,
   // PlanRegionMapOptions).
   BoundaryLinkOptions map_link_options;

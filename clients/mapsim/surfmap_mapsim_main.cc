@@ -92,6 +92,7 @@ int Main(int argc, char** argv) {
   BoundaryLinkOptions map_links = MappingRunOptions{}.map_link_options;
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
   bool map_move_only_alike = MappingRunOptions{}.map_move_only_to_alike_material;
+  bool map_ignore_unconfirmed_ends = MappingRunOptions{}.map_ignore_unconfirmed_end_pieces;
   double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
@@ -183,6 +184,10 @@ int Main(int argc, char** argv) {
                  "the scored map moves a misfit piece only to a material its mu is alike to (true|false; "
                  "false: the build before, on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-ignore-unconfirmed-ends", map_ignore_unconfirmed_ends,
+                 "the scored map's boundaries are not refused by the data of a drag's end piece too short and too "
+                 "like its neighbour to mark a crossing (true|false; false: the build before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
@@ -265,6 +270,7 @@ int Main(int argc, char** argv) {
   base.plan_assign_by_texture = plan_assign;
   base.map_assign_by_texture = map_assign;
   base.map_move_only_to_alike_material = map_move_only_alike;
+  base.map_ignore_unconfirmed_end_pieces = map_ignore_unconfirmed_ends;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map_min_mu_piece_mm = map_mu_min_mm;

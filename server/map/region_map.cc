@@ -636,13 +636,18 @@ absl::Status RegionMap::SpreadRegions() {
   marks_ = std::move(marks);
   // Linking materials, the links see the data by material; the plan's map
   // (rebuilt after every drag) links regions and copies nothing.
-  std::vector<LabelledPoint> material_data;
-  if (options_.link_materials) {
-    material_data = data;
-    for (LabelledPoint& p : material_data) p.label = regions_[p.label].material;
+  std::vector<LabelledPoint> link_data;
+  const bool every_piece_checks = !options_.boundaries_ignore_unconfirmed_end_pieces;
+  if (options_.link_materials || !every_piece_checks) {
+    for (int i = 0; i < n; ++i) {
+      if (!every_piece_checks && UnconfirmedEndPiece(i)) continue;
+      const int label = options_.link_materials ? regions_[piece_region_[i]].material : piece_region_[i];
+      for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, label});
+    }
   }
   const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(
-      marks_, options_.link_materials ? material_data : data, options_.links, &links_, &corners_, &bridges_);
+      marks_, options_.link_materials || !every_piece_checks ? link_data : data, options_.links, &links_, &corners_,
+      &bridges_);
   // The region of `material` whose data lies nearest a link point: searched
   // in growing boxes, since a link's middle can lie a link's length from its
   // ends.
@@ -710,6 +715,13 @@ double RegionMap::BoundaryVariance(int region, int second, double p) const {
   if (region < 0 || second < 0) return 0.0;
   const double jump = regions_[second].statistics.mu - regions_[region].statistics.mu;
   return p * (1.0 - p) * jump * jump;
+}
+
+bool RegionMap::UnconfirmedEndPiece(int i) const {
+  const int n = static_cast<int>(pieces_.size());
+  const int drag = pieces_[i].drag;
+  return (i > 0 && pieces_[i - 1].drag == drag && UnconfirmedEndPiece(pieces_[i], pieces_[i - 1])) ||
+         (i + 1 < n && pieces_[i + 1].drag == drag && UnconfirmedEndPiece(pieces_[i], pieces_[i + 1]));
 }
 
 bool RegionMap::UnconfirmedEndPiece(const MapPiece& end, const MapPiece& other) const {

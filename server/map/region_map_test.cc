@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <gtest/gtest.h>
 #include "server/map/testing/map_pieces.h"
@@ -294,6 +295,60 @@ TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourMarksNoCrossing) {
   RegionMapOptions negative;
   negative.end_piece_mark_z = -1.0;
   ExpectRefusedNaming(level, negative, "end_piece_mark_z");
+}
+
+TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourRefusesNoBoundary) {
+  // A sandpaper dot of radius 7 mm in glass, crossed by three drags (at 10,
+  // 130 and 250 degrees round it), is drawn as a circle (boundary_dots.h).
+  // A fourth drag comes in at 190 degrees and stops 1 mm short of the dot;
+  // its last 1 mm reads 0.45 +- 0.2, too short and too like the glass to
+  // mark a crossing, and the map does not put it with the glass. It lies
+  // 1-2 mm outside the circle, so it used to refuse it (the build before),
+  // and the map went round the rim by the nearest data alone.
+  const SurfaceLevel level = Plate();
+  const Eigen::Vector3d centre(10, 0, 0);
+  constexpr double kRadius = 7.0;
+  auto at = [&](double r, double deg) {
+    const double a = deg * std::numbers::pi / 180.0;
+    return Eigen::Vector3d(centre + r * Eigen::Vector3d(std::cos(a), std::sin(a), 0.0));
+  };
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-40.0, -30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double deg : {10.0, 130.0, 250.0}) {
+    for (MapPiece& p : CrossingDrag(drag++, at(15, deg), at(kRadius, deg), at(1, deg), kGlass, kSandpaper)) {
+      pieces.push_back(p);
+    }
+  }
+  std::vector<MapPiece> stub = CrossingDrag(drag++, at(20, 190), at(9, 190), at(8, 190), kGlass, 0.45);
+  stub[1].piece.mu_se = 0.2;
+  for (MapPiece& p : stub) pieces.push_back(p);
+  // The rim, 1.5 mm either side of the circle, every 10 degrees, but for
+  // the outer point at 190 degrees: the stub's own data lie there, and they
+  // stay in the map.
+  auto right_round_the_rim = [&](const RegionMap& map) {
+    int right = 0;
+    for (int deg = 0; deg < 360; deg += 10) {
+      right += At(map, at(kRadius - 1.5, deg)).mu > 0.4;
+      if (deg != 190) right += At(map, at(kRadius + 1.5, deg)).mu < 0.2;
+    }
+    return right;
+  };
+  RegionMapOptions before;
+  before.boundaries_ignore_unconfirmed_end_pieces = false;
+  for (const bool ignore : {false, true}) {
+    absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces, ignore ? RegionMapOptions{} : before);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_EQ(map->change_marks().size(), 3u) << "the stub marks no crossing";
+    const std::vector<int>& region = map->piece_region();
+    ASSERT_NE(map->regions()[region.back()].material, map->regions()[region[0]].material)
+        << "the stub's end is not put with the glass";
+    if (ignore) {
+      EXPECT_EQ(right_round_the_rim(*map), 71) << "the circle is drawn";
+    } else {
+      EXPECT_LT(right_round_the_rim(*map), 71) << "the circle was refused (64 of 71 when written)";
+    }
+  }
 }
 
 TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {

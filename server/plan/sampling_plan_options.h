@@ -57,6 +57,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.links.max_bridge_mm = 0.0;  // the plan issues the drags it issued before bridges
   options.merge.spread_floor = 0.0;
   options.min_end_piece_mark_mm = 0.0;
+  options.boundaries_ignore_unconfirmed_end_pieces = false;  // none without the marks' rule; and no copy of the data
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
