@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# Configures and builds surfmap in ./build (Release with debug info).
+# Configures and builds surfmap in ./build (RelWithDebInfo: -O2 with line-table
+# debug info, test code -O1; CMakeLists.txt says why).
 # Usage: scripts/build.sh [cmake --build args, e.g. --target surfmapd]
 set -euo pipefail
 cd "$(dirname "$0")/.."
