@@ -634,20 +634,20 @@ absl::Status RegionMap::SpreadRegions() {
   corners_ = 0;
   bridges_ = 0;
   marks_ = std::move(marks);
-  // Linking materials, the links see the data by material; the plan's map
-  // (rebuilt after every drag) links regions and copies nothing.
+  // The links check their corridors against every piece's data but an
+  // unconfirmed end piece's (boundaries_ignore_unconfirmed_end_pieces), by
+  // material when they link materials. The plan's map (rebuilt after every
+  // drag) links regions with every piece and copies nothing.
+  const bool skip_unconfirmed = options_.boundaries_ignore_unconfirmed_end_pieces;
+  const bool own_link_data = options_.link_materials || skip_unconfirmed;
   std::vector<LabelledPoint> link_data;
-  const bool every_piece_checks = !options_.boundaries_ignore_unconfirmed_end_pieces;
-  if (options_.link_materials || !every_piece_checks) {
-    for (int i = 0; i < n; ++i) {
-      if (!every_piece_checks && UnconfirmedEndPiece(i)) continue;
-      const int label = options_.link_materials ? regions_[piece_region_[i]].material : piece_region_[i];
-      for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, label});
-    }
+  for (int i = 0; own_link_data && i < n; ++i) {
+    if (skip_unconfirmed && UnconfirmedEndPiece(i)) continue;
+    const int label = options_.link_materials ? regions_[piece_region_[i]].material : piece_region_[i];
+    for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, label});
   }
-  const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(
-      marks_, options_.link_materials || !every_piece_checks ? link_data : data, options_.links, &links_, &corners_,
-      &bridges_);
+  const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, own_link_data ? link_data : data,
+                                                                    options_.links, &links_, &corners_, &bridges_);
   // The region of `material` whose data lies nearest a link point: searched
   // in growing boxes, since a link's middle can lie a link's length from its
   // ends.
