@@ -175,6 +175,11 @@ int Main(int argc, char** argv) {
                  "(boundary_dots.h; 0: off, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-dot-data-offset", map_links.max_dot_data_offset_mm,
+                 "the scored map refuses a dot's circle for data more than this many mm on its wrong side "
+                 "(boundary_dots.h; 0.25: the build before, on the same drags)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-corner-side-residual", map_links.max_corner_side_residual_mm,
                  "the scored map replaces a link that cuts a corner off by the corner when the chains on both "
                  "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")

@@ -119,8 +119,9 @@ std::vector<BoundarySegment> Chords(const Circle& c, int inner, int outer, const
 
 bool Contradicted(const Circle& c, const std::vector<BoundarySegment>& chords, int inner,
                   const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  const CorridorCheck near_circle{o.corridor_mm, o.max_dot_data_offset_mm, o.corridor_mm};
   for (const BoundarySegment& s : chords) {
-    if (SegmentContradicted(s, data, o)) return true;
+    if (SegmentContradicted(s, data, near_circle)) return true;
   }
   const double outer_ring = 1.5 * c.radius;
   const Eigen::Vector3d span = Eigen::Vector3d::Constant(outer_ring);

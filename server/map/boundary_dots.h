@@ -24,7 +24,8 @@
 //  - the marks surround the centre (no angular gap of 180 degrees or more:
 //    otherwise the circle's far side is a guess);
 //  - no data contradicts it: near the circle as for a link
-//    (boundary_corridor.h), no other region's data inside it, and no
+//    (boundary_corridor.h) but with max_dot_data_offset_mm for the wrong
+//    side's tolerance, no other region's data inside it, and no
 //    data of the inner region in the ring out to 1.5 radii (the region is
 //    larger, or not round).
 // The circle is then drawn as chords of at most max_dot_chord_mm, each with

@@ -154,6 +154,39 @@ TEST(BoundaryDots, DataAgainstTheCircleStopsIt) {
   EXPECT_EQ(dots, 0);
 }
 
+TEST(BoundaryDots, DataOffTheCircleByACrossingsOwnErrorDoesNotStopIt) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0), DotCrossing(7.0, 130.0, 1),
+                                         DotCrossing(7.0, 250.0, 2)};
+  auto at = [](double r, double phi_deg) {
+    const double phi = phi_deg * std::numbers::pi / 180.0;
+    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0.0);
+  };
+  // Drags whose changes were located 0.4 mm off the true edge, as far as a
+  // crossing of the dot may lie off its circle (max_dot_residual_mm): the
+  // dot's data 0.4 mm outside it, the outer region's 0.4 mm inside.
+  const BoundaryLinkOptions defaults;
+  ASSERT_GT(defaults.max_dot_residual_mm, 0.4);
+  int dots = 0;
+  std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  data.push_back({at(7.4, 70.0), kDot});
+  data.push_back({at(6.6, 190.0), kOutside});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 1);
+  // Checked as a link is (seed_offset_mm, 0.25 mm), each refuses the dot.
+  BoundaryLinkOptions as_a_link;
+  as_a_link.max_dot_data_offset_mm = as_a_link.seed_offset_mm;
+  Dots(marks, data, &dots, as_a_link);
+  EXPECT_EQ(dots, 0);
+  data.pop_back();
+  Dots(marks, data, &dots, as_a_link);
+  EXPECT_EQ(dots, 0);
+  // 0.7 mm off is more than a crossing's error: refused.
+  data = DotData(marks, 7.0);
+  data.push_back({at(7.7, 70.0), kDot});
+  Dots(marks, data, &dots);
+  EXPECT_EQ(dots, 0);
+}
+
 TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
   // Crossings 50 degrees apart, each drag on the radius: both within 25
   // degrees of perpendicular to their chord, so a link joins them.

@@ -31,6 +31,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"max_extension_length_mm", max_extension_length_mm},
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
                                                     {"max_dot_residual_mm", max_dot_residual_mm},
+                                                    {"max_dot_data_offset_mm", max_dot_data_offset_mm},
                                                     {"max_corner_side_residual_mm", max_corner_side_residual_mm},
                                                     {"max_bridge_mm", max_bridge_mm},
                                                     {"bridge_tolerance_mm", bridge_tolerance_mm}};
