@@ -82,6 +82,8 @@ struct MappingRunOptions {
   // RegionMapOptions::boundaries_ignore_unconfirmed_end_pieces of the map
   // scored: false alone compares the build before on the same drags.
   bool map_ignore_unconfirmed_end_pieces = RegionMapOptions{}.boundaries_ignore_unconfirmed_end_pieces;
+  // RegionMapOptions::transition_pieces_mark_one_crossing for the scored map.
+  bool map_transition_crossings = RegionMapOptions{}.transition_pieces_mark_one_crossing;
   // The links of the map scored (the plan's map carries no chain on,
   // PlanRegionMapOptions).
   BoundaryLinkOptions map_link_options;

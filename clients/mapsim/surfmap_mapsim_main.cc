@@ -93,6 +93,7 @@ int Main(int argc, char** argv) {
   int map_mu_pieces = MappingRunOptions{}.map_min_fitted_pieces_for_mu;
   bool map_move_only_alike = MappingRunOptions{}.map_move_only_to_alike_material;
   bool map_ignore_unconfirmed_ends = MappingRunOptions{}.map_ignore_unconfirmed_end_pieces;
+  bool map_transition_crossings = MappingRunOptions{}.map_transition_crossings;
   double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
@@ -193,6 +194,11 @@ int Main(int argc, char** argv) {
                  "the scored map's boundaries are not refused by the data of a drag's end piece too short and too "
                  "like its neighbour to mark a crossing (true|false; false: the build before, on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-transition-crossings", map_transition_crossings,
+                 "the scored map marks one crossing in the middle of a short piece between two changes that reads "
+                 "between its neighbours, and that piece refuses no boundary (true|false; false: the build before, "
+                 "on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
@@ -276,6 +282,7 @@ int Main(int argc, char** argv) {
   base.map_assign_by_texture = map_assign;
   base.map_move_only_to_alike_material = map_move_only_alike;
   base.map_ignore_unconfirmed_end_pieces = map_ignore_unconfirmed_ends;
+  base.map_transition_crossings = map_transition_crossings;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map_min_mu_piece_mm = map_mu_min_mm;

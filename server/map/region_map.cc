@@ -18,6 +18,19 @@
 namespace surfmap {
 namespace {
 
+// The point halfway along a polyline (its only point if it has one).
+Eigen::Vector3d HalfwayAlong(const std::vector<Eigen::Vector3d>& points) {
+  double length = 0.0;
+  for (std::size_t k = 1; k < points.size(); ++k) length += (points[k] - points[k - 1]).norm();
+  double left = 0.5 * length;
+  for (std::size_t k = 1; k < points.size(); ++k) {
+    const double step = (points[k] - points[k - 1]).norm();
+    if (step >= left && step > 0.0) return points[k - 1] + (left / step) * (points[k] - points[k - 1]);
+    left -= step;
+  }
+  return points.back();
+}
+
 // The roughness coordinates of `metric` (reflection coefficients and log
 // sigma, each over its scale), their variance summed over the pieces with
 // roughness, times mu_scale^2; 0 with fewer than two such pieces.
@@ -602,27 +615,34 @@ absl::Status RegionMap::SpreadRegions() {
     }
   }
   // Boundaries through neighbouring crossings, of materials or of regions.
-  auto side = [&](int piece) {
-    const int region = piece_region_[piece];
-    return options_.link_materials ? regions_[region].material : region;
-  };
+  std::vector<int> side(n);
+  for (int i = 0; i < n; ++i) {
+    side[i] = options_.link_materials ? regions_[piece_region_[i]].material : piece_region_[i];
+  }
+  std::vector<char> transition(n, 0);
+  for (int i = 0; options_.transition_pieces_mark_one_crossing && i < n; ++i) transition[i] = TransitionPiece(i, side);
   std::vector<ChangeMark> marks;
   for (int i = 0; i + 1 < n; ++i) {
+    if (transition[i]) continue;
+    // Across a transition the crossing is from its one neighbour to the
+    // other, in its middle.
+    const bool across = transition[i + 1] != 0;
+    const int next = across ? i + 2 : i + 1;
     const MapPiece& a = pieces_[i];
-    const MapPiece& b = pieces_[i + 1];
-    if (a.drag != b.drag || !a.piece.ends_at_change || side(i) == side(i + 1)) continue;
+    const MapPiece& b = pieces_[next];
+    if (a.drag != b.drag || !a.piece.ends_at_change || side[i] == side[next]) continue;
     if (a.points.size() < 2 || b.points.size() < 2) continue;
     if (UnconfirmedEndPiece(a, b) || UnconfirmedEndPiece(b, a)) continue;
     ChangeMark m;
-    const SurfacePoint hit = locator_->Closest(b.points.front());
+    const SurfacePoint hit = locator_->Closest(across ? HalfwayAlong(pieces_[i + 1].points) : b.points.front());
     m.position = hit.position;
     m.normal = hit.normal;
     Eigen::Vector3d direction = b.points[1] - a.points[a.points.size() - 2];
     direction -= direction.dot(m.normal) * m.normal;
     if (direction.norm() < 1e-9) continue;
     m.direction = direction.normalized();
-    m.before = side(i);
-    m.after = side(i + 1);
+    m.before = side[i];
+    m.after = side[next];
     m.drag = a.drag;
     marks.push_back(m);
   }
@@ -635,16 +655,16 @@ absl::Status RegionMap::SpreadRegions() {
   bridges_ = 0;
   marks_ = std::move(marks);
   // The links check their corridors against every piece's data but an
-  // unconfirmed end piece's (boundaries_ignore_unconfirmed_end_pieces), by
-  // material when they link materials. The plan's map (rebuilt after every
-  // drag) links regions with every piece and copies nothing.
+  // unconfirmed end piece's (boundaries_ignore_unconfirmed_end_pieces) and
+  // a transition's (transition_pieces_mark_one_crossing), by material when
+  // they link materials. The plan's map (rebuilt after every drag) links
+  // regions with every piece and copies nothing.
   const bool skip_unconfirmed = options_.boundaries_ignore_unconfirmed_end_pieces;
-  const bool own_link_data = options_.link_materials || skip_unconfirmed;
+  const bool own_link_data = options_.link_materials || skip_unconfirmed || options_.transition_pieces_mark_one_crossing;
   std::vector<LabelledPoint> link_data;
   for (int i = 0; own_link_data && i < n; ++i) {
-    if (skip_unconfirmed && UnconfirmedEndPiece(i)) continue;
-    const int label = options_.link_materials ? regions_[piece_region_[i]].material : piece_region_[i];
-    for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, label});
+    if ((skip_unconfirmed && UnconfirmedEndPiece(i)) || transition[i]) continue;
+    for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, side[i]});
   }
   const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, own_link_data ? link_data : data,
                                                                     options_.links, &links_, &corners_, &bridges_);
@@ -722,6 +742,22 @@ bool RegionMap::UnconfirmedEndPiece(int i) const {
   const int drag = pieces_[i].drag;
   return (i > 0 && pieces_[i - 1].drag == drag && UnconfirmedEndPiece(pieces_[i], pieces_[i - 1])) ||
          (i + 1 < n && pieces_[i + 1].drag == drag && UnconfirmedEndPiece(pieces_[i], pieces_[i + 1]));
+}
+
+bool RegionMap::TransitionPiece(int i, const std::vector<int>& side) const {
+  const int n = static_cast<int>(pieces_.size());
+  if (i <= 0 || i + 1 >= n) return false;
+  const MapPiece& t = pieces_[i];
+  const MapPiece& before = pieces_[i - 1];
+  const MapPiece& after = pieces_[i + 1];
+  if (before.drag != t.drag || after.drag != t.drag || t.points.empty()) return false;
+  if (!(t.piece.starts_at_change && t.piece.ends_at_change)) return false;
+  if (!(t.piece.end_mm - t.piece.start_mm < options_.min_end_piece_mark_mm)) return false;
+  if (side[i] == side[i - 1] || side[i] == side[i + 1] || side[i - 1] == side[i + 1]) return false;
+  const double lo = std::min(before.piece.texture.mu, after.piece.texture.mu);
+  const double hi = std::max(before.piece.texture.mu, after.piece.texture.mu);
+  const double slack = options_.end_piece_mark_z * t.piece.mu_se;
+  return t.piece.texture.mu > lo - slack && t.piece.texture.mu < hi + slack;
 }
 
 bool RegionMap::UnconfirmedEndPiece(const MapPiece& end, const MapPiece& other) const {

@@ -58,6 +58,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.merge.spread_floor = 0.0;
   options.min_end_piece_mark_mm = 0.0;
   options.boundaries_ignore_unconfirmed_end_pieces = false;  // none without the marks' rule; and no copy of the data
+  options.transition_pieces_mark_one_crossing = false;  // none without the marks' rule either
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
