@@ -524,6 +524,7 @@ TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
       {[](BoundaryLinkOptions& o) { o.max_line_turn_deg = -1.0; }, "links: max_line_turn_deg"},
       {[](BoundaryLinkOptions& o) { o.max_dot_radius_mm = std::nan(""); }, "links: max_dot_radius_mm"},
       {[](BoundaryLinkOptions& o) { o.max_dot_chord_mm = 0.0; }, "links: max_dot_chord_mm"},
+      {[](BoundaryLinkOptions& o) { o.max_dot_data_offset_mm = -0.1; }, "links: max_dot_data_offset_mm"},
       {[](BoundaryLinkOptions& o) { o.max_corner_side_residual_mm = -0.5; }, "links: max_corner_side_residual_mm"},
   };
   for (const Case& c : cases) {
