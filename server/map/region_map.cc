@@ -624,17 +624,19 @@ absl::Status RegionMap::SpreadRegions() {
   std::vector<ChangeMark> marks;
   for (int i = 0; i + 1 < n; ++i) {
     if (transition[i]) continue;
-    // Across a transition the crossing is from its one neighbour to the
-    // other, in its middle.
-    const bool across = transition[i + 1] != 0;
-    const int next = across ? i + 2 : i + 1;
+    // Across transitions (a run of them, where the detector cut a step
+    // more than twice) the crossing is from the piece before them to the
+    // piece after them, halfway along them.
+    int next = i + 1;
+    std::vector<Eigen::Vector3d> across;
+    for (; transition[next]; ++next) across.insert(across.end(), pieces_[next].points.begin(), pieces_[next].points.end());
     const MapPiece& a = pieces_[i];
     const MapPiece& b = pieces_[next];
     if (a.drag != b.drag || !a.piece.ends_at_change || side[i] == side[next]) continue;
     if (a.points.size() < 2 || b.points.size() < 2) continue;
     if (UnconfirmedEndPiece(a, b) || UnconfirmedEndPiece(b, a)) continue;
     ChangeMark m;
-    const SurfacePoint hit = locator_->Closest(across ? HalfwayAlong(pieces_[i + 1].points) : b.points.front());
+    const SurfacePoint hit = locator_->Closest(across.empty() ? b.points.front() : HalfwayAlong(across));
     m.position = hit.position;
     m.normal = hit.normal;
     Eigen::Vector3d direction = b.points[1] - a.points[a.points.size() - 2];
