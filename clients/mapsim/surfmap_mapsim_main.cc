@@ -181,6 +181,11 @@ int Main(int argc, char** argv) {
                  "(boundary_dots.h; 0.25: the build before, on the same drags)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-chain-ends-reach-past-short-links", map_links.chain_ends_reach_past_short_links,
+                 "the scored map gives a chain whose last link is shorter than a corner's shortest an end all the "
+                 "same, directed from farther back along it (boundary_chains.h; false: the build before, on the same "
+                 "drags)")
+      ->capture_default_str();
   app.add_option("--map-corner-side-residual", map_links.max_corner_side_residual_mm,
                  "the scored map replaces a link that cuts a corner off by the corner when the chains on both "
                  "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")

@@ -167,7 +167,7 @@ std::vector<LabelledPoint> BoundaryBridgePoints(const std::vector<ChangeMark>& m
   if (bridges != nullptr) *bridges = 0;
   std::vector<LabelledPoint> out;
   if (!(o.max_bridge_mm > 0.0)) return out;
-  const std::vector<ChainEnd> ends = ChainEnds(marks, links, o.min_corner_link_mm);
+  const std::vector<ChainEnd> ends = ChainEnds(marks, links, o.min_corner_link_mm, o.chain_ends_reach_past_short_links);
   std::vector<Bridge> candidates;
   for (int i = 0; i < static_cast<int>(ends.size()); ++i) {
     for (int j = i + 1; j < static_cast<int>(ends.size()); ++j) {

@@ -43,9 +43,13 @@ inline Eigen::Vector3d TowardsA(const ChangeMark& m, int a) {
 // nullopt otherwise.
 std::optional<Eigen::Vector3d> AcrossChordTowardsA(const ChangeMark& p, const ChangeMark& q, int a, double min_cos);
 
-// The ends of the chains `links` make, skipping ends whose last link is
-// shorter than min_link_mm (its direction is too uncertain to carry on).
+// The ends of the chains `links` make. An end's direction is its last
+// link's when that is at least min_link_mm long (a shorter one's is too
+// uncertain to carry on). Otherwise, with reach_past_short_links, it runs
+// from the first mark back along the chain at least min_link_mm from the
+// end (through marks with two links only); without it, or when the chain
+// branches or stops before, the end is skipped.
 std::vector<ChainEnd> ChainEnds(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
-                                double min_link_mm);
+                                double min_link_mm, bool reach_past_short_links);
 
 }  // namespace surfmap

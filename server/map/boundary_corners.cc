@@ -174,7 +174,7 @@ std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& m
   std::vector<LabelledPoint> out;
   int drawn = 0;
   if (o.corner_reach_mm > 0.0) {
-    const std::vector<ChainEnd> ends = ChainEnds(marks, links, o.min_corner_link_mm);
+    const std::vector<ChainEnd> ends = ChainEnds(marks, links, o.min_corner_link_mm, o.chain_ends_reach_past_short_links);
     std::vector<Corner> candidates;
     for (int i = 0; i < static_cast<int>(ends.size()); ++i) {
       for (int j = i + 1; j < static_cast<int>(ends.size()); ++j) {

@@ -83,6 +83,24 @@ TEST(BoundaryCorners, DataOfTheOtherRegionInsideTheCornerVetoesIt) {
   EXPECT_EQ(corners, 0);
 }
 
+TEST(BoundaryCorners, ASideWhoseLastTwoCrossingsLieSideBySideStillMakesTheCorner) {
+  // A third drag crosses the side x = 0 0.7 mm nearer the corner than the
+  // nearest one: the chain's last link is shorter than min_corner_link_mm,
+  // too short to say where the side runs on, but the chain behind it is not
+  // (the bottle, seed 6: two drags crossed its patch's side 0.7 mm apart).
+  Scene scene = PatchCorner(5.0);
+  scene.Drag({0.0, -4.3, 0.0}, Eigen::Vector3d::UnitX());
+  int links = 0, corners = -1;
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 3);
+  EXPECT_EQ(corners, 1);
+  ExpectOnThePatchsTrueSides(points);
+  BoundaryLinkOptions before;
+  before.chain_ends_reach_past_short_links = false;
+  BoundaryLinkPoints(scene.marks, scene.data, before, nullptr, &corners);
+  EXPECT_EQ(corners, 0) << "the build before drops the end";
+}
+
 TEST(BoundaryCorners, EndsFartherFromTheCornerThanTheReachAreNotJoined) {
   BoundaryLinkOptions o;
   const Scene scene = PatchCorner(o.corner_reach_mm + 1.0);

@@ -50,7 +50,7 @@ std::vector<DrawnLink> ExtendChains(const std::vector<ChangeMark>& marks, std::v
     for (const DrawnLink& l : links) linked[l.from] = linked[l.to] = true;
     // Every end's nearest extension, nearest first; each crossing joins one.
     std::vector<std::pair<double, DrawnLink>> candidates;
-    for (const ChainEnd& end : ChainEnds(marks, links, o.min_corner_link_mm)) {
+    for (const ChainEnd& end : ChainEnds(marks, links, o.min_corner_link_mm, o.chain_ends_reach_past_short_links)) {
       double best = std::numeric_limits<double>::infinity();
       DrawnLink chosen;
       for (int q = 0; q < n; ++q) {

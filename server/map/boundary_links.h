@@ -98,6 +98,13 @@ struct BoundaryLinkOptions {
   // A chain end's direction is its last link's; over a shorter link the
   // change's ~0.3 mm location error turns it by more than ~4 degrees.
   double min_corner_link_mm = 4.0;
+  // A chain whose last link is shorter than min_corner_link_mm (two drags
+  // that crossed the boundary side by side, 0.7 mm apart at the bottle's
+  // patch side, seed 6) still has an end: its direction is taken from the
+  // first mark back along the chain at least min_corner_link_mm away, as
+  // a long last link's would be. False: such an end is dropped, and with it
+  // the corner, extension or bridge it would make (the build before).
+  bool chain_ends_reach_past_short_links = true;
   // Chains carried on through crossings drags made obliquely
   // (boundary_extensions.h): the chord from a chain's end may turn from its
   // last link by at most max_extension_turn_deg (0 = off; a corner turns by

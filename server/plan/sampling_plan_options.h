@@ -54,6 +54,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.links.max_line_turn_deg = 0.0;
   options.links.max_dot_radius_mm = 0.0;
   options.links.max_corner_side_residual_mm = 0.0;
+  options.links.chain_ends_reach_past_short_links = false;  // the plan issues the drags it issued before
   options.links.max_bridge_mm = 0.0;  // the plan issues the drags it issued before bridges
   options.merge.spread_floor = 0.0;
   options.min_end_piece_mark_mm = 0.0;
