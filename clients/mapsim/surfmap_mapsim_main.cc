@@ -186,6 +186,10 @@ int Main(int argc, char** argv) {
                  "same, directed from farther back along it (boundary_chains.h; false: the build before, on the same "
                  "drags)")
       ->capture_default_str();
+  app.add_option("--map-corner-side-past-reach", map_links.corner_side_checked_past_reach,
+                 "the scored map takes a corner's side of one link within the reach as straight when the link "
+                 "after it runs on (boundary_corners.h; false: the build before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-corner-side-residual", map_links.max_corner_side_residual_mm,
                  "the scored map replaces a link that cuts a corner off by the corner when the chains on both "
                  "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")

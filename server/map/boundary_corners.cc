@@ -92,6 +92,7 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
                                      const BoundaryLinkOptions& o) {
   const Eigen::Vector3d& n = marks[end].normal;
   std::vector<int> side;  // marks along the chain from `end`, within reach
+  int beyond = -1;        // the mark after them, past the reach
   int first_link = -1;
   int prev = away, cur = end;
   while (true) {
@@ -104,17 +105,29 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
       via = k;
     }
     if (next < 0 || next == end) break;
-    if ((marks[next].position - marks[end].position).norm() > o.corner_reach_mm) break;
+    if ((marks[next].position - marks[end].position).norm() > o.corner_reach_mm) {
+      beyond = next;
+      break;
+    }
     if (std::find(side.begin(), side.end(), next) != side.end()) break;
     if (first_link < 0) first_link = via;
     side.push_back(next);
     prev = cur;
     cur = next;
   }
-  if (side.size() < 2) return std::nullopt;
+  if (side.empty()) return std::nullopt;
   const Eigen::Vector3d line = InPlane(marks[side.back()].position - marks[end].position, n);
   if (line.norm() < o.min_corner_link_mm) return std::nullopt;
   const Eigen::Vector3d u = line.normalized();
+  if (side.size() == 1) {
+    // One link: straight only if the next one, past the reach, runs on.
+    if (!o.corner_side_checked_past_reach || beyond < 0) return std::nullopt;
+    const Eigen::Vector3d on = InPlane(marks[beyond].position - marks[side.front()].position, n);
+    if (on.norm() < o.min_corner_link_mm ||
+        on.normalized().dot(u) < std::cos(o.max_line_turn_deg * std::numbers::pi / 180.0)) {
+      return std::nullopt;
+    }
+  }
   for (int m : side) {
     const Eigen::Vector3d r = InPlane(marks[m].position - marks[end].position, n);
     if ((r - r.dot(u) * u).norm() > o.max_corner_side_residual_mm) return std::nullopt;

@@ -187,6 +187,59 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkEachKeepsItsChord) {
   EXPECT_EQ(corners, 0);
 }
 
+TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTheChainRunsOnPastIt) {
+  // Crossings 4, 16 and 32 mm from the corner on each side: one link of
+  // each side within corner_reach_mm (20 mm) of the chord's ends, and the
+  // next, past it, running straight on (the bottle, seed 6: links of 13-17 mm).
+  constexpr double kPi = 3.14159265358979;
+  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
+  Scene scene;
+  for (double at : {-4.0, -16.0, -32.0}) {
+    scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
+    scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
+  }
+  BoundaryLinkOptions before;
+  before.corner_side_checked_past_reach = false;
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, before, &links, &corners);
+  ASSERT_EQ(links, 5) << "two along each side and the chord across the corner";
+  EXPECT_EQ(corners, 0);
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 4);
+  EXPECT_EQ(corners, 1);
+  ExpectOnThePatchsTrueSides(points);
+}
+
+TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
+  // Fifteen crossings of a circle of radius 40 mm by radial drags: 16.6 mm
+  // chords, so each side has one link within corner_reach_mm, and the next
+  // turns from it by 24 degrees.
+  constexpr double kPi = 3.14159265358979, kRadius = 40.0;
+  std::vector<ChangeMark> marks;
+  std::vector<LabelledPoint> data;
+  for (int k = 0; k < 15; ++k) {
+    const Eigen::Vector3d out(std::cos(k * 2.0 * kPi / 15.0), std::sin(k * 2.0 * kPi / 15.0), 0.0);
+    ChangeMark m;
+    m.position = kRadius * out;
+    m.direction = out;
+    m.before = 1;  // inside
+    m.after = 0;
+    m.drag = k;
+    marks.push_back(m);
+    for (double s = -8.0; s <= 8.0; s += 0.5) {
+      if (s != 0.0) data.push_back({(kRadius + s) * out, s < 0.0 ? 1 : 0});
+    }
+  }
+  BoundaryLinkOptions loose;
+  loose.max_line_turn_deg = 30.0;  // a 24-degree turn passes as running on
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(marks, data, loose, &links, &corners);
+  ASSERT_GT(corners, 0) << "with sides that need not run on, chords become corners";
+  BoundaryLinkPoints(marks, data, {}, &links, &corners);
+  EXPECT_EQ(links, 15);
+  EXPECT_EQ(corners, 0);
+}
+
 TEST(BoundaryCorners, DataOfTheOtherRegionInACutCornerKeepsTheChord) {
   Scene scene = CutCorner(3);
   scene.data.push_back({{-1.0, -1.0, 0.0}, 0});  // the corner is cut off after all

@@ -91,6 +91,13 @@ struct BoundaryLinkOptions {
   // 0 = links never replaced): a change is located to ~0.1-0.4 mm along its
   // drag (docs/method.md), as for max_dot_residual_mm.
   double max_corner_side_residual_mm = 0.5;
+  // A side with one link within corner_reach_mm says nothing of whether it
+  // runs straight, and cutting links are often that sparse (the bottle,
+  // seed 6: links of 13-17 mm each side of a corner). With this, such a
+  // side is straight when the chain goes on past the reach by one more link
+  // that turns from it by at most max_line_turn_deg (boundary_corners.h).
+  // False: such a side never is (the build before).
+  bool corner_side_checked_past_reach = true;
   // The two ends' normals may differ by at most this: 20 mm over the
   // scenes' most curved parts (radii of curvature ~27 mm) turns ~42 degrees;
   // more is not one piece of surface to draw straight segments on.
