@@ -190,6 +190,10 @@ int Main(int argc, char** argv) {
                  "the scored map takes a corner's side of one link within the reach as straight when the link "
                  "after it runs on (boundary_corners.h; false: the build before, on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-dot-grazing-crossings", map_links.dot_grazing_crossings_on_circle,
+                 "the scored map lets a crossing of a drag that grazed a dot count when it lies on the circle "
+                 "(boundary_dots.h; false: the build before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-corner-side-residual", map_links.max_corner_side_residual_mm,
                  "the scored map replaces a link that cuts a corner off by the corner when the chains on both "
                  "sides run straight to within this many mm (boundary_corners.h; 0: off, the build before)")

@@ -90,13 +90,20 @@ bool IsDot(const std::vector<ChangeMark>& marks, const std::vector<int>& group, 
            const BoundaryLinkOptions& o) {
   if (c.radius < o.corridor_mm || c.radius > o.max_dot_radius_mm) return false;
   std::vector<double> angles;
+  int steep = 0;
   for (int m : group) {
     const Eigen::Vector3d d = InPlane(marks[m].position - c.centre, c.normal);
     if (std::abs(d.norm() - c.radius) > o.max_dot_residual_mm) return false;
     const Eigen::Vector3d in = InPlane(TowardsA(marks[m], inner), c.normal);
-    if (in.norm() < 1e-9 || in.normalized().dot(-d.normalized()) < o.min_extension_crossing_cos) return false;
+    if (in.norm() < 1e-9) return false;
+    if (in.normalized().dot(-d.normalized()) >= o.min_extension_crossing_cos) {
+      ++steep;
+    } else if (!o.dot_grazing_crossings_on_circle) {
+      return false;
+    }
     angles.push_back(std::atan2(d.dot(c.e2), d.dot(c.e1)));
   }
+  if (steep < 3) return false;
   std::sort(angles.begin(), angles.end());
   double widest = angles.front() + 2.0 * std::numbers::pi - angles.back();
   for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);

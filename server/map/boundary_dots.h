@@ -20,7 +20,8 @@
 //    every mark lies within max_dot_residual_mm of it;
 //  - every drag entered the inner region running within
 //    acos(min_extension_crossing_cos) of the circle's centre (it crossed
-//    the edge, not grazed it);
+//    the edge, not grazed it); with dot_grazing_crossings_on_circle, at
+//    least three did, and a grazing one counts as it lies on the circle;
 //  - the marks surround the centre (no angular gap of 180 degrees or more:
 //    otherwise the circle's far side is a guess);
 //  - no data contradicts it: near the circle as for a link

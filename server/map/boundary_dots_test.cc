@@ -67,17 +67,23 @@ std::vector<LabelledPoint> Dots(const std::vector<ChangeMark>& marks, const std:
   return points;
 }
 
-TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
-  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0, 20.0), DotCrossing(7.0, 130.0, 1, -30.0),
-                                         DotCrossing(7.0, 250.0, 2, 40.0)};
+// The marks round a dot of radius 7 mm draw one circle: its inner points lie
+// inside it by the seed offset, less the chords' sagitta (1 mm chords on
+// 7 mm: 0.02 mm).
+void ExpectTheCircleOfRadius7(const std::vector<ChangeMark>& marks) {
   int dots = 0;
   const std::vector<LabelledPoint> points = Dots(marks, DotData(marks, 7.0), &dots);
   EXPECT_EQ(dots, 1);
   const auto [lo, hi] = InnerSeedRadii(points);
-  // Inside the circle by the seed offset, less the chords' sagitta (1 mm
-  // chords on 7 mm: 0.02 mm).
   EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+}
+
+TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0, 20.0), DotCrossing(7.0, 130.0, 1, -30.0),
+                                         DotCrossing(7.0, 250.0, 2, 40.0)};
+  ExpectTheCircleOfRadius7(marks);
+  int dots = -1;
   BoundaryLinkOptions off;
   off.max_dot_radius_mm = 0.0;
   EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots, off).empty());
@@ -122,11 +128,26 @@ TEST(BoundaryDots, MarksOffTheCircleOrGrazingDragsDrawNothing) {
                                           DotCrossing(7.0, 180.0, 2), DotCrossing(7.0 * std::sqrt(2.0), 225.0, 3)};
   Dots(square, {}, &dots);
   EXPECT_EQ(dots, 0);
-  // A drag running 80 degrees off the radius grazes the edge.
+  // A drag running 80 degrees off the radius grazes the edge: two steep
+  // crossings are too few.
   const std::vector<ChangeMark> grazing = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 120.0, 1, 80.0),
                                            DotCrossing(7.0, 240.0, 2)};
   Dots(grazing, {}, &dots);
   EXPECT_EQ(dots, 0);
+}
+
+TEST(BoundaryDots, AGrazingCrossingOnTheCircleClosesItsGap) {
+  // Three steep crossings within 150 degrees (a gap of 210 degrees), and a
+  // drag that grazed the edge 80 degrees off the radius in the gap, on the
+  // circle (held_block seed 3: the grazing crossing closed a 183-degree gap).
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 45.0, 1),
+                                         DotCrossing(7.0, 150.0, 2), DotCrossing(7.0, 250.0, 3, 80.0)};
+  ExpectTheCircleOfRadius7(marks);
+  int dots = -1;
+  BoundaryLinkOptions before;
+  before.dot_grazing_crossings_on_circle = false;
+  Dots(marks, DotData(marks, 7.0), &dots, before);
+  EXPECT_EQ(dots, 0) << "the build before: the grazing drag refuses the dot";
 }
 
 TEST(BoundaryDots, DataAgainstTheCircleStopsIt) {

@@ -165,6 +165,13 @@ struct BoundaryLinkOptions {
   // the same drags, 15 scenes x 8 seeds (docs/method.md): 10 jobs changed,
   // 9 better.
   double max_dot_data_offset_mm = 0.5;
+  // A drag that grazed a dot's edge (ran more than acos(min_extension_crossing_cos)
+  // off its centre) refused the dot. With this, its crossing counts when it
+  // lies on the circle like the others (max_dot_residual_mm), so long as three
+  // crossings were made steeply: held_block seed 3's grazing crossing was
+  // the one that closed the circle's 183-degree gap (docs/method.md).
+  // False: the build before.
+  bool dot_grazing_crossings_on_circle = true;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
