@@ -210,26 +210,36 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTh
   ExpectOnThePatchsTrueSides(points);
 }
 
-TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
-  // Fifteen crossings of a circle of radius 40 mm by radial drags: 16.6 mm
-  // chords, so each side has one link within corner_reach_mm, and the next
-  // turns from it by 24 degrees.
-  constexpr double kPi = 3.14159265358979, kRadius = 40.0;
-  std::vector<ChangeMark> marks;
-  std::vector<LabelledPoint> data;
-  for (int k = 0; k < 15; ++k) {
-    const Eigen::Vector3d out(std::cos(k * 2.0 * kPi / 15.0), std::sin(k * 2.0 * kPi / 15.0), 0.0);
+// `crossings` crossings, evenly spaced, of a circle of radius `radius` mm
+// round the origin (region 1 inside) by radial drags, each with its data
+// every 0.5 mm for 8 mm either side.
+Scene RoundBoundary(double radius, int crossings) {
+  constexpr double kPi = 3.14159265358979;
+  Scene scene;
+  for (int k = 0; k < crossings; ++k) {
+    const double angle = 2.0 * kPi * k / crossings;
+    const Eigen::Vector3d out(std::cos(angle), std::sin(angle), 0.0);
     ChangeMark m;
-    m.position = kRadius * out;
+    m.position = radius * out;
     m.direction = out;
     m.before = 1;  // inside
     m.after = 0;
     m.drag = k;
-    marks.push_back(m);
+    scene.marks.push_back(m);
     for (double s = -8.0; s <= 8.0; s += 0.5) {
-      if (s != 0.0) data.push_back({(kRadius + s) * out, s < 0.0 ? 1 : 0});
+      if (s != 0.0) scene.data.push_back({(radius + s) * out, s < 0.0 ? 1 : 0});
     }
   }
+  return scene;
+}
+
+TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
+  // Fifteen crossings of a circle of radius 40 mm by radial drags: 16.6 mm
+  // chords, so each side has one link within corner_reach_mm, and the next
+  // turns from it by 24 degrees.
+  const Scene circle = RoundBoundary(40.0, 15);
+  const std::vector<ChangeMark>& marks = circle.marks;
+  const std::vector<LabelledPoint>& data = circle.data;
   BoundaryLinkOptions loose;
   loose.max_line_turn_deg = 30.0;  // a 24-degree turn passes as running on
   int links = 0, corners = -1;
@@ -253,22 +263,9 @@ TEST(BoundaryCorners, ARoundBoundaryKeepsItsChords) {
   // Twelve crossings of a circle of radius 20 mm (too big for a dot), by
   // radial drags: each chord turns 30 degrees from the next, like the two
   // sides of a corner, but no side runs straight.
-  constexpr double kPi = 3.14159265358979, kRadius = 20.0;
-  std::vector<ChangeMark> marks;
-  std::vector<LabelledPoint> data;
-  for (int k = 0; k < 12; ++k) {
-    const Eigen::Vector3d out(std::cos(k * kPi / 6.0), std::sin(k * kPi / 6.0), 0.0);
-    ChangeMark m;
-    m.position = kRadius * out;
-    m.direction = out;
-    m.before = 1;  // inside
-    m.after = 0;
-    m.drag = k;
-    marks.push_back(m);
-    for (double s = -8.0; s <= 8.0; s += 0.5) {
-      if (s != 0.0) data.push_back({(kRadius + s) * out, s < 0.0 ? 1 : 0});
-    }
-  }
+  const Scene circle = RoundBoundary(20.0, 12);
+  const std::vector<ChangeMark>& marks = circle.marks;
+  const std::vector<LabelledPoint>& data = circle.data;
   BoundaryLinkOptions loose;
   loose.max_corner_side_residual_mm = 5.0;  // the circle's 2.7 mm sagitta passes as straight
   int links = 0, corners = -1;

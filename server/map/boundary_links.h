@@ -95,7 +95,8 @@ struct BoundaryLinkOptions {
   // runs straight, and cutting links are often that sparse (the bottle,
   // seed 6: links of 13-17 mm each side of a corner). With this, such a
   // side is straight when the chain goes on past the reach by one more link
-  // that turns from it by at most max_line_turn_deg (boundary_corners.h).
+  // that turns from it by at most max_line_turn_deg (boundary_corners.h;
+  // with lines off, 0 degrees, only a side that runs on exactly passes).
   // False: such a side never is (the build before).
   bool corner_side_checked_past_reach = true;
   // The two ends' normals may differ by at most this: 20 mm over the

@@ -626,7 +626,8 @@ absl::Status RegionMap::SpreadRegions() {
     if (transition[i]) continue;
     // Across transitions (a run of them, where the detector cut a step
     // more than twice) the crossing is from the piece before them to the
-    // piece after them, halfway along them.
+    // piece after them, halfway along them (a transition has a piece after
+    // it in its drag: TransitionPiece).
     int next = i + 1;
     std::vector<Eigen::Vector3d> across;
     for (; transition[next]; ++next) across.insert(across.end(), pieces_[next].points.begin(), pieces_[next].points.end());
