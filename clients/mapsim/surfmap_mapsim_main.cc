@@ -186,6 +186,11 @@ int Main(int argc, char** argv) {
                  "same, directed from farther back along it (boundary_chains.h; false: the build before, on the same "
                  "drags)")
       ->capture_default_str();
+  app.add_option("--map-line-chord-mm", map_links.min_line_chord_mm,
+                 "the scored map joins three crossings in a line by chords this short when its outer two are a "
+                 "corner link apart (boundary_lines.h; 4: the build before, on the same drags)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-corner-side-past-reach", map_links.corner_side_checked_past_reach,
                  "the scored map takes a corner's side of one link within the reach as straight when the link "
                  "after it runs on (boundary_corners.h; false: the build before, on the same drags)")

@@ -69,13 +69,22 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
         continue;
       }
       const double d = (mp.position - mq.position).norm();
-      if (d < o.min_corner_link_mm || d > o.max_length_mm || mp.normal.dot(mq.normal) < min_normal_cos) continue;
+      if (d < std::min(o.min_line_chord_mm, o.min_corner_link_mm) || d > o.max_length_mm ||
+          mp.normal.dot(mq.normal) < min_normal_cos) {
+        continue;
+      }
       near.push_back(p);
     }
     for (std::size_t x = 0; x < near.size(); ++x) {
       for (std::size_t y = x + 1; y < near.size(); ++y) {
         const int p = near[x], r = near[y];
         if (marks[p].drag == marks[r].drag) continue;
+        // Short chords only inside a line whose ends are a corner link apart.
+        if (std::min((marks[p].position - mq.position).norm(), (marks[r].position - mq.position).norm()) <
+                o.min_corner_link_mm &&
+            (marks[r].position - marks[p].position).norm() < o.min_corner_link_mm) {
+          continue;
+        }
         const Eigen::Vector3d in = InPlane(mq.position - marks[p].position, mq.normal);
         const Eigen::Vector3d on = InPlane(marks[r].position - mq.position, mq.normal);
         if (in.norm() < 1e-9 || on.norm() < 1e-9) continue;

@@ -13,9 +13,12 @@
 // straight through them. Where it turns (a corner, a dot), the middle one
 // lies off the line through the other two. So marks P, Q, R of the same two
 // regions, from three different drags, with Q between P and R, are a line when
-//  - |PQ| and |QR| are each at least min_corner_link_mm (shorter, the
-//    crossings' ~0.3 mm location error turns a chord by more than ~4
-//    degrees) and at most max_length_mm;
+//  - |PQ| and |QR| are each at least min_corner_link_mm and at most
+//    max_length_mm; or, a chord being shorter (down to min_line_chord_mm),
+//    |PR| is at least min_corner_link_mm: the crossings' ~0.3 mm location
+//    error turns a chord shorter than that by more than ~4 degrees, and the
+//    line's direction is what its chains carry on (crossings a few mm apart
+//    on a drag-sized patch's side, held_vase seed 10);
 //  - the chord turns at Q by at most max_line_turn_deg, in Q's tangent plane
 //    (a corner turns by min_corner_turn_deg or more);
 //  - the normals of P and R are within max_corner_normal_deg of Q's;

@@ -30,6 +30,21 @@ TEST(BoundaryLines, ThreeObliqueCrossingsInARowAreJoined) {
   EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0)}), 0);
 }
 
+TEST(BoundaryLines, CrossingsAFewMillimetresApartAreJoinedWhenTheLineSpansACornerLink) {
+  // One side of a drag-sized patch crossed three times, 4.2 and 2.5 mm
+  // apart (held_vase, seed 10).
+  const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(4.2, 1, -50.0), Crossing(6.7, 2, 40.0)};
+  EXPECT_EQ(LinksDrawn(marks), 2);
+  BoundaryLinkOptions before;
+  before.min_line_chord_mm = before.min_corner_link_mm;
+  EXPECT_EQ(LinksDrawn(marks, before), 0);
+  // Three crossings within less than a corner link of each other do not
+  // fix the side's direction.
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), Crossing(1.8, 1, -50.0), Crossing(3.6, 2, 40.0)}), 0);
+  // Nor does a chord shorter than the shortest a line may have.
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0, 45.0), Crossing(5.0, 1, -50.0), Crossing(6.0, 2, 40.0)}), 0);
+}
+
 TEST(BoundaryLines, ALineIsCarriedOnAsAChain) {
   // A fourth crossing 28 mm on, beyond a link's reach: the chain's extension.
   const std::vector<ChangeMark> marks = {Crossing(0.0, 0, 45.0), Crossing(12.0, 1, -50.0),

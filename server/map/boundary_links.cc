@@ -28,6 +28,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"seed_offset_mm", seed_offset_mm},
                                                     {"corner_reach_mm", corner_reach_mm},
                                                     {"min_corner_link_mm", min_corner_link_mm},
+                                                    {"min_line_chord_mm", min_line_chord_mm},
                                                     {"max_extension_length_mm", max_extension_length_mm},
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
                                                     {"max_dot_residual_mm", max_dot_residual_mm},

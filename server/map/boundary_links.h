@@ -136,6 +136,18 @@ struct BoundaryLinkOptions {
   // 10 degrees as an extension's turn: a corner turns by min_corner_turn_deg
   // or more.
   double max_line_turn_deg = 10.0;
+  // A line's chords may be as short as this when its two outer crossings
+  // are at least min_corner_link_mm apart. Drags sent to a drag-sized patch
+  // cross its sides a few mm apart: held_vase seed 10 crossed one side of
+  // its sandpaper patch three times, 4.2 and 2.5 mm apart, and another five
+  // times within 4.3 mm, and no chord of 4 mm joined any of them, so both
+  // sides and the corner between them were left to the random walker. Three
+  // crossings spanning 4 mm fix a side's direction as well as one 4 mm
+  // chord does, and each short chord still turns by at most
+  // max_line_turn_deg (over a short chord the crossings' location error
+  // makes that stricter, not looser). At min_corner_link_mm every chord
+  // needs that length (the build before).
+  double min_line_chord_mm = 1.5;
   // Bridges (boundary_bridges.h): two chain ends that share one region and
   // point at each other within max_line_turn_deg are joined across a
   // stretch where the region beyond them changes, up to this long (0 = off).
