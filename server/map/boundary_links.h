@@ -144,9 +144,11 @@ struct BoundaryLinkOptions {
   // sides and the corner between them were left to the random walker. Three
   // crossings spanning 4 mm fix a side's direction as well as one 4 mm
   // chord does, and each short chord still turns by at most
-  // max_line_turn_deg (over a short chord the crossings' location error
-  // makes that stricter, not looser). At min_corner_link_mm every chord
-  // needs that length (the build before).
+  // max_line_turn_deg. Over a short chord the crossings' location error
+  // scatters the turn more widely: mostly that refuses true lines, and a
+  // corner (min_corner_turn_deg or more) passes only with errors of about
+  // half a mm. At min_corner_link_mm or more every chord needs
+  // min_corner_link_mm (the build before).
   double min_line_chord_mm = 1.5;
   // Bridges (boundary_bridges.h): two chain ends that share one region and
   // point at each other within max_line_turn_deg are joined across a
