@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <tuple>
+#include <utility>
 
 #include <Eigen/Geometry>
 
@@ -61,8 +62,9 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
     const ChangeMark& mq = marks[q];
     const int a = std::min(mq.before, mq.after), b = std::max(mq.before, mq.after);
     if (a == b) continue;
-    // The marks that could be an outer end of a line through q.
-    std::vector<int> near;
+    // The marks that could be an outer end of a line through q, with their
+    // distance from it.
+    std::vector<std::pair<int, double>> near;
     for (int p = 0; p < n; ++p) {
       const ChangeMark& mp = marks[p];
       if (p == q || mp.drag == mq.drag || std::min(mp.before, mp.after) != a || std::max(mp.before, mp.after) != b) {
@@ -73,15 +75,15 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
           mp.normal.dot(mq.normal) < min_normal_cos) {
         continue;
       }
-      near.push_back(p);
+      near.emplace_back(p, d);
     }
     for (std::size_t x = 0; x < near.size(); ++x) {
       for (std::size_t y = x + 1; y < near.size(); ++y) {
-        const int p = near[x], r = near[y];
+        const auto [p, pq] = near[x];
+        const auto [r, qr] = near[y];
         if (marks[p].drag == marks[r].drag) continue;
         // Short chords only inside a line whose ends are a corner link apart.
-        if (std::min((marks[p].position - mq.position).norm(), (marks[r].position - mq.position).norm()) <
-                o.min_corner_link_mm &&
+        if (std::min(pq, qr) < o.min_corner_link_mm &&
             (marks[r].position - marks[p].position).norm() < o.min_corner_link_mm) {
           continue;
         }
