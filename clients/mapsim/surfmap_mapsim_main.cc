@@ -195,6 +195,10 @@ int Main(int argc, char** argv) {
                  "the scored map takes a corner's side of one link within the reach as straight when the link "
                  "after it runs on (boundary_corners.h; false: the build before, on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-corner-side-may-end-chain", map_links.corner_side_may_end_its_chain,
+                 "the scored map takes a corner's side of one link whose chain ends there as straight when the "
+                 "other side runs straight (boundary_corners.h; false: the build before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-dot-grazing-crossings", map_links.dot_grazing_crossings_on_circle,
                  "the scored map lets a crossing of a drag that grazed a dot count when it lies on the circle "
                  "(boundary_dots.h; false: the build before, on the same drags)")
@@ -267,7 +271,12 @@ int Main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--map-corner-reach", map_links.corner_reach_mm,
                  "the scored map draws a corner where two chain ends, carried straight on, meet within this many mm "
-                 "of both (boundary_corners.h; 0: no corners)")
+                 "of both (boundary_corners.h; 0: no corners; 20: the build before, on the same drags)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
+  app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,
+                 "the scored map checks a cut corner's sides for running straight over this many mm from the "
+                 "chord's ends (boundary_corners.h; 0: no cut corners replaced)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
   app.add_option("--map-extension-length", map_links.max_extension_length_mm,

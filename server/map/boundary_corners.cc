@@ -86,15 +86,20 @@ bool TriangleContradicted(const Corner& corner, const LabelledPointGrid& data, c
 // The straight side of the chain at mark `end`, away from mark `away`:
 // a ChainEnd pointing out of it towards `end`, or nullopt when the chain
 // there has fewer than two links, branches, or turns by more than
-// max_corner_side_residual_mm within corner_reach_mm of `end`.
+// max_corner_side_residual_mm within corner_side_reach_mm of `end`. A side of
+// one link is taken when the link after it, past the reach, runs on, or
+// (with corner_side_may_end_its_chain) when the chain ends at it; then
+// *chain_ends is set, and only the other side can show the corner is one.
 std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links,
                                      const std::vector<std::vector<int>>& links_of, int end, int away,
-                                     const BoundaryLinkOptions& o) {
+                                     const BoundaryLinkOptions& o, bool* chain_ends) {
+  *chain_ends = false;
   const Eigen::Vector3d& n = marks[end].normal;
   std::vector<int> side;  // marks along the chain from `end`, within reach
   int beyond = -1;        // the mark after them, past the reach
   int first_link = -1;
   int prev = away, cur = end;
+  bool ended = false;  // no link goes on from the last mark of `side`
   while (true) {
     int next = -1, via = -1;
     for (int k : links_of[cur]) {
@@ -104,8 +109,9 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
       next = other;
       via = k;
     }
+    if (next < 0) ended = true;
     if (next < 0 || next == end) break;
-    if ((marks[next].position - marks[end].position).norm() > o.corner_reach_mm) {
+    if ((marks[next].position - marks[end].position).norm() > o.corner_side_reach_mm) {
       beyond = next;
       break;
     }
@@ -120,12 +126,19 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
   if (line.norm() < o.min_corner_link_mm) return std::nullopt;
   const Eigen::Vector3d u = line.normalized();
   if (side.size() == 1) {
-    // One link: straight only if the next one, past the reach, runs on.
-    if (!o.corner_side_checked_past_reach || beyond < 0) return std::nullopt;
-    const Eigen::Vector3d on = InPlane(marks[beyond].position - marks[side.front()].position, n);
-    if (on.norm() < o.min_corner_link_mm ||
-        on.normalized().dot(u) < std::cos(o.max_line_turn_deg * std::numbers::pi / 180.0)) {
-      return std::nullopt;
+    // One link: straight only if the next one, past the reach, runs on, or
+    // if there is none (two crossings are a line; whether the boundary
+    // turns at them is left to the other side).
+    if (beyond < 0) {
+      if (!o.corner_side_may_end_its_chain || !ended) return std::nullopt;
+      *chain_ends = true;
+    } else {
+      if (!o.corner_side_checked_past_reach) return std::nullopt;
+      const Eigen::Vector3d on = InPlane(marks[beyond].position - marks[side.front()].position, n);
+      if (on.norm() < o.min_corner_link_mm ||
+          on.normalized().dot(u) < std::cos(o.max_line_turn_deg * std::numbers::pi / 180.0)) {
+        return std::nullopt;
+      }
     }
   }
   for (int m : side) {
@@ -142,7 +155,9 @@ std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, s
                                          const LabelledPointGrid& data, const BoundaryLinkOptions& o,
                                          std::vector<LabelledPoint>* points, int* count) {
   if (count != nullptr) *count = 0;
-  if (!(o.max_corner_side_residual_mm > 0.0) || !(o.corner_reach_mm > 0.0)) return links;
+  if (!(o.max_corner_side_residual_mm > 0.0) || !(o.corner_reach_mm > 0.0) || !(o.corner_side_reach_mm > 0.0)) {
+    return links;
+  }
   std::vector<std::vector<int>> links_of(marks.size());
   for (int k = 0; k < static_cast<int>(links.size()); ++k) {
     links_of[links[k].from].push_back(k);
@@ -151,10 +166,11 @@ std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, s
   std::vector<std::pair<Corner, int>> candidates;  // with the link it replaces
   for (int k = 0; k < static_cast<int>(links.size()); ++k) {
     const DrawnLink& link = links[k];
-    const std::optional<ChainEnd> x = StraightSide(marks, links, links_of, link.from, link.to, o);
+    bool x_ends = false, y_ends = false;
+    const std::optional<ChainEnd> x = StraightSide(marks, links, links_of, link.from, link.to, o, &x_ends);
     if (!x) continue;
-    const std::optional<ChainEnd> y = StraightSide(marks, links, links_of, link.to, link.from, o);
-    if (!y) continue;
+    const std::optional<ChainEnd> y = StraightSide(marks, links, links_of, link.to, link.from, o, &y_ends);
+    if (!y || (x_ends && y_ends)) continue;  // two lone links show no straight side
     std::optional<Corner> c = CornerOf(marks[link.from], *x, marks[link.to], *y, o);
     if (c) candidates.emplace_back(*c, k);
   }

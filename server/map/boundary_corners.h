@@ -29,13 +29,17 @@
 // glass). A link P-Q is replaced by the corner P -> C -> Q when
 //  - the chain on each side of it (its other links, walked from P and from
 //    Q) runs straight: at least two links, every mark within
-//    corner_reach_mm of the end lying within max_corner_side_residual_mm of
-//    the line from the end to the farthest of them (in the end's tangent
-//    plane). A round boundary's chain turns at every crossing, so a dot or
+//    corner_side_reach_mm of the end lying within
+//    max_corner_side_residual_mm of the line from the end to the farthest
+//    of them (in the end's tangent plane). A round boundary's chain turns at every crossing, so a dot or
 //    a curved band keeps its chords. A side with one link within the reach
 //    is straight when the link after it, past the reach, turns from it by
 //    at most max_line_turn_deg (corner_side_checked_past_reach): a side
-//    that turns there is a cut corner's link itself, or round;
+//    that turns there is a cut corner's link itself, or round. A side of
+//    one link whose chain ends there (corner_side_may_end_its_chain) is
+//    taken as it runs, when the other side is straight by the rules above:
+//    two lone links each side of a chord are four crossings of anything
+//    (a round boundary's arc turns into a corner);
 //  - the two sides, carried on along those lines, make a corner by the rule
 //    for two chain ends above (ahead of both, within reach, turning by
 //    min..max_corner_turn_deg, the same hand);
@@ -58,7 +62,8 @@ std::vector<LabelledPoint> BoundaryCornerPoints(const std::vector<ChangeMark>& m
 
 // `links` without those that cut a corner (above); the corners' labelled
 // points are appended to *points, and *count (if given) receives how many.
-// max_corner_side_residual_mm = 0 or corner_reach_mm = 0: none replaced.
+// max_corner_side_residual_mm, corner_reach_mm or corner_side_reach_mm = 0:
+// none replaced.
 std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, std::vector<DrawnLink> links,
                                          const LabelledPointGrid& data, const BoundaryLinkOptions& options,
                                          std::vector<LabelledPoint>* points, int* count = nullptr);

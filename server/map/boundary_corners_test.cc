@@ -179,7 +179,8 @@ TEST(BoundaryCorners, ALinkThatCutsACornerBetweenStraightSidesIsReplacedByTheCor
 }
 
 TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkEachKeepsItsChord) {
-  // One link per side says nothing of whether the sides run straight.
+  // One link per side says nothing of whether the sides run straight, even
+  // where both chains end there (corner_side_may_end_its_chain).
   const Scene scene = CutCorner(2);
   int links = 0, corners = -1;
   BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
@@ -189,7 +190,7 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkEachKeepsItsChord) {
 
 TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTheChainRunsOnPastIt) {
   // Crossings 4, 16 and 32 mm from the corner on each side: one link of
-  // each side within corner_reach_mm (20 mm) of the chord's ends, and the
+  // each side within corner_side_reach_mm (20 mm) of the chord's ends, and the
   // next, past it, running straight on (the bottle, seed 6: links of 13-17 mm).
   constexpr double kPi = 3.14159265358979;
   const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
@@ -206,6 +207,27 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTh
   EXPECT_EQ(corners, 0);
   const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
   EXPECT_EQ(links, 4);
+  EXPECT_EQ(corners, 1);
+  ExpectOnThePatchsTrueSides(points);
+}
+
+TEST(BoundaryCorners, ACornerCutNextToASideOfOneLinkWhereItsChainEndsIsReplacedWhenTheOtherSideRunsStraight) {
+  // The side x = 0 crossed 4, 12 and 20 mm from the corner; the side y = 0
+  // only 4 and 16 mm from it, and nowhere beyond (the bottle, seeds 9 and
+  // 14: a patch's top side crossed twice, 12-16 mm apart).
+  constexpr double kPi = 3.14159265358979;
+  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
+  Scene scene;
+  for (double at : {-4.0, -12.0, -20.0}) scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
+  for (double at : {-4.0, -16.0}) scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
+  BoundaryLinkOptions before;
+  before.corner_side_may_end_its_chain = false;
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, before, &links, &corners);
+  ASSERT_EQ(links, 4) << "two along x = 0, one along y = 0 and the chord across the corner";
+  EXPECT_EQ(corners, 0);
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 3);
   EXPECT_EQ(corners, 1);
   ExpectOnThePatchsTrueSides(points);
 }
@@ -235,7 +257,7 @@ Scene RoundBoundary(double radius, int crossings) {
 
 TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
   // Fifteen crossings of a circle of radius 40 mm by radial drags: 16.6 mm
-  // chords, so each side has one link within corner_reach_mm, and the next
+  // chords, so each side has one link within corner_side_reach_mm, and the next
   // turns from it by 24 degrees.
   const Scene circle = RoundBoundary(40.0, 15);
   const std::vector<ChangeMark>& marks = circle.marks;
@@ -247,6 +269,26 @@ TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
   ASSERT_GT(corners, 0) << "with sides that need not run on, chords become corners";
   BoundaryLinkPoints(marks, data, {}, &links, &corners);
   EXPECT_EQ(links, 15);
+  EXPECT_EQ(corners, 0);
+}
+
+TEST(BoundaryCorners, AnArcOfARoundBoundaryWhoseChainEndsKeepsItsChords) {
+  // Five consecutive crossings of a circle of radius 20 mm, 30 degrees
+  // apart (10.4 mm chords), by radial drags. The chain
+  // ends at both outer crossings, so the chord next to each end has a side
+  // of one link where the chain ends; the other side turns 30 degrees at
+  // every crossing and is not straight.
+  Scene arc = RoundBoundary(20.0, 12);
+  const std::size_t data_per_drag = arc.data.size() / arc.marks.size();
+  arc.marks.resize(5);
+  arc.data.resize(5 * data_per_drag);
+  BoundaryLinkOptions loose;
+  loose.max_corner_side_residual_mm = 5.0;  // the arc's 2.7 mm sagitta passes as straight
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(arc.marks, arc.data, loose, &links, &corners);
+  ASSERT_GT(corners, 0) << "with a round side taken as straight, a chord next to a chain's end becomes a corner";
+  BoundaryLinkPoints(arc.marks, arc.data, {}, &links, &corners);
+  EXPECT_EQ(links, 4);
   EXPECT_EQ(corners, 0);
 }
 

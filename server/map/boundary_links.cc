@@ -27,6 +27,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"corridor_mm", corridor_mm},
                                                     {"seed_offset_mm", seed_offset_mm},
                                                     {"corner_reach_mm", corner_reach_mm},
+                                                    {"corner_side_reach_mm", corner_side_reach_mm},
                                                     {"min_corner_link_mm", min_corner_link_mm},
                                                     {"min_line_chord_mm", min_line_chord_mm},
                                                     {"max_extension_length_mm", max_extension_length_mm},

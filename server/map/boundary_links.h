@@ -80,10 +80,19 @@ struct BoundaryLinkOptions {
   double seed_offset_mm = 0.25;
   // Corners (boundary_corners.h): where two chains of links end and their
   // boundaries, carried straight on, meet within corner_reach_mm of both
-  // ends (the longest link: no corner segment is longer than a link; 10 mm
+  // ends (max_length_mm: no corner segment is longer than a link; 10 mm
   // missed most of the bottle's corners, whose last crossings lie 8-15 mm
-  // from them), turning by min..max_corner_turn_deg. 0 = no corners.
-  double corner_reach_mm = 20.0;
+  // from them; 20 mm, the build before links reached 25, missed the
+  // bottle's seed 14 corner 22.5 mm from a side's last crossing), turning
+  // by min..max_corner_turn_deg. 0 = no corners. The plan's own map keeps
+  // 20 (PlanRegionMapOptions).
+  double corner_reach_mm = 25.0;
+  // A cut corner's sides are checked for running straight over this stretch
+  // from the chord's ends (boundary_corners.h). It stays at 20 mm when the
+  // corner may lie 25 mm off: over 25 mm a side took in crossings round a
+  // neighbouring corner and was refused (the plate, seed 5). 0 = no cut
+  // corners replaced.
+  double corner_side_reach_mm = 20.0;
   double min_corner_turn_deg = 30.0;   // less: the boundary runs on (not a corner)
   double max_corner_turn_deg = 120.0;  // more: a hairpin or a round dot, not a corner
   // A link that cuts a corner off is replaced by the corner when the chain
@@ -91,7 +100,7 @@ struct BoundaryLinkOptions {
   // 0 = links never replaced): a change is located to ~0.1-0.4 mm along its
   // drag (docs/method.md), as for max_dot_residual_mm.
   double max_corner_side_residual_mm = 0.5;
-  // A side with one link within corner_reach_mm says nothing of whether it
+  // A side with one link within corner_side_reach_mm says nothing of whether it
   // runs straight, and cutting links are often that sparse (the bottle,
   // seed 6: links of 13-17 mm each side of a corner). With this, such a
   // side is straight when the chain goes on past the reach by one more link
@@ -99,6 +108,15 @@ struct BoundaryLinkOptions {
   // with lines off, 0 degrees, only a side that runs on exactly passes).
   // False: such a side never is (the build before).
   bool corner_side_checked_past_reach = true;
+  // A side with one link within corner_side_reach_mm and no crossing beyond it
+  // (the chain ends there) is taken as straight when the corner's other
+  // side is straight by the rules above: the bottle, seeds 9 and 14, had
+  // patches whose top side was crossed twice, 12-16 mm apart, and a chord
+  // from the nearer crossing to the next side cut the corner off. Two
+  // crossings say where the side runs, not whether it turns at them; the
+  // other side's straight run says the chord's turn is a corner's. Two such
+  // sides are never taken (boundary_corners.h). False: the build before.
+  bool corner_side_may_end_its_chain = true;
   // The two ends' normals may differ by at most this: 20 mm over the
   // scenes' most curved parts (radii of curvature ~27 mm) turns ~42 degrees;
   // more is not one piece of surface to draw straight segments on.

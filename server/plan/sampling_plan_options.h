@@ -63,6 +63,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.min_fitted_pieces_for_mu = 0;
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
+  options.links.corner_reach_mm = 20.0;  // the link's: the served map's 25 mm measured on the same drags only
   options.links.max_curve_turn_deg = 0.0;  // chords: the plan issues the drags it issued before curves
   options.links.min_crossing_cos = 0.866;  // cos 30 degrees: the served map's 32 measured on the same drags only
   return options;
