@@ -31,15 +31,15 @@
 //    Q) runs straight: at least two links, every mark within
 //    corner_side_reach_mm of the end lying within
 //    max_corner_side_residual_mm of the line from the end to the farthest
-//    of them (in the end's tangent plane). A round boundary's chain turns at every crossing, so a dot or
-//    a curved band keeps its chords. A side with one link within the reach
-//    is straight when the link after it, past the reach, turns from it by
-//    at most max_line_turn_deg (corner_side_checked_past_reach): a side
-//    that turns there is a cut corner's link itself, or round. A side of
-//    one link whose chain ends there (corner_side_may_end_its_chain) is
-//    taken as it runs, when the other side is straight by the rules above:
-//    two lone links each side of a chord are four crossings of anything
-//    (a round boundary's arc turns into a corner);
+//    of them (in the end's tangent plane). A round boundary's chain turns
+//    at every crossing, so a dot or a curved band keeps its chords. A side
+//    with one link within the reach is straight when the link after it,
+//    past the reach, turns from it by at most max_line_turn_deg
+//    (corner_side_checked_past_reach): a side that turns there is a cut
+//    corner's link itself, or round. A side of one link whose chain ends
+//    there (corner_side_may_end_its_chain) is taken as it runs when the
+//    other side is straight by the rules above; two such sides never are,
+//    for four crossings are a round arc as well as a corner;
 //  - the two sides, carried on along those lines, make a corner by the rule
 //    for two chain ends above (ahead of both, within reach, turning by
 //    min..max_corner_turn_deg, the same hand);

@@ -190,8 +190,9 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkEachKeepsItsChord) {
 
 TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTheChainRunsOnPastIt) {
   // Crossings 4, 16 and 32 mm from the corner on each side: one link of
-  // each side within corner_side_reach_mm (20 mm) of the chord's ends, and the
-  // next, past it, running straight on (the bottle, seed 6: links of 13-17 mm).
+  // each side within corner_side_reach_mm (20 mm) of the chord's ends, and
+  // the next, past it, running straight on (the bottle, seed 6: links of
+  // 13-17 mm).
   constexpr double kPi = 3.14159265358979;
   const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
   Scene scene;
@@ -257,8 +258,8 @@ Scene RoundBoundary(double radius, int crossings) {
 
 TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
   // Fifteen crossings of a circle of radius 40 mm by radial drags: 16.6 mm
-  // chords, so each side has one link within corner_side_reach_mm, and the next
-  // turns from it by 24 degrees.
+  // chords, so each side has one link within corner_side_reach_mm, and the
+  // next turns from it by 24 degrees.
   const Scene circle = RoundBoundary(40.0, 15);
   const std::vector<ChangeMark>& marks = circle.marks;
   const std::vector<LabelledPoint>& data = circle.data;
@@ -274,10 +275,10 @@ TEST(BoundaryCorners, ARoundBoundaryOfLongChordsKeepsThem) {
 
 TEST(BoundaryCorners, AnArcOfARoundBoundaryWhoseChainEndsKeepsItsChords) {
   // Five consecutive crossings of a circle of radius 20 mm, 30 degrees
-  // apart (10.4 mm chords), by radial drags. The chain
-  // ends at both outer crossings, so the chord next to each end has a side
-  // of one link where the chain ends; the other side turns 30 degrees at
-  // every crossing and is not straight.
+  // apart (10.4 mm chords), by radial drags. The chain ends at both outer
+  // crossings, so the chord next to each end has a side of one link where
+  // the chain ends; the other side turns 30 degrees at every crossing and
+  // is not straight.
   Scene arc = RoundBoundary(20.0, 12);
   const std::size_t data_per_drag = arc.data.size() / arc.marks.size();
   arc.marks.resize(5);
