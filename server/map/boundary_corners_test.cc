@@ -1,6 +1,7 @@
 #include "server/map/boundary_corners.h"
 
 #include <cmath>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -148,16 +149,21 @@ TEST(BoundaryCorners, ABoundaryThatRunsStraightOnIsNoCorner) {
 // 25 degrees off perpendicular to their side towards the corner: within the
 // link's 32 degrees of perpendicular both to the side and to the chord
 // between the two nearest crossings, which is linked and cuts the corner.
-Scene CutCorner(int crossings_per_side) {
+// The patch's side x = 0 crossed at y = each of `on_x`, its side y = 0 at
+// x = each of `on_y` (all < 0), by drags 25 degrees off perpendicular.
+Scene ObliqueCrossings(const std::vector<double>& on_x, const std::vector<double>& on_y) {
   constexpr double kPi = 3.14159265358979;
   const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
   Scene scene;
-  for (int k = 0; k < crossings_per_side; ++k) {
-    const double at = -4.0 - 8.0 * k;
-    scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
-    scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
-  }
+  for (double at : on_x) scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
+  for (double at : on_y) scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
   return scene;
+}
+
+Scene CutCorner(int crossings_per_side) {
+  std::vector<double> at;
+  for (int k = 0; k < crossings_per_side; ++k) at.push_back(-4.0 - 8.0 * k);
+  return ObliqueCrossings(at, at);
 }
 
 TEST(BoundaryCorners, ALinkThatCutsACornerBetweenStraightSidesIsReplacedByTheCorner) {
@@ -193,13 +199,7 @@ TEST(BoundaryCorners, ACornerCutBetweenSidesOfOneLinkWithinReachIsReplacedWhenTh
   // each side within corner_side_reach_mm (20 mm) of the chord's ends, and
   // the next, past it, running straight on (the bottle, seed 6: links of
   // 13-17 mm).
-  constexpr double kPi = 3.14159265358979;
-  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
-  Scene scene;
-  for (double at : {-4.0, -16.0, -32.0}) {
-    scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
-    scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
-  }
+  const Scene scene = ObliqueCrossings({-4.0, -16.0, -32.0}, {-4.0, -16.0, -32.0});
   BoundaryLinkOptions before;
   before.corner_side_checked_past_reach = false;
   int links = 0, corners = -1;
@@ -216,11 +216,7 @@ TEST(BoundaryCorners, ACornerCutNextToASideOfOneLinkWhereItsChainEndsIsReplacedW
   // The side x = 0 crossed 4, 12 and 20 mm from the corner; the side y = 0
   // only 4 and 16 mm from it, and nowhere beyond (the bottle, seeds 9 and
   // 14: a patch's top side crossed twice, 12-16 mm apart).
-  constexpr double kPi = 3.14159265358979;
-  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
-  Scene scene;
-  for (double at : {-4.0, -12.0, -20.0}) scene.Drag({0.0, at, 0.0}, Eigen::Vector3d(c, s, 0.0));
-  for (double at : {-4.0, -16.0}) scene.Drag({at, 0.0, 0.0}, Eigen::Vector3d(s, c, 0.0));
+  const Scene scene = ObliqueCrossings({-4.0, -12.0, -20.0}, {-4.0, -16.0});
   BoundaryLinkOptions before;
   before.corner_side_may_end_its_chain = false;
   int links = 0, corners = -1;
