@@ -4,7 +4,9 @@
 # (ABSL_GUARDED_BY, ABSL_EXCLUSIVE_LOCKS_REQUIRED, ...), and this check makes
 # a missing or wrong annotation an error. It compiles each file with clang
 # (-fsyntax-only: no objects, no link) using the flags CMake recorded in the
-# build directory's compile_commands.json.
+# build directory's compile_commands.json. In a unity build (the default:
+# CMakeLists.txt, SURFMAP_UNITY_BUILD) it checks each batch CMake compiles,
+# which includes the sources named in its #include lines, once.
 #
 # Usage: scripts/check-thread-safety.sh [BUILD_DIR]   (default: build)
 set -euo pipefail
@@ -15,17 +17,29 @@ CLANG=${CLANG:-$(command -v clang++-14 || command -v clang++ || true)}
 [ -f "$BUILD_DIR/compile_commands.json" ] || {
   echo "check-thread-safety: $BUILD_DIR/compile_commands.json is missing: configure the build first" >&2; exit 2; }
 exec python3 - "$BUILD_DIR/compile_commands.json" "$CLANG" "$(nproc)" <<'PY'
-import concurrent.futures, json, os, shlex, subprocess, sys
+import concurrent.futures, json, os, re, shlex, subprocess, sys
 
 commands_file, clang, jobs = sys.argv[1], sys.argv[2], int(sys.argv[3])
 layers = ("server/base/", "server/jobs/", "server/service/", "storage/")
 root = os.getcwd() + "/"
+
+def relative(path):
+    path = os.path.realpath(path)
+    return path[len(root):] if path.startswith(root) else None
+
+def sources_of(path):
+    """The project sources a compile covers: the file, or a unity batch's includes."""
+    if "/Unity/unity_" not in path:
+        return [relative(path)]
+    return [relative(m) for m in re.findall(r'^#include "([^"]+)"', open(path).read(), re.M)]
+
 entries = []
 for e in json.load(open(commands_file)):
     path = os.path.realpath(e["file"])
-    rel = path[len(root):] if path.startswith(root) else None
-    if rel is None or not rel.startswith(layers):
+    covered = [r for r in sources_of(path) if r and r.startswith(layers)]
+    if not covered:
         continue
+    rel = ", ".join(covered)
     args = shlex.split(e["command"]) if "command" in e else list(e["arguments"])
     # Drop the launcher and the compiler; keep defines, includes, standard.
     while args and not args[0].startswith("-"):
@@ -38,7 +52,7 @@ for e in json.load(open(commands_file)):
         if a in ("-o", "-MF", "-MT", "-MQ"):
             skip = True
             continue
-        if a in ("-c", "-MD") or a == e["file"] or a.endswith(".cc"):
+        if a in ("-c", "-MD") or a == e["file"] or a.endswith((".cc", ".cxx")):
             continue
         keep.append(a)
     entries.append((rel, e["directory"], keep + [path]))
@@ -56,6 +70,7 @@ with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
         if code:
             failed += 1
             print(f"FAIL {rel}\n{err}", flush=True)
-print(f"check-thread-safety: {len(entries)} files, {failed} with errors")
+files = sum(rel.count(", ") + 1 for rel, _, _ in entries)
+print(f"check-thread-safety: {files} files in {len(entries)} compiles, {failed} with errors")
 sys.exit(1 if failed else 0)
 PY

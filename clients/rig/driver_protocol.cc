@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "absl/strings/str_cat.h"
+#include "clients/rig/json_number.h"
 
 namespace surfmap::rig {
 
@@ -23,9 +24,6 @@ std::string Quote(std::string_view line) {
 }
 
 json Vector(const Eigen::Vector3d& v) { return json::array({v.x(), v.y(), v.z()}); }
-
-// A finite double, or null (JSON has no NaN).
-json Number(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
 
 absl::StatusOr<json> ParseObject(std::string_view line) {
   json value;
@@ -172,13 +170,13 @@ std::string FormatTraceMessage(std::int64_t command_id, const DragTrace& trace) 
   json t = json::array(), x = json::array(), y = json::array(), z = json::array(), fx = json::array(),
        fy = json::array(), fz = json::array(), phase = json::array();
   for (const DragSample& s : trace.samples) {
-    t.push_back(Number(s.t));
-    x.push_back(Number(s.position.x()));
-    y.push_back(Number(s.position.y()));
-    z.push_back(Number(s.position.z()));
-    fx.push_back(Number(s.force.x()));
-    fy.push_back(Number(s.force.y()));
-    fz.push_back(Number(s.force.z()));
+    t.push_back(FiniteOrNull(s.t));
+    x.push_back(FiniteOrNull(s.position.x()));
+    y.push_back(FiniteOrNull(s.position.y()));
+    z.push_back(FiniteOrNull(s.position.z()));
+    fx.push_back(FiniteOrNull(s.force.x()));
+    fy.push_back(FiniteOrNull(s.force.y()));
+    fz.push_back(FiniteOrNull(s.force.z()));
     phase.push_back(std::string(DragPhaseName(s.phase)));
   }
   json message = {{"type", "trace"}, {"command_id", command_id}, {"t", t}, {"x", x}, {"y", y}, {"z", z},

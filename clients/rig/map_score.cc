@@ -5,6 +5,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "clients/rig/json_number.h"
 
 namespace surfmap::rig {
 namespace {
@@ -26,8 +27,6 @@ int RegionIndexAt(const Scene& scene, const Eigen::Vector3d& p) {
   }
   return -1;
 }
-
-nlohmann::json Number(double v) { return std::isfinite(v) ? nlohmann::json(v) : nlohmann::json(nullptr); }
 
 }  // namespace
 
@@ -111,19 +110,19 @@ nlohmann::json MapScoreToJson(const MapScore& s, const std::string& scene_name) 
   for (const RegionScore& r : s.regions) {
     regions.push_back({{"name", r.name},
                        {"material", r.material},
-                       {"truth_mu", Number(r.truth_mu)},
+                       {"truth_mu", FiniteOrNull(r.truth_mu)},
                        {"vertices", r.vertices},
                        {"vertices_with_mu", r.vertices_with_mu},
-                       {"map_mu_mean", Number(r.map_mu_mean)},
-                       {"map_mu_std", Number(r.map_mu_std)}});
+                       {"map_mu_mean", FiniteOrNull(r.map_mu_mean)},
+                       {"map_mu_std", FiniteOrNull(r.map_mu_std)}});
   }
   return {{"scene", scene_name},
           {"vertices", s.vertices},
           {"vertices_with_mu", s.vertices_with_mu},
           {"samples", s.samples},
-          {"mu_rmse", Number(s.mu_rmse)},
-          {"mu_max_abs_error", Number(s.mu_max_abs_error)},
-          {"classification_accuracy", Number(s.classification_accuracy)},
+          {"mu_rmse", FiniteOrNull(s.mu_rmse)},
+          {"mu_max_abs_error", FiniteOrNull(s.mu_max_abs_error)},
+          {"classification_accuracy", FiniteOrNull(s.classification_accuracy)},
           {"regions", regions}};
 }
 

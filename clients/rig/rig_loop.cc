@@ -10,6 +10,7 @@
 #include "clients/rig/probe_conversion.h"
 #include "server/codec/rig_registration_proto.h"
 #include "server/codec/trace_samples_proto.h"
+#include "clients/rig/control_characters.h"
 
 namespace surfmap::rig {
 
@@ -42,10 +43,6 @@ bool IsDefinitiveRefusal(grpc::StatusCode code) {
     default:
       return false;
   }
-}
-
-bool HasControlCharacter(const std::string& s) {
-  return std::any_of(s.begin(), s.end(), [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; });
 }
 
 }  // namespace

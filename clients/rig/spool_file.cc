@@ -5,6 +5,7 @@
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
 #include "server/estimate/trace_csv.h"
+#include "clients/rig/control_characters.h"
 
 namespace surfmap::rig {
 namespace {
@@ -14,13 +15,6 @@ constexpr std::array<std::string_view, 5> kKeys = {"command_id", "job_id", "atte
 
 // This abseil build's absl::string_view is not std::string_view.
 absl::string_view A(std::string_view s) { return absl::string_view(s.data(), s.size()); }
-
-bool HasControlCharacter(std::string_view s) {
-  for (unsigned char c : s) {
-    if (c < 0x20 || c == 0x7f) return true;
-  }
-  return false;
-}
 
 }  // namespace
 

@@ -8,6 +8,7 @@
 #include "absl/strings/str_cat.h"
 #include "server/map/piece_resplit.h"
 #include "server/map/testing/map_pieces.h"
+#include "server/map/testing/paper_friction.h"
 
 namespace surfmap {
 namespace {
@@ -20,7 +21,9 @@ using testing::PieceWithSeries;
 using testing::Plate;
 using testing::Stretch;
 
-constexpr double kRubber = 0.305, kMasonite = 0.36, kSandpaper = 0.5;
+using testing::kRubberMu;
+using testing::kMasoniteMu;
+using testing::kSandpaperMu;
 constexpr int kRubberMaterial = 0, kMasoniteMaterial = 1, kSandpaperMaterial = 2, kTested = 3;
 
 struct Grouped {
@@ -39,9 +42,9 @@ Grouped ThreeMaterialsAndATestedOne(const std::vector<Stretch>& tested) {
   Grouped g;
   std::uint64_t seed = 1;
   for (int i = 0; i < 10; ++i) {
-    g.Add({{160, kRubber, kRubberLike}}, kRubberMaterial, seed++);
-    g.Add({{160, kMasonite, kMasoniteLike}}, kMasoniteMaterial, seed++);
-    g.Add({{160, kSandpaper, kSandpaperLike}}, kSandpaperMaterial, seed++);
+    g.Add({{160, kRubberMu, kRubberLike}}, kRubberMaterial, seed++);
+    g.Add({{160, kMasoniteMu, kMasoniteLike}}, kMasoniteMaterial, seed++);
+    g.Add({{160, kSandpaperMu, kSandpaperLike}}, kSandpaperMaterial, seed++);
   }
   for (int i = 0; i < 8; ++i) g.Add(tested, kTested, seed++);
   return g;
@@ -55,12 +58,12 @@ TEST(MixtureMaterialsTest, PiecesThatCrossFromRubberToMasoniteAreDissolved) {
   // Each drag holds 8 mm of rubber then 8 mm of masonite, as drags across a
   // boundary whose change their own test missed: their material reads
   // between the two, in mu and in texture.
-  const Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
+  const Grouped g = ThreeMaterialsAndATestedOne({{80, kRubberMu, kRubberLike}, {80, kMasoniteMu, kMasoniteLike}});
   const std::vector<std::optional<SeriesTexture>> textures = Textures(g);
   ASSERT_EQ(textures.size(), 4u);
   ASSERT_TRUE(textures[kTested].has_value());
-  EXPECT_GT(textures[kTested]->mean, kRubber + 0.01);
-  EXPECT_LT(textures[kTested]->mean, kMasonite - 0.01);
+  EXPECT_GT(textures[kTested]->mean, kRubberMu + 0.01);
+  EXPECT_LT(textures[kTested]->mean, kMasoniteMu - 0.01);
   const absl::StatusOr<MixtureScore> score = ScoreMixture(g.pieces, g.material, kTested, textures,
                                                           {kRubberMaterial, kMasoniteMaterial, kSandpaperMaterial}, {});
   ASSERT_TRUE(score.ok()) << score.status();
@@ -87,7 +90,7 @@ TEST(MixtureMaterialsTest, EveryMaterialOfTheTruthStays) {
   // Every material is tested: none of the three pure ones is a mixture of
   // the others (and the mixture is found first, then none).
   for (const bool with_mixture : {false, true}) {
-    Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
+    Grouped g = ThreeMaterialsAndATestedOne({{80, kRubberMu, kRubberLike}, {80, kMasoniteMu, kMasoniteLike}});
     if (!with_mixture) {
       for (int& m : g.material) m = m == kTested ? -1 : m;
     }
@@ -97,7 +100,7 @@ TEST(MixtureMaterialsTest, EveryMaterialOfTheTruthStays) {
 }
 
 TEST(MixtureMaterialsTest, NothingIsTestedWithoutTwoOtherTextures) {
-  const Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
+  const Grouped g = ThreeMaterialsAndATestedOne({{80, kRubberMu, kRubberLike}, {80, kMasoniteMu, kMasoniteLike}});
   // Rubber and the mixture alone: one other texture cannot cut a piece.
   std::vector<int> two = g.material;
   for (int& m : two) m = m == kMasoniteMaterial || m == kSandpaperMaterial ? -1 : m;
@@ -110,7 +113,7 @@ TEST(MixtureMaterialsTest, NothingIsTestedWithoutTwoOtherTextures) {
 }
 
 TEST(MixtureMaterialsTest, BadInputIsRefusedByName) {
-  Grouped g = ThreeMaterialsAndATestedOne({{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}});
+  Grouped g = ThreeMaterialsAndATestedOne({{80, kRubberMu, kRubberLike}, {80, kMasoniteMu, kMasoniteLike}});
   const std::vector<std::optional<SeriesTexture>> textures = Textures(g);
   const std::vector<int> others = {kRubberMaterial, kMasoniteMaterial};
   auto refused = [](const absl::Status& s, const std::string& naming) {
@@ -150,14 +153,14 @@ std::vector<MapPiece> HalvesAndDragsAcross(int across) {
   std::uint64_t seed = 1;
   for (double y : {-20.0, -4.0, 12.0}) {
     for (double x : {-44.0, -36.0, -28.0, -20.0}) {
-      pieces.push_back(PieceWithSeries(drag++, {x, y, 0}, {x, y + 15.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
-      pieces.push_back(PieceWithSeries(drag++, {-x, y, 0}, {-x, y + 15.9, 0}, {{160, kSandpaper, kSandpaperLike}}, seed++));
+      pieces.push_back(PieceWithSeries(drag++, {x, y, 0}, {x, y + 15.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
+      pieces.push_back(PieceWithSeries(drag++, {-x, y, 0}, {-x, y + 15.9, 0}, {{160, kSandpaperMu, kSandpaperLike}}, seed++));
     }
   }
   for (int k = 0; k < across; ++k) {
     const double y = -21.0 + 42.0 * k / std::max(1, across - 1);
     pieces.push_back(PieceWithSeries(drag++, {-8, y, 0}, {7.9, y, 0},
-                                     {{80, kRubber, kRubberLike}, {80, kSandpaper, kSandpaperLike}}, seed++));
+                                     {{80, kRubberMu, kRubberLike}, {80, kSandpaperMu, kSandpaperLike}}, seed++));
   }
   for (MapPiece& p : pieces) p = WithItsRoughness(std::move(p));
   return pieces;
@@ -195,8 +198,8 @@ TEST(MixtureMaterialsTest, TheMapDissolvesTheMixtureAndDrawsTheTwoMaterialsWhere
       const absl::StatusOr<MapValue> left = map->ValueAtPosition({-5, y, 0});
       const absl::StatusOr<MapValue> right_side = map->ValueAtPosition({5, y, 0});
       ASSERT_TRUE(left.ok() && right_side.ok());
-      right += std::abs(left->mu - kRubber) < 0.02;
-      right += std::abs(right_side->mu - kSandpaper) < 0.02;
+      right += std::abs(left->mu - kRubberMu) < 0.02;
+      right += std::abs(right_side->mu - kSandpaperMu) < 0.02;
     }
     EXPECT_GE(right, 7) << "of 8 points 3 mm from the boundary";
   }

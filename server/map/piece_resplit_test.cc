@@ -9,6 +9,7 @@
 #include "server/estimate/series_for_test.h"
 #include "server/map/region_map.h"
 #include "server/map/testing/map_pieces.h"
+#include "server/map/testing/paper_friction.h"
 
 namespace surfmap {
 namespace {
@@ -20,7 +21,8 @@ using testing::Plate;
 using testing::Stretch;
 using testing::StraightPiece;
 
-constexpr double kRubber = 0.305, kMasonite = 0.36;
+using testing::kRubberMu;
+using testing::kMasoniteMu;
 
 // The mean of the pieces' mu weighted by 1 / mu_se^2, as a material pools it.
 double PrecisionWeightedMu(const std::vector<MapPiece>& pieces, const std::vector<int>& which) {
@@ -40,13 +42,13 @@ std::vector<MapPiece> HalvesAndOneMixedDrag() {
   int drag = 0;
   std::uint64_t seed = 1;
   for (double x : {-40.0, -32.0, -24.0, -16.0}) {
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
   }
   for (double x : {16.0, 24.0, 32.0, 40.0}) {
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasoniteMu, kMasoniteLike}}, seed++));
   }
   pieces.push_back(PieceWithSeries(drag++, {-8, 0, 0}, {7.9, 0, 0},
-                                   {{80, kRubber, kRubberLike}, {80, kMasonite, kMasoniteLike}}, seed++));
+                                   {{80, kRubberMu, kRubberLike}, {80, kMasoniteMu, kMasoniteLike}}, seed++));
   pieces.back().line_piece = 0;  // its drag's fit found one piece
   return pieces;
 }
@@ -57,8 +59,8 @@ TEST(PieceResplitTest, MaterialTexturesNeedEnoughRows) {
   const std::vector<SeriesTexture> textures = FittedTextures(MaterialTextures(pieces, material, 300));
   ASSERT_EQ(textures.size(), 2u);
   // 632 rows of each: the means within the wander of a few drags' texture.
-  EXPECT_NEAR(textures[0].mean, kRubber, 0.02);
-  EXPECT_NEAR(textures[1].mean, kMasonite, 0.03);
+  EXPECT_NEAR(textures[0].mean, kRubberMu, 0.02);
+  EXPECT_NEAR(textures[1].mean, kMasoniteMu, 0.03);
   EXPECT_EQ(FittedTextures(MaterialTextures(pieces, material, 1000)).size(), 0u);
   // A material short of rows keeps its place, empty.
   material = {0, 0, 0, 0, 1, -1, -1, -1, -1};
@@ -112,7 +114,7 @@ TEST(PieceResplitTest, APlanAddingDragsKeepsTheSplit) {
   ASSERT_TRUE(map.ok());
   std::vector<MapPiece> pieces = HalvesAndOneMixedDrag();
   ASSERT_TRUE(map->SetPieces(pieces).ok());
-  pieces.push_back(PieceWithSeries(100, {-40, 15, 0}, {-24.1, 15, 0}, {{160, kRubber, kRubberLike}}, 77));
+  pieces.push_back(PieceWithSeries(100, {-40, 15, 0}, {-24.1, 15, 0}, {{160, kRubberMu, kRubberLike}}, 77));
   ASSERT_TRUE(map->SetPieces(pieces).ok());
   EXPECT_EQ(map->split_pieces(), 1);
   EXPECT_EQ(map->pieces().size(), 11u);
@@ -157,12 +159,12 @@ IntruderScene RubberMasoniteAndAnIntruder() {
   std::uint64_t seed = 11;
   for (double x : {-40.0, -32.0, -24.0, -16.0}) {
     scene.rubber.push_back(drag);
-    scene.pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    scene.pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
   }
   for (double x : {16.0, 24.0, 32.0, 40.0}) {
     scene.masonite.push_back(drag);
     scene.pieces.push_back(
-        PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+        PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasoniteMu, kMasoniteLike}}, seed++));
   }
   scene.intruder = drag;
   scene.pieces.push_back(PieceWithSeries(drag++, {28, -8, 0}, {28, 7.9, 0}, {{160, 0.40, kRubberLike}}, seed++));
@@ -210,15 +212,15 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsMovedToThatMaterial) {
   std::vector<int> rubber, masonite, intruders;
   for (double x : {-40.0, -32.0, -24.0, -16.0}) {
     rubber.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
   }
   for (double x : {16.0, 24.0, 32.0, 40.0}) {
     masonite.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasonite, kMasoniteLike}}, seed++));
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasoniteMu, kMasoniteLike}}, seed++));
   }
   for (double x : {20.0, 28.0}) {
     intruders.push_back(drag);
-    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubber, kRubberLike}}, seed++));
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
     pieces.back().piece.effective_pairs = 1.0;
     pieces.back().piece.mu_se = 0.01;
   }
@@ -245,7 +247,7 @@ TEST(MisfitPieceTest, APieceAnotherTextureExplainsIsMovedToThatMaterial) {
       // The map's value midway along the intruder, 4 mm from the masonite drags beside it.
       absl::StatusOr<MapValue> value = map->ValueAtPosition(pieces[i].points.front() + Eigen::Vector3d(0, 8, 0));
       ASSERT_TRUE(value.ok()) << value.status();
-      EXPECT_NEAR(value->mu, move ? kRubber : kMasonite, 0.02) << "piece " << i;
+      EXPECT_NEAR(value->mu, move ? kRubberMu : kMasoniteMu, 0.02) << "piece " << i;
     }
     // Moved or left out, the intruders count in neither material's mu.
     EXPECT_NEAR(regions[map->piece_region()[masonite[0]]].statistics.mu, PrecisionWeightedMu(pieces, masonite), 1e-12);
@@ -288,7 +290,7 @@ TEST(MisfitPieceTest, APieceMovesOnlyToAMaterialItsMuIsAlikeTo) {
     EXPECT_EQ(regions[map->piece_region()[intruder]].material, only_alike ? masonite_material : rubber_material);
     absl::StatusOr<MapValue> value = map->ValueAtPosition(pieces[intruder].points.front() + Eigen::Vector3d(0, 8, 0));
     ASSERT_TRUE(value.ok()) << value.status();
-    EXPECT_NEAR(value->mu, only_alike ? kMasonite : kRubber, 0.02);
+    EXPECT_NEAR(value->mu, only_alike ? kMasoniteMu : kRubberMu, 0.02);
     // Either way it counts in neither material's mu.
     EXPECT_NEAR(regions[map->piece_region()[masonite[0]]].statistics.mu, PrecisionWeightedMu(pieces, masonite), 1e-12);
     EXPECT_NEAR(regions[map->piece_region()[rubber[0]]].statistics.mu, PrecisionWeightedMu(pieces, rubber), 1e-12);

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include "server/map/testing/map_pieces.h"
+#include "server/map/testing/paper_friction.h"
 
 namespace surfmap {
 namespace {
@@ -18,14 +19,16 @@ using testing::WoodPiece;
 using testing::Plate;
 using testing::StraightPiece;
 
-constexpr double kGlass = 0.13, kSandpaper = 0.5;
+// Glass as a drag may read it, a little above its 0.106.
+constexpr double kGlassAsRead = 0.13;
+using testing::kSandpaperMu;
 
 // Glass drags along y at x = -30 and -20, sandpaper drags at x = 20 and 30.
 std::vector<MapPiece> TwoHalves() {
   std::vector<MapPiece> pieces;
   int drag = 0;
-  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
-  for (double x : {20.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kSandpaper, 0.0, true));
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlassAsRead));
+  for (double x : {20.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kSandpaperMu, 0.0, true));
   return pieces;
 }
 
@@ -43,10 +46,10 @@ TEST(RegionMapTest, AlikePiecesFormOneRegionEachWithThePooledMu) {
   ASSERT_EQ(map->regions().size(), 2u);
   EXPECT_EQ(map->piece_region(), (std::vector<int>{0, 0, 1, 1}));
   // Equal standard errors: the pooled mu is the plain mean, exactly.
-  EXPECT_DOUBLE_EQ(map->regions()[0].statistics.mu, kGlass);
-  EXPECT_DOUBLE_EQ(map->regions()[1].statistics.mu, kSandpaper);
+  EXPECT_DOUBLE_EQ(map->regions()[0].statistics.mu, kGlassAsRead);
+  EXPECT_DOUBLE_EQ(map->regions()[1].statistics.mu, kSandpaperMu);
   EXPECT_EQ(At(*map, {-40, 20, 0}).region, 0);
-  EXPECT_DOUBLE_EQ(At(*map, {40, -20, 0}).mu, kSandpaper);
+  EXPECT_DOUBLE_EQ(At(*map, {40, -20, 0}).mu, kSandpaperMu);
 }
 
 TEST(RegionMapTest, RegionsOfOneMaterialApartOnTheSurfaceShareTheirEstimates) {
@@ -56,7 +59,7 @@ TEST(RegionMapTest, RegionsOfOneMaterialApartOnTheSurfaceShareTheirEstimates) {
   std::vector<MapPiece> pieces;
   int drag = 0;
   for (double x : {-40.0, -35.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.48, 0.0, true, 0.02));
-  for (double x : {-10.0, 0.0, 10.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {-10.0, 0.0, 10.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlassAsRead));
   for (double x : {35.0, 40.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.52, 0.0, true, 0.02));
   const SurfaceLevel level = Plate();
   RegionMapOptions separate;
@@ -106,7 +109,7 @@ TEST(RegionMapTest, RoughnessComesOnlyFromPiecesThatHaveTheirOwnFit) {
 std::vector<MapPiece> PatchWithRimSlivers() {
   std::vector<MapPiece> pieces;
   int drag = 0;
-  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlassAsRead));
   for (double x : {20.0, 25.0, 30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, 0.36, 0.0, true, 0.02));
   for (double x : {22.5, 27.5}) pieces.push_back(StraightPiece(drag++, {x, 8, 0}, {x, 10, 0}, 0.25, 0.0, false, 0.05));
   return pieces;
@@ -257,7 +260,7 @@ TEST(RegionMapTest, ADetectedChangePinsTheBoundaryWhereTheDragCrossedIt) {
   auto map = RegionMap::Create(level);
   ASSERT_TRUE(map.ok());
   std::vector<MapPiece> pieces = TwoHalves();
-  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlass, kSandpaper)) pieces.push_back(p);
+  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlassAsRead, kSandpaperMu)) pieces.push_back(p);
   ASSERT_TRUE(map->SetPieces(pieces).ok());
   ASSERT_EQ(map->regions().size(), 2u);
   ASSERT_EQ(map->change_marks().size(), 1u);
@@ -273,8 +276,8 @@ TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourMarksNoCrossing) {
   // the map puts that sliver in glass, but it shows no crossing.
   const SurfaceLevel level = Plate();
   std::vector<MapPiece> pieces = TwoHalves();
-  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlass, kSandpaper)) pieces.push_back(p);
-  std::vector<MapPiece> sliver = CrossingDrag(10, {16, 5, 0}, {23, 5, 0}, {24, 5, 0}, kSandpaper, 0.2);
+  for (MapPiece& p : CrossingDrag(9, {0, 0, 0}, {8, 0, 0}, {16, 0, 0}, kGlassAsRead, kSandpaperMu)) pieces.push_back(p);
+  std::vector<MapPiece> sliver = CrossingDrag(10, {16, 5, 0}, {23, 5, 0}, {24, 5, 0}, kSandpaperMu, 0.2);
   sliver[1].piece.mu_se = 0.2;
   for (MapPiece& p : sliver) pieces.push_back(p);
   RegionMapOptions every_change;
@@ -314,13 +317,13 @@ TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourRefusesNoBoundary) {
   };
   std::vector<MapPiece> pieces;
   int drag = 0;
-  for (double x : {-40.0, -30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {-40.0, -30.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlassAsRead));
   for (double deg : {10.0, 130.0, 250.0}) {
-    for (MapPiece& p : CrossingDrag(drag++, at(15, deg), at(kRadius, deg), at(1, deg), kGlass, kSandpaper)) {
+    for (MapPiece& p : CrossingDrag(drag++, at(15, deg), at(kRadius, deg), at(1, deg), kGlassAsRead, kSandpaperMu)) {
       pieces.push_back(p);
     }
   }
-  std::vector<MapPiece> stub = CrossingDrag(drag++, at(20, 190), at(9, 190), at(8, 190), kGlass, 0.45);
+  std::vector<MapPiece> stub = CrossingDrag(drag++, at(20, 190), at(9, 190), at(8, 190), kGlassAsRead, 0.45);
   stub[1].piece.mu_se = 0.2;
   for (MapPiece& p : stub) pieces.push_back(p);
   // The rim, 1.5 mm either side of the circle, every 10 degrees, but for
@@ -361,16 +364,16 @@ TEST(RegionMapTest, APieceThatBlendsItsNeighboursMarksOneCrossingInItsMiddle) {
   int drag = 0;
   pieces.push_back(StraightPiece(drag++, {-45, -20, 0}, {-30, -20, 0}, 0.30));
   for (double y : {-8.0, 8.0}) {
-    for (MapPiece& p : CrossingDrag(drag++, {-12, y, 0}, {0, y, 0}, {12, y, 0}, kGlass, kSandpaper)) {
+    for (MapPiece& p : CrossingDrag(drag++, {-12, y, 0}, {0, y, 0}, {12, y, 0}, kGlassAsRead, kSandpaperMu)) {
       pieces.push_back(p);
     }
   }
   const int blended_drag = drag++;
-  std::vector<MapPiece> blended = CrossingDrag(blended_drag, {-12, 0, 0}, {-0.6, 0, 0}, {12, 0, 0}, kGlass, kSandpaper);
+  std::vector<MapPiece> blended = CrossingDrag(blended_drag, {-12, 0, 0}, {-0.6, 0, 0}, {12, 0, 0}, kGlassAsRead, kSandpaperMu);
   MapPiece transition = StraightPiece(blended_drag, {-0.6, 0, 0}, {0.6, 0, 0}, 0.30, blended[0].piece.end_mm);
   transition.piece.starts_at_change = transition.piece.ends_at_change = true;
   transition.piece.mu_se = 0.05;
-  blended[1] = StraightPiece(blended_drag, {0.6, 0, 0}, {12, 0, 0}, kSandpaper, transition.piece.end_mm);
+  blended[1] = StraightPiece(blended_drag, {0.6, 0, 0}, {12, 0, 0}, kSandpaperMu, transition.piece.end_mm);
   blended[1].piece.starts_at_change = true;
   pieces.insert(pieces.end(), {blended[0], transition, blended[1]});
   const int t = static_cast<int>(pieces.size()) - 2;
@@ -421,9 +424,9 @@ TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
   // are crossings of one boundary.
   std::vector<MapPiece> pieces;
   int drag = 0;
-  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlass));
+  for (double x : {-30.0, -20.0}) pieces.push_back(StraightPiece(drag++, {x, -8, 0}, {x, 8, 0}, kGlassAsRead));
   for (double y : {-8.0, 8.0}) {
-    for (MapPiece& p : CrossingDrag(drag++, {-8, y, 0}, {0, y, 0}, {8, y, 0}, kGlass, kSandpaper)) {
+    for (MapPiece& p : CrossingDrag(drag++, {-8, y, 0}, {0, y, 0}, {8, y, 0}, kGlassAsRead, kSandpaperMu)) {
       pieces.push_back(p);
     }
   }
@@ -444,7 +447,7 @@ TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
       // The link's points on the sandpaper side belong to the stretch nearer them.
       EXPECT_EQ(At(*map, {0.5, -6, 0}).region, first);
       EXPECT_EQ(At(*map, {0.5, 6, 0}).region, second);
-      EXPECT_NEAR(At(*map, {-0.5, 0, 0}).mu, kGlass, 1e-9);
+      EXPECT_NEAR(At(*map, {-0.5, 0, 0}).mu, kGlassAsRead, 1e-9);
     }
   }
 }
@@ -490,7 +493,7 @@ TEST(RegionMapTest, BadPiecesAreRefusedByNameAndTheMapKeepsItsState) {
   EXPECT_NE(map->SetPieces(bad).message().find("map piece 1: has no points"), std::string::npos);
   EXPECT_EQ(map->regions().size(), 2u);
   EXPECT_EQ(map->pieces().size(), 4u);
-  EXPECT_DOUBLE_EQ(At(*map, {40, 0, 0}).mu, kSandpaper);
+  EXPECT_DOUBLE_EQ(At(*map, {40, 0, 0}).mu, kSandpaperMu);
 }
 
 TEST(RegionMapTest, ANegativeOrUndefinedSpreadFloorIsRefusedByName) {

@@ -8,6 +8,7 @@
 
 #include <gtest/gtest.h>
 #include "server/estimate/series_for_test.h"
+#include "server/map/testing/paper_friction.h"
 
 namespace surfmap {
 namespace {
@@ -21,7 +22,10 @@ using testing::Series;
 // The merge rule allowing every move (the tests of the likelihood alone).
 const std::function<bool(int, int)> kAny = [](int, int) { return true; };
 
-constexpr double kGlass = 0.106, kRubber = 0.305, kMasonite = 0.36, kSandpaper = 0.5;
+using testing::kGlassMu;
+using testing::kRubberMu;
+using testing::kMasoniteMu;
+using testing::kSandpaperMu;
 
 MapPiece PieceOf(int pairs, double mean, const ArParams& texture, std::uint64_t seed) {
   MapPiece p;
@@ -40,7 +44,7 @@ struct FourMaterials {
   std::vector<int> material;
 
   explicit FourMaterials(std::uint64_t seed) {
-    const double means[] = {kGlass, kRubber, kMasonite, kSandpaper};
+    const double means[] = {kGlassMu, kRubberMu, kMasoniteMu, kSandpaperMu};
     const ArParams* kinds[] = {&kGlassLike, &kRubberLike, &kMasoniteLike, &kSandpaperLike};
     for (int m = 0; m < 4; ++m) {
       std::vector<std::span<const double>> stretches;
@@ -63,7 +67,7 @@ struct FourMaterials {
 
 TEST(TextureAssignmentTest, AShortMasonitePieceLeavesRubberForMasonite) {
   FourMaterials map(1);
-  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 7), 1);  // 4 mm of masonite the merge rule put with rubber
+  map.Add(PieceOf(40, kMasoniteMu, kMasoniteLike, 7), 1);  // 4 mm of masonite the merge rule put with rubber
   const TextureAssignment a = map.Assign();
   EXPECT_EQ(a.moved, 1);
   std::vector<int> expected = map.material;
@@ -77,7 +81,7 @@ TEST(TextureAssignmentTest, AShortMasonitePieceLeavesRubberForMasonite) {
 // was wrongly put with.
 TEST(TextureAssignmentTest, RatesAtTheDefault) {
   constexpr int kTrials = 400;
-  const double kMeans[] = {kGlass, kRubber, kMasonite, kSandpaper};
+  const double kMeans[] = {kGlassMu, kRubberMu, kMasoniteMu, kSandpaperMu};
   const ArParams* kKinds[] = {&kGlassLike, &kRubberLike, &kMasoniteLike, &kSandpaperLike};
   int false_moves = 0, wrong_left = 0, wrong_trials = 0;
   for (int t = 0; t < kTrials; ++t) {
@@ -106,7 +110,7 @@ TEST(TextureAssignmentTest, WithoutTexturesRegionsStayAndEmptyMaterialsAreDroppe
   // Masonite has no texture: its regions have nothing to be tested against,
   // and no region may move to it.
   map.textures[2].reset();
-  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 11), 2);
+  map.Add(PieceOf(40, kMasoniteMu, kMasoniteLike, 11), 2);
   TextureAssignment a = map.Assign();
   EXPECT_EQ(a.moved, 0);
   EXPECT_EQ(a.material, map.material);
@@ -124,7 +128,7 @@ TEST(TextureAssignmentTest, WithoutTexturesRegionsStayAndEmptyMaterialsAreDroppe
 
 TEST(TextureAssignmentTest, OnlyMaterialsTheMergeRuleAllowsAreCandidates) {
   FourMaterials map(5);
-  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 13), 1);  // masonite put with rubber
+  map.Add(PieceOf(40, kMasoniteMu, kMasoniteLike, 13), 1);  // masonite put with rubber
   // The merge rule rules masonite out: the piece may not go there, however
   // well its texture fits.
   std::vector<int> asked;
@@ -138,7 +142,7 @@ TEST(TextureAssignmentTest, OnlyMaterialsTheMergeRuleAllowsAreCandidates) {
 
 TEST(TextureAssignmentTest, PiecesWithoutSeriesAndFewTexturesChangeNothing) {
   FourMaterials map(4);
-  map.Add(PieceOf(40, kMasonite, kMasoniteLike, 17), 1);  // would move, with series and textures
+  map.Add(PieceOf(40, kMasoniteMu, kMasoniteLike, 17), 1);  // would move, with series and textures
   ASSERT_EQ(map.Assign().moved, 1);
   FourMaterials bare = map;
   for (MapPiece& p : bare.pieces) p = MapPiece{};  // no pair series at all

@@ -11,15 +11,12 @@
 #include "absl/strings/str_format.h"
 #include "server/mesh/obj_reader.h"
 #include "server/mesh/parsed_mesh.h"
+#include "server/mesh/parsed_mesh.h"
 #include "server/mesh/ply_reader.h"
 #include "server/mesh/stl_reader.h"
 
 namespace surfmap {
 namespace {
-
-// Same limit as the validator's (mesh_validation.cc): a face below it would
-// be rejected there, so it is removed here instead.
-constexpr double kRelativeZeroArea = 1e-10;
 
 absl::StatusOr<ParsedMesh> Read(std::string_view bytes, MeshFormat format, std::string_view source) {
   switch (format) {
@@ -135,7 +132,7 @@ absl::StatusOr<RepairedMesh> ParseAndRepairMesh(std::string_view bytes, MeshForm
        absl::StrFormat("vertices within %.3g mm (1e-6 of the bounding-box diagonal) of an earlier one were merged",
                        tolerance));
 
-  const double min_area = kRelativeZeroArea * diagonal * diagonal;
+  const double min_area = kRelativeZeroFaceArea * diagonal * diagonal;
   std::vector<std::array<int, 3>> triangles;
   std::vector<std::string> origins;
   triangles.reserve(mesh.triangles.size());

@@ -14,11 +14,6 @@
 namespace surfmap {
 namespace {
 
-// Faces smaller than this fraction of the squared bounding-box diagonal count
-// as zero-area: far below any real face, far above rounding noise of a
-// collinear triple (~1e-16).
-constexpr double kRelativeZeroArea = 1e-10;
-
 std::uint64_t EdgeKey(int a, int b) {
   return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32) |
          static_cast<std::uint32_t>(b);
@@ -101,7 +96,7 @@ absl::Status ValidateTriangleMesh(const ControlMesh& mesh,
   }
 
   const double diagonal = (hi - lo).norm();
-  const double min_area = kRelativeZeroArea * diagonal * diagonal;
+  const double min_area = kRelativeZeroFaceArea * diagonal * diagonal;
   for (int t = 0; t < num_triangles; ++t) {
     const auto& tri = mesh.triangles[t];
     const Eigen::Vector3d& a = mesh.positions[tri[0]];

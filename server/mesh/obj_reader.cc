@@ -9,6 +9,7 @@
 #include <tiny_obj_loader.h>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/mesh/text_tokens.h"
 
 namespace surfmap {
 namespace {
@@ -27,22 +28,6 @@ struct ObjScan {
   std::vector<int> face_lines;     // 1-based line of each `f` record, in order
   std::vector<int> face_sizes;     // vertex count of each `f` record
 };
-
-bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
-// Splits `line` on blanks.
-std::vector<std::string_view> Tokens(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && IsBlank(line[i])) ++i;
-    std::size_t j = i;
-    while (j < line.size() && !IsBlank(line[j])) ++j;
-    if (j > i) out.push_back(line.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
 
 // Lines end where tinyobjloader ends them: at "\n", "\r\n" or a lone "\r"
 // (classic Mac files), so that both passes see the same records and number
@@ -70,7 +55,7 @@ absl::StatusOr<ObjScan> ScanObj(std::string_view bytes, std::string_view source)
       return absl::InvalidArgumentError(absl::StrFormat(
           "%s line %d: NUL byte at column %d (an OBJ file is text)", source, line_number, nul + 1));
     }
-    const std::vector<std::string_view> tokens = Tokens(line);
+    const std::vector<std::string_view> tokens = BlankSeparatedTokens(line);
     if (tokens.empty()) continue;
     if (tokens[0] == "v") {
       if (tokens.size() < 4) {

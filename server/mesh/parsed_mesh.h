@@ -12,6 +12,12 @@
 
 namespace surfmap {
 
+// Faces smaller than this fraction of the squared bounding-box diagonal count
+// as zero-area: far below any real face, far above rounding noise of a
+// collinear triple (~1e-16). The validator (mesh_validation.cc) refuses such a
+// face; the repair (mesh_repair.cc) removes it first.
+inline constexpr double kRelativeZeroFaceArea = 1e-10;
+
 struct ParsedMesh {
   ControlMesh mesh;
   // For each triangle: where its polygon came from, e.g. "face on line 12"

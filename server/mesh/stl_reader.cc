@@ -11,6 +11,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "server/mesh/text_tokens.h"
 
 namespace surfmap {
 namespace {
@@ -82,21 +83,6 @@ absl::StatusOr<ParsedMesh> ReadBinary(std::string_view bytes, std::string_view s
   return out;
 }
 
-bool IsBlank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
-
-std::vector<std::string_view> Tokens(std::string_view line) {
-  std::vector<std::string_view> out;
-  std::size_t i = 0;
-  while (i < line.size()) {
-    while (i < line.size() && IsBlank(line[i])) ++i;
-    std::size_t j = i;
-    while (j < line.size() && !IsBlank(line[j])) ++j;
-    if (j > i) out.push_back(line.substr(i, j - i));
-    i = j;
-  }
-  return out;
-}
-
 absl::StatusOr<ParsedMesh> ReadAscii(std::string_view bytes, std::string_view source) {
   ParsedMesh out;
   CornerIndex corners;
@@ -111,7 +97,7 @@ absl::StatusOr<ParsedMesh> ReadAscii(std::string_view bytes, std::string_view so
     const std::string_view line = bytes.substr(pos, end - pos);
     pos = end + 1;
     ++line_number;
-    const std::vector<std::string_view> tokens = Tokens(line);
+    const std::vector<std::string_view> tokens = BlankSeparatedTokens(line);
     if (tokens.empty()) continue;
     auto error = [&](std::string_view what) {
       return absl::InvalidArgumentError(absl::StrFormat("%s line %d: %s", source, line_number, what));

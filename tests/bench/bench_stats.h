@@ -1,6 +1,7 @@
 // Latency summaries for the benchmark client.
 #pragma once
 
+#include <chrono>
 #include <vector>
 
 namespace surfmap::bench {
@@ -16,5 +17,10 @@ struct LatencySummary {
 // Nearest-rank percentiles of `samples_ms` (copied and sorted); all zero
 // when empty.
 LatencySummary Summarize(std::vector<double> samples_ms);
+
+// A steady-clock duration in milliseconds.
+inline double Ms(std::chrono::steady_clock::duration d) {
+  return std::chrono::duration<double, std::milli>(d).count();
+}
 
 }  // namespace surfmap::bench

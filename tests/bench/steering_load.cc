@@ -9,14 +9,13 @@
 #include "tests/bench/trace_templates.h"
 #include "tests/support/job_helpers.h"
 #include "tests/support/server_process.h"
+#include "tests/bench/bench_stats.h"
 
 namespace surfmap::bench {
 namespace {
 
 namespace pb = ::surfmap::v1;
 using Clock = std::chrono::steady_clock;
-
-double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
 
 // `rigs` rigs submitting (lease_next) for `seconds`; returns traces/s.
 double RigPhase(const std::string& address, int64_t job_id, int rigs, double seconds,

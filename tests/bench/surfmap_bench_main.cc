@@ -74,8 +74,6 @@ struct PhaseResult {
   std::string first_error;
 };
 
-double Ms(Clock::duration d) { return std::chrono::duration<double, std::milli>(d).count(); }
-
 PhaseResult RunThroughput(const std::string& address, int64_t job_id, int rigs, bool combined, double seconds,
                           const std::vector<DragTrace>& templates, const std::string& token) {
   PhaseResult result;

@@ -35,14 +35,6 @@ struct Expectation {
   std::vector<std::string> any_of;  // the message names the problem: one of these words (case-insensitive)
 };
 
-bool MessageNames(const std::string& message, const std::vector<std::string>& words) {
-  const std::string lower = absl::AsciiStrToLower(message);
-  for (const std::string& word : words) {
-    if (lower.find(absl::AsciiStrToLower(word)) != std::string::npos) return true;
-  }
-  return words.empty();
-}
-
 class BadInputTest : public ::testing::Test {
  protected:
   void SetUp() override {

@@ -81,14 +81,6 @@ struct Row {
   std::vector<std::string> any_of;  // the message contains one of these (case-insensitive)
 };
 
-bool MessageNames(const std::string& message, const std::vector<std::string>& words) {
-  const std::string lower = absl::AsciiStrToLower(message);
-  for (const std::string& word : words) {
-    if (lower.find(absl::AsciiStrToLower(word)) != std::string::npos) return true;
-  }
-  return words.empty();
-}
-
 Eigen::Vector3d V(const pb::Vec3& v) { return {v.x(), v.y(), v.z()}; }
 
 // Applies `edit(position, force)` to every sample.

@@ -5,7 +5,11 @@
 // grpc::Status the way the harness describes it.
 #pragma once
 
+#include <string>
 #include <utility>
+#include <vector>
+
+#include "absl/strings/ascii.h"
 
 #include "gtest/gtest.h"
 #include "server/base/testing/status_matchers.h"
@@ -31,3 +35,17 @@
     const grpc::Status _itest_grpc = (expr);                                     \
     EXPECT_TRUE(_itest_grpc.ok()) << #expr << ": " << ::surfmap::itest::Describe(_itest_grpc); \
   } while (0)
+
+namespace surfmap::itest {
+
+// Whether an error message names the problem: holds one of `words`
+// (case-insensitive). No words: any message will do.
+inline bool MessageNames(const std::string& message, const std::vector<std::string>& words) {
+  const std::string lower = absl::AsciiStrToLower(message);
+  for (const std::string& word : words) {
+    if (lower.find(absl::AsciiStrToLower(word)) != std::string::npos) return true;
+  }
+  return words.empty();
+}
+
+}  // namespace surfmap::itest
