@@ -7,10 +7,10 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "clients/rig/control_characters.h"
 #include "clients/rig/probe_conversion.h"
 #include "server/codec/rig_registration_proto.h"
 #include "server/codec/trace_samples_proto.h"
-#include "clients/rig/control_characters.h"
 
 namespace surfmap::rig {
 

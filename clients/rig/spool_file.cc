@@ -4,8 +4,8 @@
 
 #include "absl/strings/numbers.h"
 #include "absl/strings/str_cat.h"
-#include "server/estimate/trace_csv.h"
 #include "clients/rig/control_characters.h"
+#include "server/estimate/trace_csv.h"
 
 namespace surfmap::rig {
 namespace {

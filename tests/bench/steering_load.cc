@@ -6,10 +6,10 @@
 #include <thread>
 
 #include "absl/strings/str_cat.h"
+#include "tests/bench/bench_stats.h"
 #include "tests/bench/trace_templates.h"
 #include "tests/support/job_helpers.h"
 #include "tests/support/server_process.h"
-#include "tests/bench/bench_stats.h"
 
 namespace surfmap::bench {
 namespace {
