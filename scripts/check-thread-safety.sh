@@ -64,8 +64,13 @@ def check(entry):
     rel, directory, args = entry
     cmd = [clang, "-fsyntax-only", "-Wthread-safety", "-Werror=thread-safety", "-Wno-unknown-warning-option"] + args
     r = subprocess.run(cmd, cwd=directory, capture_output=True, text=True)
-    problems = [l for l in r.stderr.splitlines() if "thread-safety" in l or "error" in l]
     return rel, r.returncode, r.stderr if r.returncode else ""
+
+# A compile database with nothing of the layers in it (a build configured
+# without them, a wrong BUILD_DIR) would otherwise pass having checked nothing.
+if not entries:
+    print(f"check-thread-safety: no compile in {commands_file} covers {' '.join(layers)}", file=sys.stderr)
+    sys.exit(2)
 
 failed = 0
 with concurrent.futures.ThreadPoolExecutor(max_workers=jobs) as pool:
