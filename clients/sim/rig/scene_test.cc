@@ -294,7 +294,7 @@ TEST(BuiltInScenesTest, EverySceneLoadsAndEachRegionLiesOnItsSurface) {
     ASSERT_TRUE(scorer.ok()) << scorer.status();
     ExpectEveryRegionHoldsPoints(*scene, scorer->points());
   }
-  EXPECT_GE(scenes, 15);
+  EXPECT_GE(scenes, 16);
 }
 
 }  // namespace
