@@ -107,7 +107,7 @@ bool IsDot(const std::vector<ChangeMark>& marks, const std::vector<int>& group, 
   std::sort(angles.begin(), angles.end());
   double widest = angles.front() + 2.0 * std::numbers::pi - angles.back();
   for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
-  return widest < std::numbers::pi;
+  return widest < 2.0 * std::numbers::pi - o.min_dot_arc_deg * std::numbers::pi / 180.0;
 }
 
 // The circle's chords, each a boundary segment with `inner` on its inside.
