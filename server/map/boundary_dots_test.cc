@@ -90,11 +90,11 @@ TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
   EXPECT_EQ(dots, 0);
 }
 
-// Crossings on 150 degrees of the circle (a gap of 210) fix it well enough
-// (min_dot_arc_deg 120); the build before wanted them all round (180).
-TEST(BoundaryDots, CrossingsOnMoreThanAThirdOfTheCircleDrawIt) {
-  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 75.0, 1),
-                                         DotCrossing(7.0, 150.0, 2)};
+// Crossings on 100 degrees of the circle (a gap of 260) fix it well enough
+// (min_dot_arc_deg 90); the build before wanted them all round (180).
+TEST(BoundaryDots, CrossingsOnMoreThanAQuarterOfTheCircleDrawIt) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 50.0, 1),
+                                         DotCrossing(7.0, 100.0, 2)};
   ExpectTheCircleOfRadius7(marks);
   BoundaryLinkOptions before;
   before.min_dot_arc_deg = 180.0;
@@ -104,9 +104,9 @@ TEST(BoundaryDots, CrossingsOnMoreThanAThirdOfTheCircleDrawIt) {
 }
 
 TEST(BoundaryDots, CrossingsOnOneSideOnlyDrawNothing) {
-  // 0-100 degrees: a gap of 260 degrees, the far side a guess.
-  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 50.0, 1),
-                                         DotCrossing(7.0, 100.0, 2)};
+  // 0-70 degrees: a gap of 290 degrees, the far side a guess.
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 35.0, 1),
+                                         DotCrossing(7.0, 70.0, 2)};
   int dots = -1;
   EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots).empty());
   EXPECT_EQ(dots, 0);
@@ -150,12 +150,12 @@ TEST(BoundaryDots, MarksOffTheCircleOrGrazingDragsDrawNothing) {
 }
 
 TEST(BoundaryDots, AGrazingCrossingOnTheCircleClosesItsGap) {
-  // Three steep crossings within 100 degrees (a gap of 260 degrees: too few
+  // Three steep crossings within 70 degrees (a gap of 290 degrees: too few
   // alone), and a drag that grazed the edge 80 degrees off the radius in the
   // gap, on the circle (held_block seed 3: the grazing crossing closed a
   // 183-degree gap, when the marks had to surround the centre).
-  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 45.0, 1),
-                                         DotCrossing(7.0, 100.0, 2), DotCrossing(7.0, 230.0, 3, 80.0)};
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 35.0, 1),
+                                         DotCrossing(7.0, 70.0, 2), DotCrossing(7.0, 200.0, 3, 80.0)};
   ExpectTheCircleOfRadius7(marks);
   int dots = -1;
   BoundaryLinkOptions before;

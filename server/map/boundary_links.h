@@ -206,17 +206,17 @@ struct BoundaryLinkOptions {
   // False: the build before.
   bool dot_grazing_crossings_on_circle = true;
   // A dot's crossings must span at least this arc of its circle (the widest
-  // gap between them less than 360 minus it). Three crossings on 120
-  // degrees, each located to 0.2 mm, fix an 8 mm circle's radius to 0.3 mm
-  // and its far side to 0.7 mm (medians; 0.8 and 2.0 mm at the 90th
-  // percentile, simulated), on 90 degrees to twice that; the
+  // gap between them less than 360 minus it). Three crossings on 90
+  // degrees, each located to 0.2 mm, fix an 8 mm circle's radius to 0.6 mm
+  // and its far side to 1.3 mm (medians; 1.6 and 3.8 mm at the 90th
+  // percentile, simulated), on 120 degrees to half that; the
   // data-contradiction check covers the far side wherever a drag passed
   // there. Without a dot, the links between its crossings are chords that
   // cut it, and its far side goes to whatever data lies nearest.
-  // Measured (docs/method.md): scan_dome_m seed 11's 16 mm glass dot, its
-  // four crossings on 158 degrees, read 80.25 % as chords, 96.75 % as a
+  // Measured (docs/method.md): scan_dome_m's 16 mm glass dot read 80 % on
+  // three jobs whose crossings spanned 117-158 degrees, 95-98.5 % as a
   // circle. 180: the build before (the marks had to surround the centre).
-  double min_dot_arc_deg = 120.0;
+  double min_dot_arc_deg = 90.0;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
