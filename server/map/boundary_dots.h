@@ -22,9 +22,9 @@
 //    acos(min_extension_crossing_cos) of the circle's centre (it crossed
 //    the edge, not grazed it); with dot_grazing_crossings_on_circle, at
 //    least three did, and a grazing one counts as it lies on the circle;
-//  - the marks span at least min_dot_arc_deg of the circle (90: no gap
-//    round the centre of 270 degrees or more; three crossings on a shorter
-//    arc fix the circle too loosely, and its far side would be a guess);
+//  - the marks span at least min_dot_arc_deg of the circle (180: they
+//    surround the centre; crossings on one side fit a patch's corner as
+//    well as a dot, boundary_links.h);
 //  - no data contradicts it: near the circle as for a link
 //    (boundary_corridor.h) but with max_dot_data_offset_mm for the wrong
 //    side's tolerance, no other region's data inside it, and no

@@ -90,25 +90,33 @@ TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
   EXPECT_EQ(dots, 0);
 }
 
-// Crossings on 100 degrees of the circle (a gap of 260) fix it well enough
-// (min_dot_arc_deg 90); the build before wanted them all round (180).
-TEST(BoundaryDots, CrossingsOnMoreThanAQuarterOfTheCircleDrawIt) {
+// Crossings on 100 degrees of the circle (a gap of 260) draw it only when
+// min_dot_arc_deg allows one-sided dots (90); by default (180) they must
+// surround the centre.
+TEST(BoundaryDots, CrossingsOnAQuarterOfTheCircleDrawItWhenOneSidedDotsAreAllowed) {
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 50.0, 1),
                                          DotCrossing(7.0, 100.0, 2)};
-  ExpectTheCircleOfRadius7(marks);
-  BoundaryLinkOptions before;
-  before.min_dot_arc_deg = 180.0;
   int dots = -1;
-  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots, before).empty());
+  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots).empty());
   EXPECT_EQ(dots, 0);
+  BoundaryLinkOptions one_sided;
+  one_sided.min_dot_arc_deg = 90.0;
+  const std::vector<LabelledPoint> points = Dots(marks, DotData(marks, 7.0), &dots, one_sided);
+  EXPECT_EQ(dots, 1);
+  const auto [lo, hi] = InnerSeedRadii(points);
+  EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
+  EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
 }
 
 TEST(BoundaryDots, CrossingsOnOneSideOnlyDrawNothing) {
-  // 0-70 degrees: a gap of 290 degrees, the far side a guess.
+  // 0-70 degrees: a gap of 290 degrees, the far side a guess (even with
+  // one-sided dots allowed, below).
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 35.0, 1),
                                          DotCrossing(7.0, 70.0, 2)};
   int dots = -1;
-  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots).empty());
+  BoundaryLinkOptions one_sided;
+  one_sided.min_dot_arc_deg = 90.0;
+  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots, one_sided).empty());
   EXPECT_EQ(dots, 0);
 }
 

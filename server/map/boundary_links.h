@@ -206,17 +206,15 @@ struct BoundaryLinkOptions {
   // False: the build before.
   bool dot_grazing_crossings_on_circle = true;
   // A dot's crossings must span at least this arc of its circle (the widest
-  // gap between them less than 360 minus it). Three crossings on 90
-  // degrees, each located to 0.2 mm, fix an 8 mm circle's radius to 0.6 mm
-  // and its far side to 1.3 mm (medians; 1.6 and 3.8 mm at the 90th
-  // percentile, simulated), on 120 degrees to half that; the
-  // data-contradiction check covers the far side wherever a drag passed
-  // there. Without a dot, the links between its crossings are chords that
-  // cut it, and its far side goes to whatever data lies nearest.
-  // Measured (docs/method.md): scan_dome_m's 16 mm glass dot read 80 % on
-  // three jobs whose crossings spanned 117-158 degrees, 95-98.5 % as a
-  // circle. 180: the build before (the marks had to surround the centre).
-  double min_dot_arc_deg = 90.0;
+  // gap between them less than 360 minus it). 180: they surround its
+  // centre. Less lets crossings on one side draw a dot: three on 90
+  // degrees, each located to 0.2 mm, fix an 8 mm circle's far side to
+  // 1.3 mm (median, simulated). That drew scan_dome_m's 16 mm glass dot
+  // (80 % on three jobs, 95-98.5 % as a circle; docs/method.md), but two
+  // crossings of each side near a patch's corner lie on a circle about the
+  // patch's inside too, and with 90 or 120 the dot took the corner
+  // (BoundaryCorners tests). Kept at 180 until a rule tells the two apart.
+  double min_dot_arc_deg = 180.0;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
