@@ -44,6 +44,43 @@ def icosphere(subdivisions):
     return vertices, faces
 
 
+def ring_by_angle(vertices, ids, scale=(1.0, 1.0)):
+    """A ring's vertex ids in order of angle round the z axis (of x / scale[0],
+    y / scale[1]: an ellipse's rings), and those angles in [0, 2 pi)."""
+    angles = np.mod(np.arctan2(vertices[ids, 1] / scale[1], vertices[ids, 0] / scale[0]), 2 * np.pi)
+    order = np.argsort(angles)
+    return [ids[k] for k in order], angles[order]
+
+
+def zip_rings(lower, angle_lower, upper, angle_upper):
+    """Triangles between two rings ordered by angle (any counts): each step
+    advances the ring whose next vertex comes first."""
+    nl, nu = len(lower), len(upper)
+    faces = []
+    a = b = 0
+    while a < nl or b < nu:
+        next_lower = angle_lower[(a + 1) % nl] + (2 * np.pi if a + 1 >= nl else 0)
+        next_upper = angle_upper[(b + 1) % nu] + (2 * np.pi if b + 1 >= nu else 0)
+        if b >= nu or (a < nl and next_lower < next_upper):
+            faces.append((lower[a % nl], lower[(a + 1) % nl], upper[b % nu]))
+            a += 1
+        else:
+            faces.append((lower[a % nl], upper[(b + 1) % nu], upper[b % nu]))
+            b += 1
+    return faces
+
+
+def orient_outward(vertices, faces, centre):
+    """Each face counter-clockwise seen from outside: its normal away from
+    `centre`, a point inside the object."""
+    outward = []
+    for a, b, c in faces:
+        normal = np.cross(vertices[b] - vertices[a], vertices[c] - vertices[a])
+        away = (vertices[a] + vertices[b] + vertices[c]) / 3 - np.asarray(centre, float)
+        outward.append((a, b, c) if normal @ away > 0 else (a, c, b))
+    return outward
+
+
 def pebble():
     """An ellipsoid 124 x 88 x 72 mm with bumps: an icosphere subdivided 4 times
     (2,562 vertices), turned off the axes first so no vertex sits on one."""
@@ -107,33 +144,10 @@ def vase():
 
     faces = [(0, ring(1)[(j + 1) % around], ring(1)[j]) for j in range(around)]
     for i in range(1, rings - 2):
-        # Zip two rings by angle: each step advances the one whose next vertex
-        # comes first.
-        lower, upper = ring(i), ring(i + 1)
-        angle_lower = np.mod(np.arctan2(vertices[lower, 1], vertices[lower, 0]), 2 * np.pi)
-        angle_upper = np.mod(np.arctan2(vertices[upper, 1], vertices[upper, 0]), 2 * np.pi)
-        order_lower, order_upper = np.argsort(angle_lower), np.argsort(angle_upper)
-        lower, upper = [lower[k] for k in order_lower], [upper[k] for k in order_upper]
-        angle_lower, angle_upper = angle_lower[order_lower], angle_upper[order_upper]
-        a = b = 0
-        while a < around or b < around:
-            next_lower = angle_lower[(a + 1) % around] + (2 * np.pi if a + 1 >= around else 0)
-            next_upper = angle_upper[(b + 1) % around] + (2 * np.pi if b + 1 >= around else 0)
-            if b >= around or (a < around and next_lower < next_upper):
-                faces.append((lower[a % around], lower[(a + 1) % around], upper[b % around]))
-                a += 1
-            else:
-                faces.append((lower[a % around], upper[(b + 1) % around], upper[b % around]))
-                b += 1
+        faces += zip_rings(*ring_by_angle(vertices, ring(i)), *ring_by_angle(vertices, ring(i + 1)))
     top, last = len(vertices) - 1, ring(rings - 2)
     faces += [(top, last[j], last[(j + 1) % around]) for j in range(around)]
-    # Counter-clockwise seen from outside: away from a point on the axis.
-    outward = []
-    for a, b, c in faces:
-        normal = np.cross(vertices[b] - vertices[a], vertices[c] - vertices[a])
-        away = (vertices[a] + vertices[b] + vertices[c]) / 3 - np.array([0, 0, 75])
-        outward.append((a, b, c) if normal @ away > 0 else (a, c, b))
-    return vertices, outward
+    return vertices, orient_outward(vertices, faces, (0, 0, 75))  # from a point on the axis
 
 
 def dome():
@@ -165,43 +179,20 @@ def dome():
         ring_ids.append(ids)
     vertices = np.array(vertices)
 
-    def by_angle(ids):
-        """The ring's vertices in order of angle round the axis, and the angles."""
-        angles = np.mod(np.arctan2(vertices[ids, 1] / radii[1], vertices[ids, 0] / radii[0]), 2 * np.pi)
-        order = np.argsort(angles)
-        return [ids[k] for k in order], angles[order]
-
-    first, _ = by_angle(ring_ids[0])
+    first, _ = ring_by_angle(vertices, ring_ids[0], radii[:2])
     faces = [(0, first[j], first[(j + 1) % len(first)]) for j in range(len(first))]
     for i in range(rings - 1):
-        # Zip two rings of different counts by angle, the upper one started at
-        # its vertex nearest the lower one's first: each step advances the
-        # ring whose next vertex comes first.
-        lower, angle_lower = by_angle(ring_ids[i])
-        upper, angle_upper = by_angle(ring_ids[i + 1])
-        nl, nu = len(lower), len(upper)
+        # The upper ring started at its vertex nearest the lower one's first,
+        # its angles carried on past 2 pi (rings of different counts).
+        lower, angle_lower = ring_by_angle(vertices, ring_ids[i], radii[:2])
+        upper, angle_upper = ring_by_angle(vertices, ring_ids[i + 1], radii[:2])
         s = int(np.argmin(np.abs(np.angle(np.exp(1j * (angle_upper - angle_lower[0]))))))
         upper = upper[s:] + upper[:s]
         angle_upper = np.r_[angle_upper[s:], angle_upper[:s] + 2 * np.pi]
         if angle_upper[0] > angle_lower[0] + np.pi:
             angle_upper = angle_upper - 2 * np.pi
-        a = b = 0
-        while a < nl or b < nu:
-            next_lower = angle_lower[(a + 1) % nl] + (2 * np.pi if a + 1 >= nl else 0)
-            next_upper = angle_upper[(b + 1) % nu] + (2 * np.pi if b + 1 >= nu else 0)
-            if b >= nu or (a < nl and next_lower < next_upper):
-                faces.append((lower[a % nl], lower[(a + 1) % nl], upper[b % nu]))
-                a += 1
-            else:
-                faces.append((lower[a % nl], upper[(b + 1) % nu], upper[b % nu]))
-                b += 1
-    # Counter-clockwise seen from outside: away from the centre of the base.
-    outward = []
-    for f in faces:
-        p0, p1, p2 = vertices[list(f)]
-        normal = np.cross(p1 - p0, p2 - p0)
-        outward.append(f if normal @ ((p0 + p1 + p2) / 3) > 0 else (f[0], f[2], f[1]))
-    return vertices, outward
+        faces += zip_rings(lower, angle_lower, upper, angle_upper)
+    return vertices, orient_outward(vertices, faces, (0, 0, 0))  # from the centre of the base
 
 
 def write_obj(path, title, vertices, faces):
