@@ -61,7 +61,10 @@ def main():
     missed = []
     for scene, rs in by_scene.items():
         n = len(rs)
-        mean = lambda key: sum(r[key] for r in rs) / n
+
+        def mean(key, rs=rs, n=n):
+            return sum(r[key] for r in rs) / n
+
         misses = [r for r in rs if missed_goals(scene, r["right"], r["worst"], r["rmse"], r["samples"], r["cvs"])]
         met_total += n - len(misses)
         missed += [f"{scene} seed {r['seed']}" for r in misses]

@@ -200,8 +200,9 @@ int Main(int argc, char** argv) {
                  "other side runs straight (boundary_corners.h; false: the build before, on the same drags)")
       ->capture_default_str();
   app.add_option("--map-dot-min-arc", map_links.min_dot_arc_deg,
-                 "the scored map draws a dot whose crossings span at least this arc of its circle, degrees "
-                 "(boundary_dots.h; 180, the default: they surround its centre)")
+                 "the scored map draws a dot whose crossings span at least this arc of its circle, degrees, "
+                 "when other regions' data close the rest (boundary_dots.h; 180: only crossings that surround "
+                 "its centre, the build before)")
       ->capture_default_str();
   app.add_option("--map-dot-grazing-crossings", map_links.dot_grazing_crossings_on_circle,
                  "the scored map lets a crossing of a drag that grazed a dot count when it lies on the circle "

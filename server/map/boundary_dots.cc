@@ -85,29 +85,72 @@ std::pair<double, double> Polar(const Circle& c, const Eigen::Vector3d& p) {
   return {InPlane(d, c.normal).norm(), std::abs(d.dot(c.normal))};
 }
 
-// Whether the marks of `group` make a dot on circle c with `inner` inside.
-bool IsDot(const std::vector<ChangeMark>& marks, const std::vector<int>& group, const Circle& c, int inner,
-           const BoundaryLinkOptions& o) {
-  if (c.radius < o.corridor_mm || c.radius > o.max_dot_radius_mm) return false;
+// The widest gap between the angles (radians, any order) round the circle.
+double WidestGap(std::vector<double> angles) {
+  std::sort(angles.begin(), angles.end());
+  double widest = angles.front() + 2.0 * std::numbers::pi - angles.back();
+  for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
+  return widest;
+}
+
+double AngleOf(const Circle& c, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d d = p - c.centre;
+  return std::atan2(d.dot(c.e2), d.dot(c.e1));
+}
+
+// The angles of the crossings of `group` round circle c if they make a dot's
+// edge with `inner` inside (every crossing on the circle, at least three
+// entering steeply), else nothing.
+std::optional<std::vector<double>> EdgeAngles(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                              const Circle& c, int inner, const BoundaryLinkOptions& o) {
+  if (c.radius < o.corridor_mm || c.radius > o.max_dot_radius_mm) return std::nullopt;
   std::vector<double> angles;
   int steep = 0;
   for (int m : group) {
     const Eigen::Vector3d d = InPlane(marks[m].position - c.centre, c.normal);
-    if (std::abs(d.norm() - c.radius) > o.max_dot_residual_mm) return false;
+    if (std::abs(d.norm() - c.radius) > o.max_dot_residual_mm) return std::nullopt;
     const Eigen::Vector3d in = InPlane(TowardsA(marks[m], inner), c.normal);
-    if (in.norm() < 1e-9) return false;
+    if (in.norm() < 1e-9) return std::nullopt;
     if (in.normalized().dot(-d.normalized()) >= o.min_extension_crossing_cos) {
       ++steep;
     } else if (!o.dot_grazing_crossings_on_circle) {
-      return false;
+      return std::nullopt;
     }
-    angles.push_back(std::atan2(d.dot(c.e2), d.dot(c.e1)));
+    angles.push_back(AngleOf(c, marks[m].position));
   }
-  if (steep < 3) return false;
-  std::sort(angles.begin(), angles.end());
-  double widest = angles.front() + 2.0 * std::numbers::pi - angles.back();
-  for (std::size_t k = 1; k < angles.size(); ++k) widest = std::max(widest, angles[k] - angles[k - 1]);
-  return widest < 2.0 * std::numbers::pi - o.min_dot_arc_deg * std::numbers::pi / 180.0;
+  if (steep < 3) return std::nullopt;
+  return angles;
+}
+
+// Whether data of another region just outside the circle (out to
+// dot_ring_radii of its radius) close the crossings' gap: with their
+// angles, the crossings' widest gap is under 180 degrees. A patch's corner
+// crossed near its tip has its crossings on a circle too, but beyond the
+// gap lies the patch itself, never another region.
+bool GapClosedByData(const Circle& c, std::vector<double> angles, int inner, const LabelledPointGrid& data,
+                     const BoundaryLinkOptions& o) {
+  const double ring = o.dot_ring_radii * c.radius;
+  const Eigen::Vector3d span = Eigen::Vector3d::Constant(ring);
+  data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
+    const auto [r, off] = Polar(c, x.point);
+    if (x.label != inner && off <= 0.5 * ring && r > c.radius + o.corridor_mm && r < ring) {
+      angles.push_back(AngleOf(c, x.point));
+    }
+  });
+  return WidestGap(std::move(angles)) < std::numbers::pi;
+}
+
+// Whether the marks of `group` make a dot on circle c with `inner` inside:
+// their crossings surround its centre, or span min_dot_arc_deg and data of
+// other regions close the rest.
+bool IsDot(const std::vector<ChangeMark>& marks, const std::vector<int>& group, const Circle& c, int inner,
+           const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  const std::optional<std::vector<double>> angles = EdgeAngles(marks, group, c, inner, o);
+  if (!angles) return false;
+  const double widest = WidestGap(*angles);
+  if (widest < std::numbers::pi) return true;
+  if (widest >= 2.0 * std::numbers::pi - o.min_dot_arc_deg * std::numbers::pi / 180.0) return false;
+  return GapClosedByData(c, *angles, inner, data, o);
 }
 
 // The circle's chords, each a boundary segment with `inner` on its inside.
@@ -130,7 +173,7 @@ bool Contradicted(const Circle& c, const std::vector<BoundarySegment>& chords, i
   for (const BoundarySegment& s : chords) {
     if (SegmentContradicted(s, data, near_circle)) return true;
   }
-  const double outer_ring = 1.5 * c.radius;
+  const double outer_ring = o.dot_ring_radii * c.radius;
   const Eigen::Vector3d span = Eigen::Vector3d::Constant(outer_ring);
   bool contradicted = false;
   data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
@@ -160,7 +203,7 @@ std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const La
       const std::optional<Circle> circle = FitCircle(marks, group, o);
       if (!circle) continue;
       for (const auto& [inner, outer] : {pair, std::pair<int, int>{pair.second, pair.first}}) {
-        if (!IsDot(marks, group, *circle, inner, o)) continue;
+        if (!IsDot(marks, group, *circle, inner, data, o)) continue;
         std::vector<BoundarySegment> chords = Chords(*circle, inner, outer, o);
         if (Contradicted(*circle, chords, inner, data, o)) continue;
         dots.push_back({group, inner, outer, std::move(chords)});

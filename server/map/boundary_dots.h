@@ -22,14 +22,18 @@
 //    acos(min_extension_crossing_cos) of the circle's centre (it crossed
 //    the edge, not grazed it); with dot_grazing_crossings_on_circle, at
 //    least three did, and a grazing one counts as it lies on the circle;
-//  - the marks span at least min_dot_arc_deg of the circle (180: they
-//    surround the centre; crossings on one side fit a patch's corner as
-//    well as a dot, boundary_links.h);
+//  - the marks surround the centre (the widest gap between them is under
+//    180 degrees), or they span at least min_dot_arc_deg of the circle and
+//    other regions' data in the ring just outside it (out to dot_ring_radii
+//    radii) close the gap: with the data's angles the widest gap is under
+//    180 degrees. Two crossings of each side near a patch's corner lie on
+//    a circle too, about the patch's inside; beyond their gap lies the
+//    patch, never another region;
 //  - no data contradicts it: near the circle as for a link
 //    (boundary_corridor.h) but with max_dot_data_offset_mm for the wrong
 //    side's tolerance, no other region's data inside it, and no
-//    data of the inner region in the ring out to 1.5 radii (the region is
-//    larger, or not round).
+//    data of the inner region in the ring (the region is larger, or not
+//    round).
 // The circle is then drawn as chords of at most max_dot_chord_mm, each with
 // the link's seeds either side, and it replaces the links drawn between the
 // dot's crossings (boundary_links.cc): two crossings 50 degrees apart round

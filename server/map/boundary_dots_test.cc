@@ -90,33 +90,93 @@ TEST(BoundaryDots, ThreeCrossingsRoundADotDrawItsCircle) {
   EXPECT_EQ(dots, 0);
 }
 
-// Crossings on 100 degrees of the circle (a gap of 260) draw it only when
-// min_dot_arc_deg allows one-sided dots (90); by default (180) they must
-// surround the centre.
-TEST(BoundaryDots, CrossingsOnAQuarterOfTheCircleDrawItWhenOneSidedDotsAreAllowed) {
+// Data every 1 mm of a drag that passed the dot of radius 7 outside it,
+// `distance` mm from its centre at its nearest, there at polar angle
+// `phi_deg` (region kOutside all along).
+std::vector<LabelledPoint> PassingDrag(double distance, double phi_deg) {
+  const double phi = phi_deg * std::numbers::pi / 180.0;
+  const Eigen::Vector3d nearest{distance * std::cos(phi), distance * std::sin(phi), 0.0};
+  const Eigen::Vector3d along{-std::sin(phi), std::cos(phi), 0.0};
+  std::vector<LabelledPoint> data;
+  for (double t = -8.0; t <= 8.0; t += 1.0) data.push_back({nearest + t * along, kOutside});
+  return data;
+}
+
+// Crossings on 100 degrees of the circle (a gap of 260) draw it when a drag
+// that passed it outside, on the far side, closes the gap (its data just
+// outside the circle span 209-271 degrees: the widest gap is then 109).
+// Their own drags' data alone do not: the gap could face the inside of a
+// larger region (BoundaryDots.TwoCrossingsOfEachSideNearAPatchsCornerAreNoDot).
+TEST(BoundaryDots, CrossingsOnAQuarterOfTheCircleDrawItWhenDataOfTheOutsideCloseTheRest) {
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 50.0, 1),
                                          DotCrossing(7.0, 100.0, 2)};
   int dots = -1;
   EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots).empty());
-  EXPECT_EQ(dots, 0);
-  BoundaryLinkOptions one_sided;
-  one_sided.min_dot_arc_deg = 90.0;
-  const std::vector<LabelledPoint> points = Dots(marks, DotData(marks, 7.0), &dots, one_sided);
+  EXPECT_EQ(dots, 0) << "nothing closes the gap";
+  std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  const std::vector<LabelledPoint> passing = PassingDrag(9.0, 240.0);
+  data.insert(data.end(), passing.begin(), passing.end());
+  const std::vector<LabelledPoint> points = Dots(marks, data, &dots);
   EXPECT_EQ(dots, 1);
   const auto [lo, hi] = InnerSeedRadii(points);
   EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+  BoundaryLinkOptions before;
+  before.min_dot_arc_deg = 180.0;
+  EXPECT_TRUE(Dots(marks, data, &dots, before).empty());
+  EXPECT_EQ(dots, 0) << "the build before: the crossings must surround the centre";
+  // The passing drag closes the gap only from within dot_ring_radii.
+  data = DotData(marks, 7.0);
+  const std::vector<LabelledPoint> far = PassingDrag(11.0, 240.0);
+  data.insert(data.end(), far.begin(), far.end());
+  EXPECT_TRUE(Dots(marks, data, &dots).empty());
+  EXPECT_EQ(dots, 0);
+}
+
+// Two crossings of each side of a square patch (x < 0, y < 0), 5 and 15 mm
+// from its corner, lie exactly on a circle of 11.2 mm about (-10, -10), on
+// an arc of 143 degrees, and their drags' data (16 mm into either region)
+// agree with a dot as with a corner. No other region's data lie beyond the
+// gap: that is the patch's inside. So no dot (BoundaryCorners draws the
+// corner).
+TEST(BoundaryDots, TwoCrossingsOfEachSideNearAPatchsCornerAreNoDot) {
+  const auto patch = [](const Eigen::Vector3d& p) { return p.x() < 0.0 && p.y() < 0.0 ? kDot : kOutside; };
+  std::vector<ChangeMark> marks;
+  std::vector<LabelledPoint> data;
+  const auto drag = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
+    ChangeMark m;
+    m.position = at;
+    m.direction = direction;
+    m.normal = Eigen::Vector3d::UnitZ();
+    m.before = patch(at - 0.5 * direction);
+    m.after = patch(at + 0.5 * direction);
+    m.drag = static_cast<int>(marks.size());
+    marks.push_back(m);
+    for (double t = -16.0; t <= 16.0; t += 1.0) {
+      if (t != 0.0) data.push_back({at + t * direction, patch(at + t * direction)});
+    }
+  };
+  drag({0.0, -5.0, 0.0}, Eigen::Vector3d::UnitX());
+  drag({0.0, -15.0, 0.0}, Eigen::Vector3d::UnitX());
+  drag({-5.0, 0.0, 0.0}, Eigen::Vector3d::UnitY());
+  drag({-15.0, 0.0, 0.0}, Eigen::Vector3d::UnitY());
+  int dots = -1;
+  EXPECT_TRUE(Dots(marks, data, &dots).empty());
+  EXPECT_EQ(dots, 0);
 }
 
 TEST(BoundaryDots, CrossingsOnOneSideOnlyDrawNothing) {
-  // 0-70 degrees: a gap of 290 degrees, the far side a guess (even with
-  // one-sided dots allowed, below).
+  // 0-70 degrees: a gap of 290 degrees, the far side a guess, even where
+  // drags that passed the far side close the gap (min_dot_arc_deg 90).
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 0.0, 0), DotCrossing(7.0, 35.0, 1),
                                          DotCrossing(7.0, 70.0, 2)};
+  std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  for (double phi : {150.0, 240.0, 300.0}) {
+    const std::vector<LabelledPoint> passing = PassingDrag(9.0, phi);
+    data.insert(data.end(), passing.begin(), passing.end());
+  }
   int dots = -1;
-  BoundaryLinkOptions one_sided;
-  one_sided.min_dot_arc_deg = 90.0;
-  EXPECT_TRUE(Dots(marks, DotData(marks, 7.0), &dots, one_sided).empty());
+  EXPECT_TRUE(Dots(marks, data, &dots).empty());
   EXPECT_EQ(dots, 0);
 }
 

@@ -206,15 +206,21 @@ struct BoundaryLinkOptions {
   // False: the build before.
   bool dot_grazing_crossings_on_circle = true;
   // A dot's crossings must span at least this arc of its circle (the widest
-  // gap between them less than 360 minus it). 180: they surround its
-  // centre. Less lets crossings on one side draw a dot: three on 90
+  // gap between them less than 360 minus it). Three crossings on 90
   // degrees, each located to 0.2 mm, fix an 8 mm circle's far side to
-  // 1.3 mm (median, simulated). That drew scan_dome_m's 16 mm glass dot
-  // (80 % on three jobs, 95-98.5 % as a circle; docs/method.md), but two
-  // crossings of each side near a patch's corner lie on a circle about the
-  // patch's inside too, and with 90 or 120 the dot took the corner
-  // (BoundaryCorners tests). Kept at 180 until a rule tells the two apart.
-  double min_dot_arc_deg = 180.0;
+  // 1.3 mm (median, simulated). Crossings that do not surround the centre
+  // (180) draw the dot only when other regions' data just outside the
+  // circle close the gap (boundary_dots.h): two crossings of each side near
+  // a patch's corner lie on a circle about the patch's inside too, and
+  // there the gap faces the patch. That drew scan_dome_m's 16 mm glass dot
+  // (80 % on three jobs, 95-98.5 % as a circle; docs/method.md). 180: only
+  // crossings that surround the centre (the build before).
+  double min_dot_arc_deg = 90.0;
+  // The ring round a dot, out to this many radii from its centre, where its
+  // own region's data contradict it (the region is larger, or not round)
+  // and other regions' data close a one-sided dot's gap. 1.5 (the build
+  // before): a drag's length beyond a drag-sized dot's edge.
+  double dot_ring_radii = 1.5;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
