@@ -204,6 +204,10 @@ int Main(int argc, char** argv) {
                  "when other regions' data close the rest (boundary_dots.h; 180: only crossings that surround "
                  "its centre, the build before)")
       ->capture_default_str();
+  app.add_option("--map-dot-ring", map_links.dot_ring_radii,
+                 "the scored map checks a dot's ring out to this many of its radii from its centre: its own "
+                 "region's data there refuse it, other regions' close a one-sided dot's gap (boundary_dots.h)")
+      ->capture_default_str();
   app.add_option("--map-dot-grazing-crossings", map_links.dot_grazing_crossings_on_circle,
                  "the scored map lets a crossing of a drag that grazed a dot count when it lies on the circle "
                  "(boundary_dots.h; false: the build before, on the same drags)")

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include <gtest/gtest.h>
 #include "server/map/boundary_links.h"
@@ -308,6 +309,21 @@ TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
   const auto [lo, hi] = InnerSeedRadii(circle);
   EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+}
+
+TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAndAnArcBeyondAHalfCircleByName) {
+  for (double ring : {0.5, -1.0, std::nan("")}) {
+    BoundaryLinkOptions options;
+    options.dot_ring_radii = ring;
+    std::string why;
+    EXPECT_FALSE(options.IsValid(&why)) << ring;
+    EXPECT_NE(why.find("dot_ring_radii"), std::string::npos) << why;
+  }
+  BoundaryLinkOptions options;
+  options.min_dot_arc_deg = 200.0;
+  std::string why;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("min_dot_arc_deg"), std::string::npos) << why;
 }
 
 }  // namespace
