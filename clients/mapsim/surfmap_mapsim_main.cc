@@ -82,6 +82,7 @@ int Main(int argc, char** argv) {
   double continuation_prior = SamplingPlanOptions{}.continuation_prior;
   double misclassification_cost = SamplingPlanOptions{}.misclassification_cost;
   bool material_mu_risk = SamplingPlanOptions{}.material_mu_risk;
+  double small_material_weight_max = SamplingPlanOptions{}.small_material_weight_max;
   bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
@@ -136,6 +137,12 @@ int Main(int argc, char** argv) {
   app.add_option("--material-mu-risk", material_mu_risk,
                  "boundary plans: a drag also gains by settling a material's mu known too roughly to tell from "
                  "another's (boundary_selection.h; false: the build before) (true|false)")
+      ->capture_default_str();
+  app.add_option("--small-material-weight", small_material_weight_max,
+                 "boundary plans: a point given the wrong material at a small material's boundary costs up to this "
+                 "many times --misclassification-cost (sampling_plan_options.h; 1: every boundary alike, the build "
+                 "before)")
+      ->check(CLI::Range(1.0, 1e6))
       ->capture_default_str();
   app.add_flag("--friction-boundary-cost", friction_boundary_cost,
                "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
@@ -309,6 +316,7 @@ int Main(int argc, char** argv) {
   base.continuation_prior = continuation_prior;
   base.misclassification_cost = misclassification_cost;
   base.material_mu_risk = material_mu_risk;
+  base.small_material_weight_max = small_material_weight_max;
   base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;

@@ -37,14 +37,20 @@ double MaterialMuRiskGain(double area_mm2, double mu_se, double gap, double piec
   return area_mm2 * misclassification_cost * (wrong(mu_se) - wrong(se_after));
 }
 
+double SmallMaterialWeight(double smaller_area, double mean_area, double max_weight) {
+  if (!(smaller_area > 0.0)) return max_weight;
+  return std::clamp(mean_area / smaller_area, 1.0, max_weight);
+}
+
 BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
                                    const TextureDistanceOptions& metric, double misclassification_cost,
-                                   bool material_mu_risk)
+                                   bool material_mu_risk, double small_material_weight_max)
     : level_(&level),
       drag_length_mm_(drag_length_mm),
       metric_(metric),
       misclassification_cost_(misclassification_cost),
       material_mu_risk_(material_mu_risk),
+      small_material_weight_max_(small_material_weight_max),
       half_window_mm_(0.5 * kWindowShare * drag_length_mm),
       corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
@@ -110,6 +116,19 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   const double far_scale = friction ? 1.0 : map.PriorTextureVariance(metric_) / map.PriorTextureVariance(Friction());
   const auto& regions = map.regions();
   double squared_total = 0.0, misclassified_total = 0.0;
+  // Each material's area on the map, for SmallMaterialWeight.
+  std::vector<double> material_area;
+  for (int v = 0; v < nv; ++v) {
+    const int a = map.region()[v];
+    const int m = a >= 0 ? regions[a].material : -1;
+    if (m < 0) continue;
+    if (static_cast<int>(material_area.size()) <= m) material_area.resize(m + 1, 0.0);
+    material_area[m] += area_[v];
+  }
+  double mapped_area = 0.0;
+  int materials = 0;
+  for (double x : material_area) mapped_area += x, materials += x > 0.0;
+  const double mean_material_area = materials > 0 ? mapped_area / materials : 0.0;
   for (int v = 0; v < nv; ++v) {
     const double p = map.boundary_probability()[v];
     const int a = map.region()[v], b = map.second_region()[v];
@@ -118,7 +137,13 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
                              : area_[v] * p * (1.0 - p) * map.ConfusionCost(a, b, metric_);
     squared_total += r.boundary[v];
     if (misclassification_cost_ > 0.0 && a >= 0 && b >= 0 && regions[a].material != regions[b].material) {
-      const double misclassified = area_[v] * p * (1.0 - p) * misclassification_cost_;
+      const int ma = regions[a].material, mb = regions[b].material;
+      const double smaller = std::min(ma < static_cast<int>(material_area.size()) ? material_area[ma] : 0.0,
+                                      mb < static_cast<int>(material_area.size()) ? material_area[mb] : 0.0);
+      const double weight = small_material_weight_max_ > 1.0
+                                ? SmallMaterialWeight(smaller, mean_material_area, small_material_weight_max_)
+                                : 1.0;
+      const double misclassified = weight * area_[v] * p * (1.0 - p) * misclassification_cost_;
       r.boundary[v] += misclassified;
       misclassified_total += misclassified;
     }

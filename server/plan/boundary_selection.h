@@ -78,6 +78,12 @@ namespace surfmap {
 double MaterialMuRiskGain(double area_mm2, double mu_se, double gap, double piece_mm, double length_mm,
                           double misclassification_cost);
 
+// The weight of c at a boundary whose smaller side's material covers
+// `smaller_area` of the map, the materials `mean_area` on average: their
+// ratio, clamped to [1, max_weight] (SamplingPlanOptions::
+// small_material_weight_max says why). A material of no area yet: the most.
+double SmallMaterialWeight(double smaller_area, double mean_area, double max_weight);
+
 struct BoundarySelection {
   int vertex = -1;           // of the map's level; -1 when no candidate has any gain
   double gain = 0.0;         // mu^2 mm^2, over the corridor
@@ -103,9 +109,11 @@ class BoundarySelector {
   // otherwise the texture distance over that property, in mu^2.
   // `misclassification_cost`: c above (mu^2; 0 = squared error alone).
   // `material_mu_risk`: whether a drag also gains by settling a material's
-  // mu (MaterialMuRiskGain below).
+  // mu (MaterialMuRiskGain below). `small_material_weight_max`: c is
+  // weighed by SmallMaterialWeight at each boundary (1 = not at all).
   BoundarySelector(const SurfaceLevel& level, double drag_length_mm, const TextureDistanceOptions& metric = Friction(),
-                   double misclassification_cost = 0.0, bool material_mu_risk = false);
+                   double misclassification_cost = 0.0, bool material_mu_risk = false,
+                   double small_material_weight_max = 1.0);
 
   // The friction-only metric: boundaries weighed by their mu jump.
   static TextureDistanceOptions Friction() {
@@ -182,6 +190,7 @@ class BoundarySelector {
   TextureDistanceOptions metric_;
   double misclassification_cost_;
   bool material_mu_risk_;
+  double small_material_weight_max_;
   double half_window_mm_;  // h
   double corridor_mm_;
   std::vector<double> area_;  // a third of the area of the triangles around each vertex

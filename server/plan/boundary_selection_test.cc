@@ -1,6 +1,7 @@
 #include "server/plan/boundary_selection.h"
 
 #include <cmath>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -148,6 +149,70 @@ TEST(BoundarySelectorTest, AMisclassificationCostLiftsALowContrastBoundary) {
   // vertices between glass and wood), weighed by their squared errors.
   EXPECT_GT(far_growth, (jump2 + kCost) / jump2);
   EXPECT_LT(far_growth, (rough2 + kCost) / rough2);
+}
+
+TEST(SmallMaterialWeightTest, IsTheMeanMaterialsAreaOverTheSmallerSidesClamped) {
+  EXPECT_DOUBLE_EQ(SmallMaterialWeight(100.0, 300.0, 4.0), 3.0);
+  EXPECT_DOUBLE_EQ(SmallMaterialWeight(50.0, 300.0, 4.0), 4.0);
+  EXPECT_DOUBLE_EQ(SmallMaterialWeight(600.0, 300.0, 4.0), 1.0) << "a large material weighs no less";
+  EXPECT_DOUBLE_EQ(SmallMaterialWeight(0.0, 300.0, 4.0), 4.0) << "no area yet";
+  EXPECT_DOUBLE_EQ(SmallMaterialWeight(100.0, 300.0, 1.0), 1.0);
+}
+
+// Each material's area on the map (a third of each triangle to each of its
+// vertices, every vertex to its region's material).
+std::vector<double> MaterialAreas(const SurfaceLevel& level, const RegionMap& map) {
+  std::vector<double> area(map.regions().size(), 0.0);
+  const auto& x = level.limit_positions;
+  for (const auto& t : level.triangles) {
+    const double third = 0.5 * (x[t[1]] - x[t[0]]).cross(x[t[2]] - x[t[0]]).norm() / 3.0;
+    for (int v : t) {
+      const int r = map.region()[v];
+      if (r >= 0 && map.regions()[r].material >= 0) area[map.regions()[r].material] += third;
+    }
+  }
+  std::erase_if(area, [](double a) { return a <= 0.0; });
+  return area;
+}
+
+// Weighed by the smaller material, each boundary's misclassification part
+// grows by SmallMaterialWeight of its sides' areas: the boundary gain at
+// each gap grows by 1 + share * (w - 1), share the part c had of it
+// (c / (jump^2 + c)). 5 %: a few vertices near each gap lie between glass
+// and wood. With weight 1 the plan is the build before's, to the bit.
+TEST(BoundarySelectorTest, ASmallMaterialsBoundaryWeighsByItsArea) {
+  const SurfaceLevel level = testing::Plate();
+  absl::StatusOr<RegionMap> map = GlassMasoniteWood(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  constexpr double kCost = 0.03, kMaxWeight = 4.0;
+  const BoundarySelector alike(level, kDragLengthMm, BoundarySelector::Friction(), kCost),
+      one(level, kDragLengthMm, BoundarySelector::Friction(), kCost, false, 1.0),
+      weighed(level, kDragLengthMm, BoundarySelector::Friction(), kCost, false, kMaxWeight);
+  const std::vector<char> every(level.limit_positions.size(), 1);
+  const BoundarySelection a = alike.Select(*map, every, {}), b = one.Select(*map, every, {});
+  EXPECT_EQ(a.vertex, b.vertex);
+  EXPECT_EQ(a.gain, b.gain);
+  // Materials in order of first region: glass, masonite, wood.
+  const std::vector<double> area = MaterialAreas(level, *map);
+  ASSERT_EQ(area.size(), 3u);
+  const double mean = (area[0] + area[1] + area[2]) / 3.0;
+  const int glass_side = alike.NearestVertex({-27.5, 0, 0}, 5.0), wood_side = alike.NearestVertex({5, 0, 0}, 5.0);
+  ASSERT_TRUE(glass_side >= 0 && wood_side >= 0);
+  const auto boundary_gain = [&](const BoundarySelector& s, int v) {
+    const BoundarySelection x = s.BestDirection(*map, v, {});
+    return x.gain * x.boundary_share;
+  };
+  const auto expected_growth = [&](double jump, double smaller_area) {
+    const double share = kCost / (jump * jump + kCost);
+    return 1.0 + share * (SmallMaterialWeight(smaller_area, mean, kMaxWeight) - 1.0);
+  };
+  const double glass_growth = boundary_gain(weighed, glass_side) / boundary_gain(alike, glass_side);
+  const double wood_growth = boundary_gain(weighed, wood_side) / boundary_gain(alike, wood_side);
+  const double glass_expected = expected_growth(0.23, std::min(area[0], area[1]));
+  const double wood_expected = expected_growth(0.06, std::min(area[1], area[2]));
+  EXPECT_GT(glass_expected, 1.05) << "the test's map has a material smaller than the mean";
+  EXPECT_NEAR(glass_growth, glass_expected, 0.05 * glass_expected);
+  EXPECT_NEAR(wood_growth, wood_expected, 0.05 * wood_expected);
 }
 
 // The pebble's strip (MaterialMuRiskGain's comment): 260 mm^2 of masonite

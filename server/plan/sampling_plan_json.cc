@@ -166,6 +166,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"boundary_cost_follows_property", o.boundary_cost_follows_property},
       {"misclassification_cost", o.misclassification_cost},
       {"material_mu_risk", o.material_mu_risk},
+      {"small_material_weight_max", o.small_material_weight_max},
   };
 }
 
@@ -255,6 +256,9 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
       j.contains("misclassification_cost") ? in.Double(j, "options", "misclassification_cost") : 0.0;
   // Added later: a plan saved before goes on without the materials' mu risk.
   o.material_mu_risk = j.contains("material_mu_risk") && in.Bool(j, "options", "material_mu_risk");
+  // Added later: a plan saved before goes on weighing every boundary alike.
+  o.small_material_weight_max =
+      j.contains("small_material_weight_max") ? in.Double(j, "options", "small_material_weight_max") : 1.0;
   return o;
 }
 

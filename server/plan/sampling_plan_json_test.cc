@@ -209,6 +209,15 @@ TEST(SaveRestoreTest, APlanSavedBeforeTheMisclassificationCostRestoresWeighingSq
   EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST(SaveRestoreTest, SmallMaterialWeightIsSavedAndAPlanSavedBeforeItRestoresWeighingEveryBoundaryAlike) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.small_material_weight_max = 4.0;
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::small_material_weight_max, "small_material_weight_max",
+                                  1.0);
+  o.small_material_weight_max = 0.5;
+  EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

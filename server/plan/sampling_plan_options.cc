@@ -40,6 +40,9 @@ bool SamplingPlanOptions::IsValid(std::string* why) const {
   if (!(misclassification_cost >= 0.0 && std::isfinite(misclassification_cost))) {
     return fail(absl::StrCat("misclassification_cost must be finite and >= 0, got ", misclassification_cost));
   }
+  if (!(small_material_weight_max >= 1.0 && std::isfinite(small_material_weight_max))) {
+    return fail(absl::StrCat("small_material_weight_max must be finite and >= 1, got ", small_material_weight_max));
+  }
   if (!(coverage_skip_share >= 0.0 && coverage_skip_share <= 1.0)) {
     return fail(absl::StrCat("coverage_skip_share must be in [0, 1], got ", coverage_skip_share));
   }

@@ -143,6 +143,18 @@ struct SamplingPlanOptions {
   // scored below 85 % on 4 of them (0 % once) and on none with it (docs/
   // method.md). Plans stored without the key restore with false.
   bool material_mu_risk = true;
+  // kBoundary: at a boundary between two materials, what a point given the
+  // wrong material costs is misclassification_cost times w = the mean
+  // material's area over the smaller side's material's area (both the
+  // map's), clamped to [1, small_material_weight_max]. The goals judge
+  // every region on its own share classified right, and on twin_band_egg
+  // seed 13 a 14 mm cap that two drags found was left with its far side
+  // unseen (76 %) while the budget went to long bands. Tried with 4 and not
+  // adopted (docs/method.md, "Small materials' boundaries weighed more"):
+  // in-process 246 of 256 goals met either way, but held_egg seed 1 lost
+  // a region outright. 1 = every boundary alike (the build before, and
+  // what plans stored without the key restore with).
+  double small_material_weight_max = 1.0;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map
