@@ -6,48 +6,14 @@
 #include <gtest/gtest.h>
 
 #include "server/map/boundary_links.h"
+#include "server/map/testing/patch_corner.h"
 
 namespace surfmap {
 namespace {
 
-// A square patch (region 1) in the quadrant x < 0, y < 0 of the plate z = 0,
-// region 0 around it. Its side x = 0 is crossed by drags along +x, its side
-// y = 0 by drags along +y; the corner at the origin by none.
-int Truth(const Eigen::Vector3d& p) { return p.x() < 0.0 && p.y() < 0.0 ? 1 : 0; }
-
-ChangeMark Mark(const Eigen::Vector3d& at, const Eigen::Vector3d& direction, int drag) {
-  ChangeMark m;
-  m.position = at;
-  m.direction = direction;
-  m.normal = Eigen::Vector3d::UnitZ();
-  m.before = Truth(at - 0.5 * direction);
-  m.after = Truth(at + 0.5 * direction);
-  m.drag = drag;
-  return m;
-}
-
-struct Scene {
-  std::vector<ChangeMark> marks;
-  std::vector<LabelledPoint> data;
-  void Drag(const Eigen::Vector3d& crossing, const Eigen::Vector3d& direction) {
-    marks.push_back(Mark(crossing, direction, static_cast<int>(marks.size())));
-    for (double s = -8.0; s <= 8.0; s += 0.5) {
-      if (s == 0.0) continue;
-      const Eigen::Vector3d p = crossing + s * direction;
-      data.push_back({p, Truth(p)});
-    }
-  }
-};
-
-// Two crossings of each side, `near` mm from the corner and 10 mm farther.
-Scene PatchCorner(double near) {
-  Scene scene;
-  scene.Drag({0.0, -near, 0.0}, Eigen::Vector3d::UnitX());
-  scene.Drag({0.0, -near - 10.0, 0.0}, Eigen::Vector3d::UnitX());
-  scene.Drag({-near, 0.0, 0.0}, Eigen::Vector3d::UnitY());
-  scene.Drag({-near - 10.0, 0.0, 0.0}, Eigen::Vector3d::UnitY());
-  return scene;
-}
+using Scene = testing::PatchScene;
+using testing::PatchCorner;
+using testing::PatchTruth;
 
 // Every point farther than seed_offset_mm from the corner lies
 // seed_offset_mm off the patch's true sides, on its own region's side (1e-9:
@@ -60,7 +26,7 @@ void ExpectOnThePatchsTrueSides(const std::vector<LabelledPoint>& points) {
     const double to_side = std::min(std::abs(p.point.x()) + std::max(0.0, p.point.y()),
                                     std::abs(p.point.y()) + std::max(0.0, p.point.x()));
     EXPECT_NEAR(to_side, o.seed_offset_mm, 1e-9) << p.point.transpose();
-    EXPECT_EQ(p.label, Truth(p.point)) << p.point.transpose();
+    EXPECT_EQ(p.label, PatchTruth(p.point)) << p.point.transpose();
   }
 }
 

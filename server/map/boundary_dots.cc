@@ -85,6 +85,19 @@ std::pair<double, double> Polar(const Circle& c, const Eigen::Vector3d& p) {
   return {InPlane(d, c.normal).norm(), std::abs(d.dot(c.normal))};
 }
 
+// Calls fn(x, r) for each data point x within the circle's ring (in-plane
+// distance r from its centre under dot_ring_radii radii), skipping points
+// farther off its plane than half that: another part of the object.
+template <typename Fn>
+void ForEachInRing(const Circle& c, const LabelledPointGrid& data, const BoundaryLinkOptions& o, const Fn& fn) {
+  const double ring = o.dot_ring_radii * c.radius;
+  const Eigen::Vector3d span = Eigen::Vector3d::Constant(ring);
+  data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
+    const auto [r, off] = Polar(c, x.point);
+    if (off <= 0.5 * ring && r < ring) fn(x, r);
+  });
+}
+
 // The widest gap between the angles (radians, any order) round the circle.
 double WidestGap(std::vector<double> angles) {
   std::sort(angles.begin(), angles.end());
@@ -129,13 +142,8 @@ std::optional<std::vector<double>> EdgeAngles(const std::vector<ChangeMark>& mar
 // gap lies the patch itself, never another region.
 bool GapClosedByData(const Circle& c, std::vector<double> angles, int inner, const LabelledPointGrid& data,
                      const BoundaryLinkOptions& o) {
-  const double ring = o.dot_ring_radii * c.radius;
-  const Eigen::Vector3d span = Eigen::Vector3d::Constant(ring);
-  data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
-    const auto [r, off] = Polar(c, x.point);
-    if (x.label != inner && off <= 0.5 * ring && r > c.radius + o.corridor_mm && r < ring) {
-      angles.push_back(AngleOf(c, x.point));
-    }
+  ForEachInRing(c, data, o, [&](const LabelledPoint& x, double r) {
+    if (x.label != inner && r > c.radius + o.corridor_mm) angles.push_back(AngleOf(c, x.point));
   });
   return WidestGap(std::move(angles)) < std::numbers::pi;
 }
@@ -173,15 +181,10 @@ bool Contradicted(const Circle& c, const std::vector<BoundarySegment>& chords, i
   for (const BoundarySegment& s : chords) {
     if (SegmentContradicted(s, data, near_circle)) return true;
   }
-  const double outer_ring = o.dot_ring_radii * c.radius;
-  const Eigen::Vector3d span = Eigen::Vector3d::Constant(outer_ring);
   bool contradicted = false;
-  data.ForEachNear(c.centre - span, c.centre + span, 0.0, [&](const LabelledPoint& x) {
-    if (contradicted) return;
-    const auto [r, off] = Polar(c, x.point);
-    if (off > 0.5 * outer_ring) return;  // another part of the object
+  ForEachInRing(c, data, o, [&](const LabelledPoint& x, double r) {
     if (r < c.radius - o.corridor_mm && x.label != inner) contradicted = true;
-    if (r > c.radius + o.corridor_mm && r < outer_ring && x.label == inner) contradicted = true;
+    if (r > c.radius + o.corridor_mm && x.label == inner) contradicted = true;
   });
   return contradicted;
 }

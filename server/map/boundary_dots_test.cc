@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 #include "server/map/boundary_links.h"
+#include "server/map/testing/patch_corner.h"
 
 namespace surfmap {
 namespace {
@@ -141,28 +142,9 @@ TEST(BoundaryDots, CrossingsOnAQuarterOfTheCircleDrawItWhenDataOfTheOutsideClose
 // gap: that is the patch's inside. So no dot (BoundaryCorners draws the
 // corner).
 TEST(BoundaryDots, TwoCrossingsOfEachSideNearAPatchsCornerAreNoDot) {
-  const auto patch = [](const Eigen::Vector3d& p) { return p.x() < 0.0 && p.y() < 0.0 ? kDot : kOutside; };
-  std::vector<ChangeMark> marks;
-  std::vector<LabelledPoint> data;
-  const auto drag = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
-    ChangeMark m;
-    m.position = at;
-    m.direction = direction;
-    m.normal = Eigen::Vector3d::UnitZ();
-    m.before = patch(at - 0.5 * direction);
-    m.after = patch(at + 0.5 * direction);
-    m.drag = static_cast<int>(marks.size());
-    marks.push_back(m);
-    for (double t = -16.0; t <= 16.0; t += 1.0) {
-      if (t != 0.0) data.push_back({at + t * direction, patch(at + t * direction)});
-    }
-  };
-  drag({0.0, -5.0, 0.0}, Eigen::Vector3d::UnitX());
-  drag({0.0, -15.0, 0.0}, Eigen::Vector3d::UnitX());
-  drag({-5.0, 0.0, 0.0}, Eigen::Vector3d::UnitY());
-  drag({-15.0, 0.0, 0.0}, Eigen::Vector3d::UnitY());
+  const testing::PatchScene scene = testing::PatchCorner(5.0, 16.0);  // the patch is region 1, as kDot
   int dots = -1;
-  EXPECT_TRUE(Dots(marks, data, &dots).empty());
+  EXPECT_TRUE(Dots(scene.marks, scene.data, &dots).empty());
   EXPECT_EQ(dots, 0);
 }
 

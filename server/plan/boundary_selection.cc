@@ -116,19 +116,21 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   const double far_scale = friction ? 1.0 : map.PriorTextureVariance(metric_) / map.PriorTextureVariance(Friction());
   const auto& regions = map.regions();
   double squared_total = 0.0, misclassified_total = 0.0;
-  // Each material's area on the map, for SmallMaterialWeight.
-  std::vector<double> material_area;
-  for (int v = 0; v < nv; ++v) {
-    const int a = map.region()[v];
-    const int m = a >= 0 ? regions[a].material : -1;
-    if (m < 0) continue;
-    if (static_cast<int>(material_area.size()) <= m) material_area.resize(m + 1, 0.0);
-    material_area[m] += area_[v];
+  // The weight of c between materials ma and mb (SmallMaterialWeight; 1
+  // unless small_material_weight_max_ > 1, when the areas are needed).
+  const bool weighed = small_material_weight_max_ > 1.0;
+  const std::vector<double> material_area = weighed ? MaterialAreas(map) : std::vector<double>{};
+  double mean_material_area = 0.0;
+  if (weighed) {
+    int materials = 0;
+    for (double x : material_area) mean_material_area += x, materials += x > 0.0;
+    if (materials > 0) mean_material_area /= materials;
   }
-  double mapped_area = 0.0;
-  int materials = 0;
-  for (double x : material_area) mapped_area += x, materials += x > 0.0;
-  const double mean_material_area = materials > 0 ? mapped_area / materials : 0.0;
+  const auto weight = [&](int ma, int mb) {
+    return weighed ? SmallMaterialWeight(std::min(material_area[ma], material_area[mb]), mean_material_area,
+                                         small_material_weight_max_)
+                   : 1.0;
+  };
   for (int v = 0; v < nv; ++v) {
     const double p = map.boundary_probability()[v];
     const int a = map.region()[v], b = map.second_region()[v];
@@ -137,13 +139,8 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
                              : area_[v] * p * (1.0 - p) * map.ConfusionCost(a, b, metric_);
     squared_total += r.boundary[v];
     if (misclassification_cost_ > 0.0 && a >= 0 && b >= 0 && regions[a].material != regions[b].material) {
-      const int ma = regions[a].material, mb = regions[b].material;
-      const double smaller = std::min(ma < static_cast<int>(material_area.size()) ? material_area[ma] : 0.0,
-                                      mb < static_cast<int>(material_area.size()) ? material_area[mb] : 0.0);
-      const double weight = small_material_weight_max_ > 1.0
-                                ? SmallMaterialWeight(smaller, mean_material_area, small_material_weight_max_)
-                                : 1.0;
-      const double misclassified = weight * area_[v] * p * (1.0 - p) * misclassification_cost_;
+      const double misclassified =
+          weight(regions[a].material, regions[b].material) * area_[v] * p * (1.0 - p) * misclassification_cost_;
       r.boundary[v] += misclassified;
       misclassified_total += misclassified;
     }
@@ -164,6 +161,18 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
     });
   }
   return r;
+}
+
+std::vector<double> BoundarySelector::MaterialAreas(const RegionMap& map) const {
+  const auto& regions = map.regions();
+  int materials = 0;
+  for (const TextureRegion& region : regions) materials = std::max(materials, region.material + 1);
+  std::vector<double> area(materials, 0.0);
+  for (int v = 0; v < static_cast<int>(level_->limit_positions.size()); ++v) {
+    const int region = map.region()[v];
+    if (region >= 0 && regions[region].material >= 0) area[regions[region].material] += area_[v];
+  }
+  return area;
 }
 
 void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) const {
@@ -195,12 +204,12 @@ void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) cons
       if (b != a && seen[b]) m[a].gap = std::min(m[a].gap, std::abs(mu[a] - mu[b]));
     }
   }
+  const std::vector<double> area = MaterialAreas(map);
+  for (int a = 0; a < materials; ++a) m[a].area = area[a];
   r->material.assign(nv, -1);
   for (int v = 0; v < nv; ++v) {
     const int region = map.region()[v];
-    if (region < 0) continue;
-    r->material[v] = regions[region].material;
-    if (r->material[v] >= 0) m[r->material[v]].area += area_[v];
+    if (region >= 0) r->material[v] = regions[region].material;
   }
   // For the shortlist: a drag inside the material gains Gain(window) over
   // its disc.

@@ -181,6 +181,9 @@ class BoundarySelector {
   Gains GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near, const Removable& removable) const;
   // The materials' risks (material_mu_risk; nothing without it or c).
   void AddMaterialRisks(const RegionMap& map, Removable* r) const;
+  // Each material's area on the map (its regions' vertices'), indexed by
+  // material, 0 for a material without vertices.
+  std::vector<double> MaterialAreas(const RegionMap& map) const;
   double Gain(const MaterialRisk& m, double length_mm) const {
     return MaterialMuRiskGain(m.area, m.mu_se, m.gap, m.piece_mm, length_mm, misclassification_cost_);
   }
