@@ -1,6 +1,7 @@
 #include "clients/sim/rig/scene.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -9,6 +10,7 @@
 #include <numbers>
 #include <set>
 #include <sstream>
+#include <utility>
 
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
@@ -44,6 +46,9 @@ class SceneParser {
   absl::StatusOr<Eigen::Vector3d> Vec3(const Json& object, const std::string& path, const std::string& key) const;
   absl::StatusOr<std::array<double, 2>> Range(const Json& object, const std::string& path,
                                               const std::string& key) const;
+  // Unit axes u, v (made orthogonal to u) and w = u x v from the keys "u" and "v".
+  absl::StatusOr<std::array<Eigen::Vector3d, 3>> Frame(const Json& object, const std::string& path) const;
+  absl::StatusOr<std::vector<Eigen::Vector2d>> Polygon(const Json& object, const std::string& path) const;
   absl::Status ParseMaterials(const Json& materials, Scene& scene) const;
   absl::StatusOr<SceneRegion> ParseRegion(const Json& region, const std::string& path, const Scene& scene) const;
 
@@ -113,6 +118,51 @@ absl::StatusOr<std::array<double, 2>> SceneParser::Range(const Json& object, con
   if (!std::isfinite(r[0]) || !std::isfinite(r[1])) return Error(where, "must be finite");
   if (!(r[0] < r[1])) return Error(where, absl::StrCat("is empty or inverted: [", r[0], ", ", r[1], "]"));
   return r;
+}
+
+absl::StatusOr<std::array<Eigen::Vector3d, 3>> SceneParser::Frame(const Json& object, const std::string& path) const {
+  auto u = Vec3(object, path, "u");
+  auto v = Vec3(object, path, "v");
+  if (!u.ok()) return u.status();
+  if (!v.ok()) return v.status();
+  if (u->norm() < 1e-12) return Error(path + ".u", "must be non-zero");
+  const Eigen::Vector3d unit_u = u->normalized();
+  const Eigen::Vector3d v_perp = *v - v->dot(unit_u) * unit_u;
+  if (v_perp.norm() < 1e-6 * v->norm() || v->norm() < 1e-12) {
+    return Error(path + ".v", "must be non-zero and not parallel to u");
+  }
+  const Eigen::Vector3d unit_v = v_perp.normalized();
+  return std::array<Eigen::Vector3d, 3>{unit_u, unit_v, unit_u.cross(unit_v)};
+}
+
+absl::StatusOr<std::vector<Eigen::Vector2d>> SceneParser::Polygon(const Json& object, const std::string& path) const {
+  // A label's outline has a handful of corners; a cap keeps a typo (a mesh
+  // pasted here) from turning every point test into thousands of edge tests.
+  constexpr std::size_t kMaxCorners = 256;
+  const Json& corners = object.at("polygon");
+  const std::string where = path + ".polygon";
+  if (!corners.is_array() || corners.size() < 3 || corners.size() > kMaxCorners) {
+    return Error(where, absl::StrCat("must be an array of 3 to ", kMaxCorners, " corners [x, y] (in u, v)"));
+  }
+  std::vector<Eigen::Vector2d> out;
+  for (std::size_t i = 0; i < corners.size(); ++i) {
+    const Json& c = corners[i];
+    const std::string at = absl::StrCat(where, "[", i, "]");
+    if (!c.is_array() || c.size() != 2 || !c[0].is_number() || !c[1].is_number()) {
+      return Error(at, "must be an array of 2 numbers [x, y]");
+    }
+    const Eigen::Vector2d corner(c[0].get<double>(), c[1].get<double>());
+    if (!corner.allFinite()) return Error(at, "must be finite");
+    out.push_back(corner);
+  }
+  double twice_area = 0.0;  // shoelace: a polygon of no area selects nothing
+  for (std::size_t i = 0; i < out.size(); ++i) {
+    const Eigen::Vector2d& a = out[i];
+    const Eigen::Vector2d& b = out[(i + 1) % out.size()];
+    twice_area += a.x() * b.y() - b.x() * a.y();
+  }
+  if (std::abs(twice_area) < 1e-12) return Error(where, "encloses no area (its corners lie on a line)");
+  return out;
 }
 
 absl::Status SceneParser::ParseMaterials(const Json& materials, Scene& scene) const {
@@ -219,22 +269,16 @@ absl::StatusOr<SceneRegion> SceneParser::ParseRegion(const Json& region, const s
       return s;
     }
     auto center = Vec3(region, path, "center");
-    auto u = Vec3(region, path, "u");
-    auto v = Vec3(region, path, "v");
+    auto frame = Frame(region, path);
     auto half = Vec3(region, path, "half_size");
-    for (const auto* r : {&center, &u, &v, &half}) {
-      if (!r->ok()) return r->status();
-    }
-    if (u->norm() < 1e-12) return Error(path + ".u", "must be non-zero");
+    if (!center.ok()) return center.status();
+    if (!frame.ok()) return frame.status();
+    if (!half.ok()) return half.status();
     OrientedBoxRegion box;
     box.center = *center * scale_;
-    box.u = u->normalized();
-    const Eigen::Vector3d v_perp = *v - v->dot(box.u) * box.u;
-    if (v_perp.norm() < 1e-6 * v->norm() || v->norm() < 1e-12) {
-      return Error(path + ".v", "must be non-zero and not parallel to u");
-    }
-    box.v = v_perp.normalized();
-    box.w = box.u.cross(box.v);
+    box.u = (*frame)[0];
+    box.v = (*frame)[1];
+    box.w = (*frame)[2];
     for (int i = 0; i < 3; ++i) {
       if (!((*half)[i] > 0.0)) {
         return Error(absl::StrCat(path, ".half_size[", i, "]"), absl::StrCat((*half)[i], " must be > 0"));
@@ -242,9 +286,32 @@ absl::StatusOr<SceneRegion> SceneParser::ParseRegion(const Json& region, const s
     }
     box.half_size = *half * scale_;
     out.shape = box;
+  } else if (*shape == "polygon_decal") {
+    if (absl::Status s = CheckKeys(region, path, {"material", "shape", "center", "u", "v", "polygon", "depth"}, {});
+        !s.ok()) {
+      return s;
+    }
+    auto center = Vec3(region, path, "center");
+    auto frame = Frame(region, path);
+    auto polygon = Polygon(region, path);
+    auto depth = Range(region, path, "depth");
+    if (!center.ok()) return center.status();
+    if (!frame.ok()) return frame.status();
+    if (!polygon.ok()) return polygon.status();
+    if (!depth.ok()) return depth.status();
+    PolygonDecalRegion decal;
+    decal.center = *center * scale_;
+    decal.u = (*frame)[0];
+    decal.v = (*frame)[1];
+    decal.w = (*frame)[2];
+    for (const Eigen::Vector2d& corner : *polygon) decal.polygon.push_back(corner * scale_);
+    decal.depth_from_mm = (*depth)[0] * scale_;
+    decal.depth_to_mm = (*depth)[1] * scale_;
+    out.shape = std::move(decal);
   } else {
-    return Error(path + ".shape", absl::StrCat("unknown shape ", Quoted(*shape),
-                                              " (expected 'box', 'sphere', 'cylinder_patch' or 'oriented_box')"));
+    return Error(path + ".shape",
+                 absl::StrCat("unknown shape ", Quoted(*shape),
+                              " (expected 'box', 'sphere', 'cylinder_patch', 'oriented_box' or 'polygon_decal')"));
   }
   absl::StatusOr<std::string> material = String(region, path, "material");
   if (!material.ok()) return material.status();
@@ -353,6 +420,21 @@ bool SceneRegion::Contains(const Eigen::Vector3d& p) const {
           return (p.array() >= s.min.array()).all() && (p.array() <= s.max.array()).all();
         } else if constexpr (std::is_same_v<T, SphereRegion>) {
           return (p - s.center).squaredNorm() <= s.radius * s.radius;
+        } else if constexpr (std::is_same_v<T, PolygonDecalRegion>) {
+          const Eigen::Vector3d d = p - s.center;
+          const double depth = d.dot(s.w);
+          if (depth < s.depth_from_mm || depth > s.depth_to_mm) return false;
+          const Eigen::Vector2d q(d.dot(s.u), d.dot(s.v));
+          bool inside = false;  // even-odd: count the edges a ray along +x from q crosses
+          for (std::size_t i = 0, j = s.polygon.size() - 1; i < s.polygon.size(); j = i++) {
+            const Eigen::Vector2d& a = s.polygon[i];
+            const Eigen::Vector2d& b = s.polygon[j];
+            if ((a.y() > q.y()) != (b.y() > q.y()) &&
+                q.x() < a.x() + (q.y() - a.y()) * (b.x() - a.x()) / (b.y() - a.y())) {
+              inside = !inside;
+            }
+          }
+          return inside;
         } else if constexpr (std::is_same_v<T, OrientedBoxRegion>) {
           const Eigen::Vector3d d = p - s.center;
           return std::abs(d.dot(s.u)) <= s.half_size.x() && std::abs(d.dot(s.v)) <= s.half_size.y() &&

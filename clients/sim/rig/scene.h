@@ -8,7 +8,9 @@
 //                {"material": "...", "shape": "box", "min": [..], "max": [..]},
 //                {"material": "...", "shape": "sphere", "center": [..], "radius": r},
 //                {"material": "...", "shape": "oriented_box", "center": [..], "u": [..], "v": [..],
-//                 "half_size": [hu, hv, hw]}]}
+//                 "half_size": [hu, hv, hw]},
+//                {"material": "...", "shape": "polygon_decal", "center": [..], "u": [..], "v": [..],
+//                 "polygon": [[x, y], ...], "depth": [from, to]}]}
 //
 // The first region containing a point gives its material; elsewhere the
 // default material applies. Everything is converted to mm on load.
@@ -69,7 +71,23 @@ struct OrientedBoxRegion {
   Eigen::Vector3d half_size = Eigen::Vector3d::Zero();
 };
 
-using RegionShape = std::variant<BoxRegion, SphereRegion, CylinderPatchRegion, OrientedBoxRegion>;
+// A decal: a flat polygon in the plane through `center` spanned by the unit
+// axes u and v, projected along w = u x v onto the surface, within a depth
+// range along w: the shapes of labels, triangles (corners sharper than a
+// right angle), L-shapes (a corner turning inwards), any outline. Inside is
+// the even-odd rule on the polygon's edges (it closes itself).
+struct PolygonDecalRegion {
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  Eigen::Vector3d u = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d v = Eigen::Vector3d::UnitY();
+  Eigen::Vector3d w = Eigen::Vector3d::UnitZ();
+  std::vector<Eigen::Vector2d> polygon;  // mm, in (u, v) from center
+  double depth_from_mm = 0.0;            // along w from center
+  double depth_to_mm = 0.0;
+};
+
+using RegionShape =
+    std::variant<BoxRegion, SphereRegion, CylinderPatchRegion, OrientedBoxRegion, PolygonDecalRegion>;
 
 struct SceneRegion {
   int material = 0;  // index into Scene::materials

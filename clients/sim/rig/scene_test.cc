@@ -1,11 +1,14 @@
 #include "clients/sim/rig/scene.h"
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <numbers>
 #include <string>
 
 #include <gtest/gtest.h>
+#include "absl/strings/str_cat.h"
 #include "clients/sim/rig/surface_score.h"
 #include "server/mesh/loop_surface.h"
 #include "server/mesh/primitive_meshes.h"
@@ -104,6 +107,39 @@ TEST_F(SceneFilesTest, OrientedBoxSelectsAlongItsOwnAxes) {
   EXPECT_NE(scene->MaterialIndexAt({0, 0, 6}), rubber);       // beyond w
 }
 
+TEST_F(SceneFilesTest, PolygonDecalSelectsInsideItsOutlineProjectedAlongW) {
+  // An L in the plane x = 0 (u = y, v = z, w = x), arms 10 mm wide and 30 mm
+  // long, its inner corner at (-5, -5); only x in [-2, 8] (the decal's depth).
+  auto scene = Parse(SceneJson(R"({"material": "rubber", "shape": "polygon_decal", "center": [0, 0, 0],
+                                   "u": [0, 1, 0], "v": [0, 0, 1], "depth": [-2, 8],
+                                   "polygon": [[-15, -15], [15, -15], [15, -5], [-5, -5], [-5, 15], [-15, 15]]})"));
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const int rubber = scene->FindMaterial("rubber");
+  EXPECT_EQ(scene->MaterialIndexAt({0, 10, -10}), rubber);   // the foot
+  EXPECT_EQ(scene->MaterialIndexAt({7, -10, 10}), rubber);   // the upright, 7 mm along w
+  EXPECT_EQ(scene->MaterialIndexAt({0, -5.5, -5.5}), rubber);  // just inside the inner corner
+  EXPECT_NE(scene->MaterialIndexAt({0, -4.5, -4.5}), rubber);  // just past it: the L's notch
+  EXPECT_NE(scene->MaterialIndexAt({0, 10, 10}), rubber);    // deep in the notch
+  EXPECT_NE(scene->MaterialIndexAt({0, 15.5, -10}), rubber);  // beyond the foot's end
+  EXPECT_NE(scene->MaterialIndexAt({9, 10, -10}), rubber);   // beyond the depth
+  EXPECT_NE(scene->MaterialIndexAt({-3, 10, -10}), rubber);
+}
+
+TEST_F(SceneFilesTest, PolygonDecalKeepsATrianglesSharpCorner) {
+  // A triangle with a 20-degree apex at v = 40: 1 mm below the apex it is
+  // 0.35 mm wide; points 0.3 mm either side of that sliver are outside.
+  const double half = 40.0 * std::tan(10.0 * std::numbers::pi / 180.0);
+  auto scene = Parse(SceneJson(absl::StrCat(R"({"material": "rubber", "shape": "polygon_decal", "center": [0, 0, 0],
+                                   "u": [1, 0, 0], "v": [0, 1, 0], "depth": [-1, 1], "polygon": [[)",
+                                            -half, ", 0], [", half, R"(, 0], [0, 40]]})")));
+  ASSERT_TRUE(scene.ok()) << scene.status();
+  const int rubber = scene->FindMaterial("rubber");
+  EXPECT_EQ(scene->MaterialIndexAt({0, 39, 0}), rubber);
+  EXPECT_NE(scene->MaterialIndexAt({0.3, 39, 0}), rubber);
+  EXPECT_NE(scene->MaterialIndexAt({-0.3, 39, 0}), rubber);
+  EXPECT_NE(scene->MaterialIndexAt({0, 40.5, 0}), rubber);
+}
+
 TEST_F(SceneFilesTest, UnitsScaleMeshAndRegionsToMillimetres) {
   auto scene = Parse(SceneJson(R"({"material": "rubber", "shape": "sphere", "center": [0, 0, 0], "radius": 0.5})",
                                R"("units": "cm", )"));
@@ -137,6 +173,18 @@ TEST_F(SceneFilesTest, RejectsInvalidScenes) {
   ExpectError(SceneJson(R"({"material": "glass", "shape": "cylinder_patch", "axis_point": [0, 0, 0],
                            "axis": [0, 0, 1], "angle_deg": [20, 10], "height": [0, 1]})"),
               absl::StatusCode::kInvalidArgument, "regions[0].angle_deg: is empty or inverted");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "polygon_decal", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [0, 1, 0], "depth": [-1, 1], "polygon": [[0, 0], [1, 0]]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].polygon: must be an array of 3 to 256 corners");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "polygon_decal", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [0, 1, 0], "depth": [-1, 1], "polygon": [[0, 0], [1, 1], [2, 2]]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].polygon: encloses no area");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "polygon_decal", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [0, 1, 0], "depth": [-1, 1], "polygon": [[0, 0], [1, 0], [1]]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].polygon[2]: must be an array of 2 numbers");
+  ExpectError(SceneJson(R"({"material": "glass", "shape": "polygon_decal", "center": [0, 0, 0], "u": [1, 0, 0],
+                           "v": [0, 1, 0], "depth": [1, -1], "polygon": [[0, 0], [1, 0], [0, 1]]})"),
+              absl::StatusCode::kInvalidArgument, "regions[0].depth: is empty or inverted");
   ExpectError(SceneJson("", R"("units": "inch", )"), absl::StatusCode::kInvalidArgument, "unsupported 'inch'");
   ExpectError(R"({"name": "t", "mesh": "tet.obj", "default_material": "g",
                   "materials": {"g": {"mu": 0.1, "a1": 1.5, "a2": 0, "sigma": 0.1}}})",
