@@ -290,6 +290,11 @@ int Main(int argc, char** argv) {
                  "of both (boundary_corners.h; 0: no corners; 20: the build before, on the same drags)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-corner-max-turn", map_links.max_corner_turn_deg,
+                 "the scored map draws a corner where the boundary turns by at most this many degrees (boundary_"
+                 "corners.h; a triangle's 60-degree corner turns 120)")
+      ->check(CLI::Range(0.0, 180.0))
+      ->capture_default_str();
   app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,
                  "the scored map checks a cut corner's sides for running straight over this many mm from the "
                  "chord's ends (boundary_corners.h; 0: no cut corners replaced)")
