@@ -292,7 +292,7 @@ int Main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--map-corner-max-turn", map_links.max_corner_turn_deg,
                  "the scored map draws a corner where the boundary turns by at most this many degrees (boundary_"
-                 "corners.h; a triangle's 60-degree corner turns 120)")
+                 "corners.h; a triangle's 60-degree point turns 120; 120: the build before, on the same drags)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
   app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,

@@ -111,6 +111,61 @@ TEST(BoundaryCorners, ABoundaryThatRunsStraightOnIsNoCorner) {
   EXPECT_EQ(corners, 0);
 }
 
+// A wedge of region 1 with its point at the origin, opening towards -y by
+// 2 x half_deg; each side crossed 10, 16 and 22 mm from the point by drags
+// perpendicular to it, from inside to out, with data 4 mm either side (a
+// drag across one side 10 mm from a 24-degree point reaches the other side
+// 4.45 mm in). Nearer each other than a side's two crossings, a crossing of
+// one side and the other's would be linked across the wedge instead: a
+// chord cutting the point off; and two crossings of each side alone lie on
+// a circle (an isosceles trapezoid), which the dot rule would draw.
+Scene Wedge(double half_deg) {
+  const double h = half_deg * 3.14159265358979 / 180.0;
+  const auto truth = [h](const Eigen::Vector3d& p) {
+    return p.y() < 0.0 && std::abs(p.x()) < -p.y() * std::tan(h) ? 1 : 0;
+  };
+  Scene scene;
+  scene.data_mm = 4.0;
+  for (double side : {-1.0, 1.0}) {
+    const Eigen::Vector3d along(side * std::sin(h), -std::cos(h), 0.0), out(side * std::cos(h), std::sin(h), 0.0);
+    for (double d : {10.0, 16.0, 22.0}) {
+      const Eigen::Vector3d at = d * along;
+      scene.Drag(at, out);
+      scene.marks.back().before = truth(at - 0.5 * out);
+      scene.marks.back().after = truth(at + 0.5 * out);
+    }
+  }
+  for (LabelledPoint& p : scene.data) p.label = truth(p.point);
+  return scene;
+}
+
+TEST(BoundaryCorners, AWedgesSharpPointIsACornerUpToTheMaximumTurn) {
+  // A label's triangle has 60-degree points (the boundary turns 120
+  // degrees), a sliver's 30 (150): held_decals. A 45-degree point turns
+  // 135 degrees, past the 120 that once bounded a corner.
+  const Scene wedge = Wedge(22.5);
+  int links = 0, corners = -1;
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(wedge.marks, wedge.data, {}, &links, &corners);
+  EXPECT_EQ(links, 4);
+  EXPECT_EQ(corners, 1);
+  int near_point = 0;
+  for (const LabelledPoint& p : points) near_point += p.point.head<2>().norm() < 1.0;
+  EXPECT_GT(near_point, 0) << "the point itself carries points";
+  BoundaryLinkOptions before;
+  before.max_corner_turn_deg = 120.0;
+  BoundaryLinkPoints(wedge.marks, wedge.data, before, nullptr, &corners);
+  EXPECT_EQ(corners, 0) << "the build before: no corner past 120 degrees";
+  // A 24-degree point turns 156 degrees: past the maximum, where two
+  // chain ends' straight runs on overshoot a round end or a hairpin.
+  const Scene needle = Wedge(12.0);
+  BoundaryLinkPoints(needle.marks, needle.data, {}, nullptr, &corners);
+  EXPECT_EQ(corners, 0);
+  BoundaryLinkOptions any_turn;
+  any_turn.max_corner_turn_deg = 179.0;
+  BoundaryLinkPoints(needle.marks, needle.data, any_turn, nullptr, &corners);
+  EXPECT_EQ(corners, 1) << "only the turn refuses it";
+}
+
 // Three crossings of each side, the nearest 4 mm from the corner, by drags
 // 25 degrees off perpendicular to their side towards the corner: within the
 // link's 32 degrees of perpendicular both to the side and to the chord

@@ -42,7 +42,7 @@ enum class PlanMode {
 // The plan's own region map: RegionMapOptions without the split against
 // the materials' textures, the texture assignment, the dissolving of
 // mixtures (measured on the served map only), the chains carried on,
-// the links longer than a drag, the lines, dots and cut corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
+// the links longer than a drag, the lines, dots, cut and sharp corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
 // over the plan's drags, docs/method.md section 5).
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
@@ -64,6 +64,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.link_materials = false;
   options.links.max_length_mm = 20.0;  // a drag length: the served map's 25 mm measured on the same drags only
   options.links.corner_reach_mm = 20.0;  // the link's: the served map's 25 mm measured on the same drags only
+  options.links.max_corner_turn_deg = 120.0;  // the served map's 155 measured on the same drags only
   options.links.max_curve_turn_deg = 0.0;  // chords: the plan issues the drags it issued before curves
   options.links.min_crossing_cos = 0.866;  // cos 30 degrees: the served map's 32 measured on the same drags only
   return options;
