@@ -281,13 +281,15 @@ TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
   const std::vector<LabelledPoint> data = DotData(marks, 7.0);
   BoundaryLinkOptions no_dots;
   no_dots.max_dot_radius_mm = 0.0;
-  int links = 0;
-  const std::vector<LabelledPoint> chord = BoundaryLinkPoints(marks, data, no_dots, &links);
+  int links = 0, dots = -1;
+  const std::vector<LabelledPoint> chord = BoundaryLinkPoints(marks, data, no_dots, &links, nullptr, nullptr, &dots);
   EXPECT_EQ(links, 1);
+  EXPECT_EQ(dots, 0);
   // The chord's inner seeds lie 7 cos 25 - 0.25 = 6.1 mm from the centre.
   EXPECT_LT(InnerSeedRadii(chord).first, 6.2);
-  const std::vector<LabelledPoint> circle = BoundaryLinkPoints(marks, data, {}, &links);
+  const std::vector<LabelledPoint> circle = BoundaryLinkPoints(marks, data, {}, &links, nullptr, nullptr, &dots);
   EXPECT_EQ(links, 0);
+  EXPECT_EQ(dots, 1) << "counted for the map's report";
   const auto [lo, hi] = InnerSeedRadii(circle);
   EXPECT_NEAR(lo, 7.0 - 0.25, 0.05);
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);

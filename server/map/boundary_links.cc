@@ -62,7 +62,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& o, int* links, int* corners,
-                                              int* bridges) {
+                                              int* bridges, int* dots_drawn) {
   const int n = static_cast<int>(marks.size());
   const LabelledPointGrid grid(data, std::max(1.0, o.max_length_mm / 4.0));
   // Per mark and side along the boundary: the nearest consistent partner.
@@ -121,6 +121,7 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   drawn = ExtendChains(marks, std::move(drawn), grid, o);
   // A dot's circle replaces the chords drawn between its crossings.
   const std::vector<BoundaryDot> dots = FindDots(marks, grid, o);
+  if (dots_drawn != nullptr) *dots_drawn = static_cast<int>(dots.size());
   std::vector<int> dot_of(n, -1);
   for (int d = 0; d < static_cast<int>(dots.size()); ++d) {
     for (int m : dots[d].marks) dot_of[m] = d;

@@ -236,12 +236,12 @@ struct BoundaryLinkOptions {
   bool IsValid(std::string* why) const;
 };
 
-// The labelled points of every accepted link, corner and bridge (not yet on
-// the surface: callers project them); *links, *corners and *bridges (if
-// given) receive how many were drawn.
+// The labelled points of every accepted link, corner, bridge and dot (not
+// yet on the surface: callers project them); *links, *corners, *bridges and
+// *dots (if given) receive how many were drawn.
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& options = {}, int* links = nullptr,
-                                              int* corners = nullptr, int* bridges = nullptr);
+                                              int* corners = nullptr, int* bridges = nullptr, int* dots = nullptr);
 
 }  // namespace surfmap

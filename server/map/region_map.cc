@@ -656,6 +656,7 @@ absl::Status RegionMap::SpreadRegions() {
   links_ = 0;
   corners_ = 0;
   bridges_ = 0;
+  dots_ = 0;
   marks_ = std::move(marks);
   // The links check their corridors against every piece's data but an
   // unconfirmed end piece's (boundaries_ignore_unconfirmed_end_pieces) and
@@ -670,7 +671,7 @@ absl::Status RegionMap::SpreadRegions() {
     for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, side[i]});
   }
   const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, own_link_data ? link_data : data,
-                                                                    options_.links, &links_, &corners_, &bridges_);
+                                                                    options_.links, &links_, &corners_, &bridges_, &dots_);
   // The region of `material` whose data lies nearest a link point: searched
   // in growing boxes, since a link's middle can lie a link's length from its
   // ends.

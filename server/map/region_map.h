@@ -320,6 +320,7 @@ class RegionMap {
   int boundary_links() const { return links_; }      // links drawn between crossings
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
   int boundary_bridges() const { return bridges_; }  // boundaries carried across a change beyond them
+  int boundary_dots() const { return dots_; }        // circles drawn round dots (boundary_dots.h)
   int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
   int pieces_moved_by_texture() const { return pieces_moved_by_texture_; }    // move_misfit_pieces
   // Materials dissolved (dissolve_mixture_materials), over both groupings
@@ -435,6 +436,7 @@ class RegionMap {
   int links_ = 0;
   int corners_ = 0;
   int bridges_ = 0;
+  int dots_ = 0;
   int regions_moved_by_texture_ = 0;
   int pieces_moved_by_texture_ = 0;
   int materials_dissolved_ = 0;
