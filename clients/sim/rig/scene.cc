@@ -46,8 +46,8 @@ class SceneParser {
   absl::StatusOr<Eigen::Vector3d> Vec3(const Json& object, const std::string& path, const std::string& key) const;
   absl::StatusOr<std::array<double, 2>> Range(const Json& object, const std::string& path,
                                               const std::string& key) const;
-  // Unit axes u, v (made orthogonal to u) and w = u x v from the keys "u" and "v".
-  absl::StatusOr<std::array<Eigen::Vector3d, 3>> Frame(const Json& object, const std::string& path) const;
+  // The keys "center" (scaled to mm), "u" and "v".
+  absl::StatusOr<RegionFrame> Frame(const Json& object, const std::string& path) const;
   absl::StatusOr<std::vector<Eigen::Vector2d>> Polygon(const Json& object, const std::string& path) const;
   absl::Status ParseMaterials(const Json& materials, Scene& scene) const;
   absl::StatusOr<SceneRegion> ParseRegion(const Json& region, const std::string& path, const Scene& scene) const;
@@ -120,9 +120,11 @@ absl::StatusOr<std::array<double, 2>> SceneParser::Range(const Json& object, con
   return r;
 }
 
-absl::StatusOr<std::array<Eigen::Vector3d, 3>> SceneParser::Frame(const Json& object, const std::string& path) const {
+absl::StatusOr<RegionFrame> SceneParser::Frame(const Json& object, const std::string& path) const {
+  auto center = Vec3(object, path, "center");
   auto u = Vec3(object, path, "u");
   auto v = Vec3(object, path, "v");
+  if (!center.ok()) return center.status();
   if (!u.ok()) return u.status();
   if (!v.ok()) return v.status();
   if (u->norm() < 1e-12) return Error(path + ".u", "must be non-zero");
@@ -131,8 +133,12 @@ absl::StatusOr<std::array<Eigen::Vector3d, 3>> SceneParser::Frame(const Json& ob
   if (v_perp.norm() < 1e-6 * v->norm() || v->norm() < 1e-12) {
     return Error(path + ".v", "must be non-zero and not parallel to u");
   }
-  const Eigen::Vector3d unit_v = v_perp.normalized();
-  return std::array<Eigen::Vector3d, 3>{unit_u, unit_v, unit_u.cross(unit_v)};
+  RegionFrame frame;
+  frame.center = *center * scale_;
+  frame.u = unit_u;
+  frame.v = v_perp.normalized();
+  frame.w = frame.u.cross(frame.v);
+  return frame;
 }
 
 absl::StatusOr<std::vector<Eigen::Vector2d>> SceneParser::Polygon(const Json& object, const std::string& path) const {
@@ -268,17 +274,12 @@ absl::StatusOr<SceneRegion> SceneParser::ParseRegion(const Json& region, const s
     if (absl::Status s = CheckKeys(region, path, {"material", "shape", "center", "u", "v", "half_size"}, {}); !s.ok()) {
       return s;
     }
-    auto center = Vec3(region, path, "center");
     auto frame = Frame(region, path);
     auto half = Vec3(region, path, "half_size");
-    if (!center.ok()) return center.status();
     if (!frame.ok()) return frame.status();
     if (!half.ok()) return half.status();
     OrientedBoxRegion box;
-    box.center = *center * scale_;
-    box.u = (*frame)[0];
-    box.v = (*frame)[1];
-    box.w = (*frame)[2];
+    box.frame = *frame;
     for (int i = 0; i < 3; ++i) {
       if (!((*half)[i] > 0.0)) {
         return Error(absl::StrCat(path, ".half_size[", i, "]"), absl::StrCat((*half)[i], " must be > 0"));
@@ -291,19 +292,14 @@ absl::StatusOr<SceneRegion> SceneParser::ParseRegion(const Json& region, const s
         !s.ok()) {
       return s;
     }
-    auto center = Vec3(region, path, "center");
     auto frame = Frame(region, path);
     auto polygon = Polygon(region, path);
     auto depth = Range(region, path, "depth");
-    if (!center.ok()) return center.status();
     if (!frame.ok()) return frame.status();
     if (!polygon.ok()) return polygon.status();
     if (!depth.ok()) return depth.status();
     PolygonDecalRegion decal;
-    decal.center = *center * scale_;
-    decal.u = (*frame)[0];
-    decal.v = (*frame)[1];
-    decal.w = (*frame)[2];
+    decal.frame = *frame;
     for (const Eigen::Vector2d& corner : *polygon) decal.polygon.push_back(corner * scale_);
     decal.depth_from_mm = (*depth)[0] * scale_;
     decal.depth_to_mm = (*depth)[1] * scale_;
@@ -421,10 +417,9 @@ bool SceneRegion::Contains(const Eigen::Vector3d& p) const {
         } else if constexpr (std::is_same_v<T, SphereRegion>) {
           return (p - s.center).squaredNorm() <= s.radius * s.radius;
         } else if constexpr (std::is_same_v<T, PolygonDecalRegion>) {
-          const Eigen::Vector3d d = p - s.center;
-          const double depth = d.dot(s.w);
-          if (depth < s.depth_from_mm || depth > s.depth_to_mm) return false;
-          const Eigen::Vector2d q(d.dot(s.u), d.dot(s.v));
+          const Eigen::Vector3d local = s.frame.Local(p);
+          if (local.z() < s.depth_from_mm || local.z() > s.depth_to_mm) return false;
+          const Eigen::Vector2d q = local.head<2>();
           bool inside = false;  // even-odd: count the edges a ray along +x from q crosses
           for (std::size_t i = 0, j = s.polygon.size() - 1; i < s.polygon.size(); j = i++) {
             const Eigen::Vector2d& a = s.polygon[i];
@@ -436,9 +431,7 @@ bool SceneRegion::Contains(const Eigen::Vector3d& p) const {
           }
           return inside;
         } else if constexpr (std::is_same_v<T, OrientedBoxRegion>) {
-          const Eigen::Vector3d d = p - s.center;
-          return std::abs(d.dot(s.u)) <= s.half_size.x() && std::abs(d.dot(s.v)) <= s.half_size.y() &&
-                 std::abs(d.dot(s.w)) <= s.half_size.z();
+          return (s.frame.Local(p).cwiseAbs().array() <= s.half_size.array()).all();
         } else {
           const Eigen::Vector3d d = p - s.axis_point;
           const double h = d.dot(s.axis);

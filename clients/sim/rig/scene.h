@@ -59,29 +59,36 @@ struct CylinderPatchRegion {
   double radial_max_mm = 1e300;
 };
 
-// A box in any orientation: the points whose coordinates along the unit axes
-// u, v and w = u x v (v made orthogonal to u), from `center`, are within
-// +-half_size on each axis. Strips (thin along one axis) and patches at any
-// angle to the world axes.
-struct OrientedBoxRegion {
+// A frame at any orientation: unit axes u, v (made orthogonal to u) and
+// w = u x v from `center`.
+struct RegionFrame {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();
   Eigen::Vector3d u = Eigen::Vector3d::UnitX();
   Eigen::Vector3d v = Eigen::Vector3d::UnitY();
   Eigen::Vector3d w = Eigen::Vector3d::UnitZ();
+  // A point's coordinates along u, v and w from the centre.
+  Eigen::Vector3d Local(const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = p - center;
+    return {d.dot(u), d.dot(v), d.dot(w)};
+  }
+};
+
+// A box in any orientation: the points whose coordinates in `frame` are
+// within +-half_size on each axis. Strips (thin along one axis) and patches
+// at any angle to the world axes.
+struct OrientedBoxRegion {
+  RegionFrame frame;
   Eigen::Vector3d half_size = Eigen::Vector3d::Zero();
 };
 
-// A decal: a flat polygon in the plane through `center` spanned by the unit
-// axes u and v, projected along w = u x v onto the surface, within a depth
+// A decal: a flat polygon in the plane of `frame` (through its centre,
+// spanned by u and v), projected along w onto the surface, within a depth
 // range along w: the shapes of labels, triangles (corners sharper than a
 // right angle), L-shapes (a corner turning inwards), any outline. Inside is
 // the even-odd rule on the polygon's edges (it closes itself).
 struct PolygonDecalRegion {
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  Eigen::Vector3d u = Eigen::Vector3d::UnitX();
-  Eigen::Vector3d v = Eigen::Vector3d::UnitY();
-  Eigen::Vector3d w = Eigen::Vector3d::UnitZ();
-  std::vector<Eigen::Vector2d> polygon;  // mm, in (u, v) from center
+  RegionFrame frame;
+  std::vector<Eigen::Vector2d> polygon;  // mm, in (u, v) from the frame's centre
   double depth_from_mm = 0.0;            // along w from center
   double depth_to_mm = 0.0;
 };
