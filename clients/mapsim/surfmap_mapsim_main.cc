@@ -295,6 +295,14 @@ int Main(int argc, char** argv) {
                  "corners.h; a triangle's 60-degree point turns 120; 120: the build before, on the same drags)")
       ->check(CLI::Range(0.0, 180.0))
       ->capture_default_str();
+  app.add_flag("--map-lines-keep-hanging-links{false}", map_links.lines_displace_hanging_links,
+               "the scored map's lines never take a mark's side from a hanging link (one whose far mark has no "
+               "other link; boundary_lines.h; the build before)");
+  app.add_option("--map-hanging-link-angle", map_links.min_hanging_link_angle_deg,
+                 "a line takes a mark's side from a hanging link only when that link runs at least this many degrees "
+                 "off the line (boundary_lines.h; 90: never)")
+      ->check(CLI::Range(0.0, 90.0))
+      ->capture_default_str();
   app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,
                  "the scored map checks a cut corner's sides for running straight over this many mm from the "
                  "chord's ends (boundary_corners.h; 0: no cut corners replaced)")

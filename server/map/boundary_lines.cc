@@ -30,17 +30,52 @@ struct Line {
   DrawnLink second;     // R -> Q
 };
 
-// Whether a new link from mark m to position `to` would put a second link on
-// a side of m that already has one.
-bool SideTaken(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links, int m,
-               const Eigen::Vector3d& to) {
+// The links at mark m that hold the side of m towards position `to` (a new
+// link there would be a second on that side), as indices into `links`.
+std::vector<int> SideHolders(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links, int m,
+                             const Eigen::Vector3d& to) {
   const Eigen::Vector3d way = to - marks[m].position;
-  for (const DrawnLink& l : links) {
+  std::vector<int> holders;
+  for (int k = 0; k < static_cast<int>(links.size()); ++k) {
+    const DrawnLink& l = links[k];
     if (l.from != m && l.to != m) continue;
     const int other = l.from == m ? l.to : l.from;
-    if ((marks[other].position - marks[m].position).dot(way) > 0.0) return true;
+    if ((marks[other].position - marks[m].position).dot(way) > 0.0) holders.push_back(k);
   }
-  return false;
+  return holders;
+}
+
+int LinksAt(const std::vector<DrawnLink>& links, int m) {
+  return static_cast<int>(std::count_if(links.begin(), links.end(), [m](const DrawnLink& l) {
+    return l.from == m || l.to == m;
+  }));
+}
+
+// Whether links[k], held at mark m, hangs there: its far mark has no other
+// link, it runs off the chord m -> `to` by at least
+// min_hanging_link_angle_deg, and no other link at m runs straight on from
+// it (turning by less than min_corner_turn_deg: the two are one boundary
+// through m, crossed across the line; held_decals seed 16 lost a side of its
+// L so; BoundaryLinkOptions::lines_displace_hanging_links).
+bool Hanging(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links, int k, int m,
+             const Eigen::Vector3d& to, const BoundaryLinkOptions& o) {
+  const Eigen::Vector3d& n = marks[m].normal;
+  auto away = [&](const DrawnLink& l) -> Eigen::Vector3d {
+    const Eigen::Vector3d d = InPlane(marks[l.from == m ? l.to : l.from].position - marks[m].position, n);
+    return d.norm() < 1e-9 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(d.normalized());
+  };
+  const DrawnLink& held = links[k];
+  if (LinksAt(links, held.from == m ? held.to : held.from) != 1) return false;
+  const Eigen::Vector3d h = away(held);
+  const Eigen::Vector3d chord = InPlane(to - marks[m].position, n);
+  if (h.isZero() || chord.norm() < 1e-9) return false;
+  if (h.dot(chord.normalized()) > std::cos(Radians(o.min_hanging_link_angle_deg))) return false;
+  const double straight_on = std::cos(Radians(o.min_corner_turn_deg));
+  for (int j = 0; j < static_cast<int>(links.size()); ++j) {
+    if (j == k || (links[j].from != m && links[j].to != m)) continue;
+    if ((-away(links[j])).dot(h) > straight_on) return false;
+  }
+  return true;
 }
 
 bool Drawn(const std::vector<DrawnLink>& links, int i, int j) {
@@ -110,15 +145,19 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
   });
   for (const Line& line : lines) {
     std::vector<DrawnLink> added;
+    std::vector<int> displaced;  // indices into links
     bool blocked = false;
     for (const DrawnLink& link : {line.first, line.second}) {
       if (Drawn(links, link.from, link.to)) continue;
       const ChangeMark& outer = marks[link.from];
       const ChangeMark& middle = marks[link.to];
-      if (SideTaken(marks, links, link.from, middle.position) || SideTaken(marks, links, link.to, outer.position)) {
-        blocked = true;
-        break;
+      for (const auto& [m, to] : {std::pair{link.from, middle.position}, std::pair{link.to, outer.position}}) {
+        for (int k : SideHolders(marks, links, m, to)) {
+          if (!o.lines_displace_hanging_links || !Hanging(marks, links, k, m, to, o)) blocked = true;
+          displaced.push_back(k);
+        }
       }
+      if (blocked) break;
       const BoundarySegment segment{outer.position, middle.position, link.towards_a, link.a, link.b,
                                     ChordBow(outer.position, middle.position, outer.normal, middle.normal)};
       if (SegmentContradicted(segment, data, o)) {
@@ -127,7 +166,11 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
       }
       added.push_back(link);
     }
-    if (!blocked) links.insert(links.end(), added.begin(), added.end());
+    if (blocked) continue;
+    std::sort(displaced.begin(), displaced.end());
+    displaced.erase(std::unique(displaced.begin(), displaced.end()), displaced.end());
+    for (auto k = displaced.rbegin(); k != displaced.rend(); ++k) links.erase(links.begin() + *k);
+    links.insert(links.end(), added.begin(), added.end());
   }
   return links;
 }

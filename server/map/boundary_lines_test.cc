@@ -129,5 +129,53 @@ TEST(BoundaryLines, TheLinksHaveRegionAOnItsSide) {
   }
 }
 
+// A strip 0 < x < 7 (region 1) in region 0. Its edge x = 0 is crossed by
+// three drags 40-65 degrees off perpendicular at y = 0, 12 and 24; the drag
+// at y = 12 and one leaving the strip through its far edge at (7, 13.5),
+// both running nearly along it, are consistent with a boundary across the
+// strip between them. `hanging`: nothing else links (7, 13.5); otherwise a
+// fourth crossing on from it (no data of its own) makes that chord part of
+// a chain.
+int LinksAcrossAStrip(bool hanging, const BoundaryLinkOptions& o) {
+  auto crossing = [](double x, double y, double deg, int before, int drag) {
+    ChangeMark m;
+    m.position = {x, y, 0.0};
+    m.direction = {std::cos(deg * std::numbers::pi / 180.0), std::sin(deg * std::numbers::pi / 180.0), 0.0};
+    m.normal = Eigen::Vector3d::UnitZ();
+    m.before = before;
+    m.after = 1 - before;
+    m.drag = drag;
+    return m;
+  };
+  std::vector<ChangeMark> marks = {crossing(0.0, 0.0, 45.0, 0, 0), crossing(0.0, 12.0, -65.0, 0, 1),
+                                   crossing(0.0, 24.0, 60.0, 0, 2), crossing(7.0, 13.5, 80.0, 1, 3)};
+  std::vector<LabelledPoint> data;
+  for (const ChangeMark& m : marks) {
+    for (double t = -8.0; t <= 8.0; t += 1.0) {
+      const Eigen::Vector3d p = m.position + t * m.direction;
+      if (t != 0.0) data.push_back({p, p.x() > 0.0 && p.x() < 7.0 ? 1 : 0});
+    }
+  }
+  if (!hanging) marks.push_back(crossing(14.0, 15.0, 80.0, 1, 4));
+  int links = 0;
+  BoundaryLinkPoints(marks, data, o, &links);
+  return links;
+}
+
+TEST(BoundaryLines, ALineTakesAMarksSideFromAHangingLinkAcrossAStrip) {
+  BoundaryLinkOptions keep;
+  keep.lines_displace_hanging_links = false;
+  EXPECT_EQ(LinksAcrossAStrip(true, WithoutLines()), 1);  // the chord across the strip
+  EXPECT_EQ(LinksAcrossAStrip(true, keep), 1);            // it holds the middle crossing's side
+  EXPECT_EQ(LinksAcrossAStrip(true, {}), 2);              // the edge's line, and no chord across
+  // The chord runs 78 degrees off the line: with 80 it is kept.
+  BoundaryLinkOptions steeper;
+  steeper.min_hanging_link_angle_deg = 80.0;
+  EXPECT_EQ(LinksAcrossAStrip(true, steeper), 1);
+  // A chord that is part of a chain is not displaced.
+  EXPECT_EQ(LinksAcrossAStrip(false, {}), 2);
+  EXPECT_EQ(LinksAcrossAStrip(false, keep), 2);
+}
+
 }  // namespace
 }  // namespace surfmap

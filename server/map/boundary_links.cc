@@ -53,7 +53,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                     {"max_extension_turn_deg", max_extension_turn_deg},
                                     {"max_line_turn_deg", max_line_turn_deg},
                                     {"max_curve_turn_deg", max_curve_turn_deg},
-                                    {"min_dot_arc_deg", min_dot_arc_deg}}) {
+                                    {"min_dot_arc_deg", min_dot_arc_deg},
+                                    {"min_hanging_link_angle_deg", min_hanging_link_angle_deg}}) {
     if (!(value >= 0.0 && value <= 180.0)) return fail(absl::StrCat(name, " must be in [0, 180] degrees"));
   }
   return true;

@@ -173,6 +173,21 @@ struct BoundaryLinkOptions {
   // half a mm. At min_corner_link_mm or more every chord needs
   // min_corner_link_mm (the build before).
   double min_line_chord_mm = 1.5;
+  // A line may take the side of a mark from a hanging link, one whose far
+  // mark has no other link (boundary_lines.h; such a link turns from the
+  // line's chord by 90 degrees or more, or it would not hold that side).
+  // Three crossings in a row say more than one chord: on held_palette (seed
+  // 2) two drags left a 7 mm strip obliquely, one through each edge, 7 mm
+  // apart, and the chord between them, 90 degrees off the edge's chain, cut
+  // the strip off; the edge's line through the next crossing was refused
+  // because that chord held the side (docs/method.md). False: a taken side
+  // always blocks (the build before).
+  bool lines_displace_hanging_links = true;
+  // ... when the hanging link runs off the line's chord by at least this: a
+  // chord across a strip (held_palette: 83 degrees), not a crossing of the
+  // same boundary further on, whose link lies along the line (a few
+  // degrees) and would lose its only link. 90 is none.
+  double min_hanging_link_angle_deg = 60.0;
   // Bridges (boundary_bridges.h): two chain ends that share one region and
   // point at each other within max_line_turn_deg are joined across a
   // stretch where the region beyond them changes, up to this long (0 = off).
