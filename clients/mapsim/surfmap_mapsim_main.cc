@@ -64,6 +64,12 @@ void AddCrossingDegOption(CLI::App& app, const std::string& name, BoundaryLinkOp
       ->default_str(absl::StrFormat("%.1f", default_deg));
 }
 
+// An angle in degrees, 0 to max_deg, its default shown in --help.
+void AddDegreesOption(CLI::App& app, const std::string& name, double& degrees, double max_deg,
+                      const std::string& help) {
+  app.add_option(name, degrees, help)->check(CLI::Range(0.0, max_deg))->capture_default_str();
+}
+
 int Main(int argc, char** argv) {
   CLI::App app{"surfmap-mapsim: map scenes in-process with the simulated rig and score the maps on the true surface"};
   app.set_version_flag("--version", std::string("surfmap-mapsim ") + surfmap::kSurfmapVersion);
@@ -168,16 +174,12 @@ int Main(int argc, char** argv) {
                  "the scored map moves regions to the material whose texture fits them best (true|false); "
                  "differing from --plan-assign alone compares the two on the same drags")
       ->capture_default_str();
-  app.add_option("--map-extension-turn", map_links.max_extension_turn_deg,
-                 "the scored map carries chains of boundary links on through oblique crossings whose chord turns by "
-                 "at most this many degrees (0: off, the build before)")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
-  app.add_option("--map-line-turn", map_links.max_line_turn_deg,
-                 "the scored map joins three oblique crossings of a boundary in a row when the chord turns at the "
-                 "middle one by at most this many degrees (boundary_lines.h; 0: off, the build before)")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
+  AddDegreesOption(app, "--map-extension-turn", map_links.max_extension_turn_deg, 90.0,
+                   "the scored map carries chains of boundary links on through oblique crossings whose chord turns by "
+                   "at most this many degrees (0: off, the build before)");
+  AddDegreesOption(app, "--map-line-turn", map_links.max_line_turn_deg, 90.0,
+                   "the scored map joins three oblique crossings of a boundary in a row when the chord turns at the "
+                   "middle one by at most this many degrees (boundary_lines.h; 0: off, the build before)");
   app.add_option("--map-dot-radius", map_links.max_dot_radius_mm,
                  "the scored map draws a circle through the crossings round a dot of at most this radius, mm "
                  "(boundary_dots.h; 0: off, the build before)")
@@ -261,14 +263,10 @@ int Main(int argc, char** argv) {
   AddCrossingDegOption(app, "--plan-link-crossing-deg", plan_links,
                        "the plan's map links two crossings only when both drags ran within this many degrees of "
                        "perpendicular to the link");
-  app.add_option("--plan-curve-turn-deg", plan_links.max_curve_turn_deg,
-                 "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)")
-      ->check(CLI::Range(0.0, 180.0))
-      ->capture_default_str();
-  app.add_option("--plan-extension-turn", plan_links.max_extension_turn_deg,
-                 "the plan's map carries chains of links on (as --map-extension-turn; 0: off)")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
+  AddDegreesOption(app, "--plan-curve-turn-deg", plan_links.max_curve_turn_deg, 180.0,
+                   "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)");
+  AddDegreesOption(app, "--plan-extension-turn", plan_links.max_extension_turn_deg, 90.0,
+                   "the plan's map carries chains of links on (as --map-extension-turn; 0: off)");
   app.add_option("--change-guard-mm", change_guard_mm,
                  "a piece's roughness fit leaves this many mm out next to each change it ends at (FitOptions)")
       ->check(CLI::NonNegativeNumber)
@@ -280,29 +278,20 @@ int Main(int argc, char** argv) {
   AddCrossingDegOption(app, "--map-link-crossing-deg", map_links,
                        "the scored map links two crossings only when both drags ran within this many degrees of "
                        "perpendicular to the link (boundary_links.h)");
-  app.add_option("--map-curve-turn-deg", map_links.max_curve_turn_deg,
-                 "the scored map draws a link as a curve through its chain where the chain turns by at most this "
-                 "many degrees at its ends (boundary_curves.h; 0: every link a chord, the build before)")
-      ->check(CLI::Range(0.0, 180.0))
-      ->capture_default_str();
+  AddDegreesOption(app, "--map-curve-turn-deg", map_links.max_curve_turn_deg, 180.0,
+                   "the scored map draws a link as a curve through its chain where the chain turns by at most this "
+                   "many degrees at its ends (boundary_curves.h; 0: every link a chord, the build before)");
   app.add_option("--map-corner-reach", map_links.corner_reach_mm,
                  "the scored map draws a corner where two chain ends, carried straight on, meet within this many mm "
                  "of both (boundary_corners.h; 0: no corners; 20: the build before, on the same drags)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
-  app.add_option("--map-corner-max-turn", map_links.max_corner_turn_deg,
-                 "the scored map draws a corner where the boundary turns by at most this many degrees (boundary_"
-                 "corners.h; a triangle's 60-degree point turns 120; 120: the build before, on the same drags)")
-      ->check(CLI::Range(0.0, 180.0))
-      ->capture_default_str();
-  app.add_flag("--map-lines-keep-hanging-links{false}", map_links.lines_displace_hanging_links,
-               "the scored map's lines never take a mark's side from a hanging link (one whose far mark has no "
-               "other link; boundary_lines.h; the build before)");
-  app.add_option("--map-hanging-link-angle", map_links.min_hanging_link_angle_deg,
-                 "a line takes a mark's side from a hanging link only when that link runs at least this many degrees "
-                 "off the line (boundary_lines.h; 90: never)")
-      ->check(CLI::Range(0.0, 90.0))
-      ->capture_default_str();
+  AddDegreesOption(app, "--map-corner-max-turn", map_links.max_corner_turn_deg, 180.0,
+                   "the scored map draws a corner where the boundary turns by at most this many degrees (boundary_"
+                   "corners.h; a triangle's 60-degree point turns 120; 120: the build before, on the same drags)");
+  AddDegreesOption(app, "--map-hanging-link-angle", map_links.min_hanging_link_angle_deg, 90.0,
+                   "a line takes a mark's side from a hanging link only when that link runs at least this many degrees "
+                   "off the line (boundary_lines.h; 90: never, the build before)");
   app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,
                  "the scored map checks a cut corner's sides for running straight over this many mm from the "
                  "chord's ends (boundary_corners.h; 0: no cut corners replaced)")

@@ -53,10 +53,10 @@ int LinksAt(const std::vector<DrawnLink>& links, int m) {
 
 // Whether links[k], held at mark m, hangs there: its far mark has no other
 // link, it runs off the chord m -> `to` by at least
-// min_hanging_link_angle_deg, and no other link at m runs straight on from
-// it (turning by less than min_corner_turn_deg: the two are one boundary
-// through m, crossed across the line; held_decals seed 16 lost a side of its
-// L so; BoundaryLinkOptions::lines_displace_hanging_links).
+// min_hanging_link_angle_deg (BoundaryLinkOptions; 90: never), and no other
+// link at m runs straight on from it (turning by less than
+// min_corner_turn_deg: the two are one boundary through m, crossed across
+// the line; held_decals seed 16 lost a side of its L so).
 bool Hanging(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>& links, int k, int m,
              const Eigen::Vector3d& to, const BoundaryLinkOptions& o) {
   const Eigen::Vector3d& n = marks[m].normal;
@@ -64,6 +64,7 @@ bool Hanging(const std::vector<ChangeMark>& marks, const std::vector<DrawnLink>&
     const Eigen::Vector3d d = InPlane(marks[l.from == m ? l.to : l.from].position - marks[m].position, n);
     return d.norm() < 1e-9 ? Eigen::Vector3d::Zero() : Eigen::Vector3d(d.normalized());
   };
+  if (!(o.min_hanging_link_angle_deg < 90.0)) return false;
   const DrawnLink& held = links[k];
   if (LinksAt(links, held.from == m ? held.to : held.from) != 1) return false;
   const Eigen::Vector3d h = away(held);
@@ -153,7 +154,7 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
       const ChangeMark& middle = marks[link.to];
       for (const auto& [m, to] : {std::pair{link.from, middle.position}, std::pair{link.to, outer.position}}) {
         for (int k : SideHolders(marks, links, m, to)) {
-          if (!o.lines_displace_hanging_links || !Hanging(marks, links, k, m, to, o)) blocked = true;
+          if (!Hanging(marks, links, k, m, to, o)) blocked = true;
           displaced.push_back(k);
         }
       }

@@ -31,7 +31,7 @@
 // keeps at most one link on each side, so lines never make a web. A side
 // held by a hanging link (its far mark has no other link, and it runs
 // min_hanging_link_angle_deg or more off the line) is taken from it
-// (BoundaryLinkOptions::lines_displace_hanging_links): two crossings that
+// (BoundaryLinkOptions::min_hanging_link_angle_deg): two crossings that
 // left a strip obliquely through its two edges are consistent with a chord
 // across it, and only the edge's line says the strip runs on.
 #pragma once

@@ -164,11 +164,11 @@ int LinksAcrossAStrip(bool hanging, const BoundaryLinkOptions& o) {
 
 TEST(BoundaryLines, ALineTakesAMarksSideFromAHangingLinkAcrossAStrip) {
   BoundaryLinkOptions keep;
-  keep.lines_displace_hanging_links = false;
+  keep.min_hanging_link_angle_deg = 90.0;
   EXPECT_EQ(LinksAcrossAStrip(true, WithoutLines()), 1);  // the chord across the strip
   EXPECT_EQ(LinksAcrossAStrip(true, keep), 1);            // it holds the middle crossing's side
   EXPECT_EQ(LinksAcrossAStrip(true, {}), 2);              // the edge's line, and no chord across
-  // The chord runs 78 degrees off the line: with 80 it is kept.
+  // The chord runs 78 degrees off the line: with 80 it is kept too.
   BoundaryLinkOptions steeper;
   steeper.min_hanging_link_angle_deg = 80.0;
   EXPECT_EQ(LinksAcrossAStrip(true, steeper), 1);

@@ -174,19 +174,16 @@ struct BoundaryLinkOptions {
   // min_corner_link_mm (the build before).
   double min_line_chord_mm = 1.5;
   // A line may take the side of a mark from a hanging link, one whose far
-  // mark has no other link (boundary_lines.h; such a link turns from the
-  // line's chord by 90 degrees or more, or it would not hold that side).
+  // mark has no other link, when that link runs at least this many degrees
+  // off the line's chord (boundary_lines.h; 90 = never, the build before).
   // Three crossings in a row say more than one chord: on held_palette (seed
   // 2) two drags left a 7 mm strip obliquely, one through each edge, 7 mm
-  // apart, and the chord between them, 90 degrees off the edge's chain, cut
+  // apart, and the chord between them (83 degrees off the edge's line) cut
   // the strip off; the edge's line through the next crossing was refused
-  // because that chord held the side (docs/method.md). False: a taken side
-  // always blocks (the build before).
-  bool lines_displace_hanging_links = true;
-  // ... when the hanging link runs off the line's chord by at least this: a
-  // chord across a strip (held_palette: 83 degrees), not a crossing of the
-  // same boundary further on, whose link lies along the line (a few
-  // degrees) and would lose its only link. 90 is none.
+  // because that chord held the side (docs/method.md). A crossing further
+  // along the same boundary links along the line (a few degrees off), and
+  // taking its side would leave it with no link: with any angle allowed,
+  // strip_block seed 3 lost 2 points of its worst region so.
   double min_hanging_link_angle_deg = 60.0;
   // Bridges (boundary_bridges.h): two chain ends that share one region and
   // point at each other within max_line_turn_deg are joined across a
