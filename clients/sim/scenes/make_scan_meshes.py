@@ -1,6 +1,7 @@
 #!/usr/bin/env python3
 """Writes the scan-like held-out scenes' meshes (scan_pebble_m.obj, scan_vase_m.obj,
-scan_stone_m.obj, scan_dome_m.obj).
+scan_stone_m.obj, scan_dome_m.obj,
+scan_handle_m.obj).
 
 Meshes of the kind a scanner hands a lab: dense (thousands of vertices, far
 denser than the job's site spacing, so the server simplifies them to a control
@@ -150,6 +151,45 @@ def vase():
     return vertices, orient_outward(vertices, faces, (0, 0, 75))  # from a point on the axis
 
 
+def handle():
+    """A tool handle 130 mm long, radius 13-20 mm (strongly curved all round:
+    a 20 mm drag round it turns ~60 degrees), rounded at both ends: 66 rings
+    at jittered heights, 52 vertices each at a random start angle (3,434
+    vertices), with 0.05 mm noise, its axis turned 50 degrees off z (a scan
+    arrives in the scanner's frame, not the object's)."""
+    rng = np.random.default_rng(31)
+    profile = np.array([(0, 0), (9, 0.8), (15, 3), (18, 7), (19, 14), (19, 30), (20, 45), (20.5, 65), (20, 85),
+                        (19, 100), (16, 110), (13.5, 122), (11, 128), (6, 130), (0, 130)], float)
+    length = np.r_[0, np.cumsum(np.linalg.norm(np.diff(profile, axis=0), axis=1))]
+    rings, around = 68, 52
+    s = np.linspace(0, length[-1], rings)
+    s[1:-1] += rng.uniform(-0.3, 0.3, rings - 2) * (length[-1] / rings)
+    r, z = np.interp(s, length, profile[:, 0]), np.interp(s, length, profile[:, 1])
+    vertices = [(0, 0, 0)]
+    for i in range(1, rings - 1):
+        start = rng.uniform(0, 2 * np.pi)
+        for j in range(around):
+            a = start + 2 * np.pi * j / around
+            radius = r[i] + 0.3 * np.sin(2 * a + z[i] / 15) + rng.normal(0, 0.05)
+            vertices.append((radius * np.cos(a), radius * np.sin(a), z[i] + rng.normal(0, 0.05)))
+    vertices.append((0, 0, z[-1]))
+    vertices = np.array(vertices)
+
+    def ring(i):
+        return list(range(1 + (i - 1) * around, 1 + i * around))
+
+    faces = [(0, ring(1)[(j + 1) % around], ring(1)[j]) for j in range(around)]
+    for i in range(1, rings - 2):
+        faces += zip_rings(*ring_by_angle(vertices, ring(i)), *ring_by_angle(vertices, ring(i + 1)))
+    top, last = len(vertices) - 1, ring(rings - 2)
+    faces += [(top, last[j], last[(j + 1) % around]) for j in range(around)]
+    faces = orient_outward(vertices, faces, (0, 0, 65))  # from a point on the axis
+    # Centre the handle on the origin, then turn its axis 50 degrees about y.
+    c, s50 = np.cos(np.radians(50)), np.sin(np.radians(50))
+    turn = np.array([[c, 0, s50], [0, 1, 0], [-s50, 0, c]])
+    return (vertices - (0, 0, 65)) @ turn.T, faces
+
+
 def dome():
     """An open scan of a dome resting on a table (the scanner never saw its
     underside, so the mesh has a boundary round its base): a half-ellipsoid
@@ -212,3 +252,4 @@ if __name__ == "__main__":
     write_obj(f"{sys.argv[1]}/scan_vase_m.obj", "scan-like vase", *vase())
     write_obj(f"{sys.argv[1]}/scan_stone_m.obj", "scan-like river stone", *stone())
     write_obj(f"{sys.argv[1]}/scan_dome_m.obj", "scan-like dome, open at its base", *dome())
+    write_obj(f"{sys.argv[1]}/scan_handle_m.obj", "scan-like tool handle, its axis off z", *handle())
