@@ -292,6 +292,9 @@ int Main(int argc, char** argv) {
   AddDegreesOption(app, "--map-hanging-link-angle", map_links.min_hanging_link_angle_deg, 90.0,
                    "a line takes a mark's side from a hanging link only when that link runs at least this many degrees "
                    "off the line (boundary_lines.h; 90: never, the build before)");
+  AddDegreesOption(app, "--map-line-crossing", map_links.max_line_crossing_deg, 90.0,
+                   "a line's drags must cross its chords within this many degrees of perpendicular (boundary_lines.h; "
+                   "75: the build before, on the same drags)");
   app.add_option("--map-corner-side-reach", map_links.corner_side_reach_mm,
                  "the scored map checks a cut corner's sides for running straight over this many mm from the "
                  "chord's ends (boundary_corners.h; 0: no cut corners replaced)")

@@ -93,6 +93,7 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
   const int n = static_cast<int>(marks.size());
   const double min_normal_cos = std::cos(Radians(o.max_corner_normal_deg));
   const double min_turn_cos = std::cos(Radians(o.max_line_turn_deg));
+  const double line_crossing_cos = std::cos(Radians(o.max_line_crossing_deg));
   std::vector<Line> lines;
   for (int q = 0; q < n; ++q) {
     const ChangeMark& mq = marks[q];
@@ -129,8 +130,8 @@ std::vector<DrawnLink> DrawLines(const std::vector<ChangeMark>& marks, std::vect
         const double turn_cos = in.normalized().dot(on.normalized());
         if (turn_cos < min_turn_cos) continue;  // also rejects P and R on the same side of Q
         Line line;
-        if (!CrossedLink(marks[p], mq, p, q, a, b, o.min_extension_crossing_cos, &line.first) ||
-            !CrossedLink(marks[r], mq, r, q, a, b, o.min_extension_crossing_cos, &line.second) ||
+        if (!CrossedLink(marks[p], mq, p, q, a, b, line_crossing_cos, &line.first) ||
+            !CrossedLink(marks[r], mq, r, q, a, b, line_crossing_cos, &line.second) ||
             line.first.towards_a.dot(line.second.towards_a) <= 0.0) {
           continue;
         }

@@ -23,8 +23,8 @@
 //    (a corner turns by min_corner_turn_deg or more);
 //  - the normals of P and R are within max_corner_normal_deg of Q's;
 //  - region A lies on the same side at all three, each drag crossing its
-//    chords within acos(min_extension_crossing_cos) of perpendicular (it
-//    crossed the boundary, not grazed along it);
+//    chords within max_line_crossing_deg of perpendicular (it crossed the
+//    boundary, not grazed along it);
 //  - no data contradicts either chord (boundary_corridor.h).
 // PQ and QR are then drawn as links, and the chains they make are carried on
 // as any other (boundary_extensions.h). Lines of less turn go first; a mark

@@ -57,6 +57,9 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                     {"min_hanging_link_angle_deg", min_hanging_link_angle_deg}}) {
     if (!(value >= 0.0 && value <= 180.0)) return fail(absl::StrCat(name, " must be in [0, 180] degrees"));
   }
+  if (!(max_line_crossing_deg >= 0.0 && max_line_crossing_deg <= 90.0)) {
+    return fail("max_line_crossing_deg must be in [0, 90] degrees");
+  }
   return true;
 }
 

@@ -525,6 +525,7 @@ TEST(RegionMapTest, BadLinkOptionsAreRefusedByName) {
       {[](BoundaryLinkOptions& o) { o.max_extension_turn_deg = 200.0; }, "links: max_extension_turn_deg"},
       {[](BoundaryLinkOptions& o) { o.min_crossing_cos = 1.5; }, "links: min_crossing_cos"},
       {[](BoundaryLinkOptions& o) { o.max_line_turn_deg = -1.0; }, "links: max_line_turn_deg"},
+      {[](BoundaryLinkOptions& o) { o.max_line_crossing_deg = 95.0; }, "links: max_line_crossing_deg"},
       {[](BoundaryLinkOptions& o) { o.max_dot_radius_mm = std::nan(""); }, "links: max_dot_radius_mm"},
       {[](BoundaryLinkOptions& o) { o.max_dot_chord_mm = 0.0; }, "links: max_dot_chord_mm"},
       {[](BoundaryLinkOptions& o) { o.max_dot_data_offset_mm = -0.1; }, "links: max_dot_data_offset_mm"},
