@@ -60,8 +60,9 @@ TEST(BoundaryExtensions, APatchCornerIsNotCutAcross) {
 }
 
 TEST(BoundaryExtensions, DragsThatGrazeTheBoundaryOrDataAgainstItStopTheChain) {
-  // 80 degrees off perpendicular: along the boundary more than across it.
-  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0), Crossing(10.0, 1), Crossing(20.0, 2, 80.0)}), 1);
+  // 85 degrees off perpendicular: along the boundary more than across it
+  // (past both the extensions' 75 and a line's 80).
+  EXPECT_EQ(LinksDrawn({Crossing(0.0, 0), Crossing(10.0, 1), Crossing(20.0, 2, 85.0)}), 1);
 
   const std::vector<ChangeMark> marks = {Crossing(0.0, 0), Crossing(10.0, 1), Crossing(20.0, 2, 50.0)};
   std::vector<LabelledPoint> data = DragData(marks);
