@@ -117,15 +117,13 @@ def stone():
     return np.array(vertices), faces
 
 
-def vase():
-    """A vase of revolution 150 mm tall, radius 30-45 mm: 56 rings at jittered
-    heights, 60 vertices each at a random start angle (3,362 vertices), joined
-    ring to ring by angle, with bumps and noise."""
-    rng = np.random.default_rng(11)
-    profile = np.array([(0, 0), (30, 0), (38, 8), (44, 30), (45, 55), (41, 80), (34, 105), (30, 125), (32, 140),
-                        (34, 150), (0, 150)], float)
+def revolution(profile, rings, around, rng, bump):
+    """A closed body of revolution about z from a (radius, z) profile that
+    starts and ends on the axis: `rings` stations at jittered arc lengths
+    along it (the two ends are the poles), `around` vertices on each ring
+    from a random start angle, the radius moved by bump(angle, z) and 0.05 mm
+    noise; rings joined by angle, faces oriented outwards."""
     length = np.r_[0, np.cumsum(np.linalg.norm(np.diff(profile, axis=0), axis=1))]
-    rings, around = 58, 60
     s = np.linspace(0, length[-1], rings)
     s[1:-1] += rng.uniform(-0.3, 0.3, rings - 2) * (length[-1] / rings)
     r, z = np.interp(s, length, profile[:, 0]), np.interp(s, length, profile[:, 1])
@@ -134,8 +132,7 @@ def vase():
         start = rng.uniform(0, 2 * np.pi)
         for j in range(around):
             a = start + 2 * np.pi * j / around
-            bump = 1.2 * np.sin(3 * a + z[i] / 20) * np.cos(z[i] / 35)
-            radius = r[i] + bump + rng.normal(0, 0.05)
+            radius = r[i] + bump(a, z[i]) + rng.normal(0, 0.05)
             vertices.append((radius * np.cos(a), radius * np.sin(a), z[i] + rng.normal(0, 0.05)))
     vertices.append((0, 0, z[-1]))
     vertices = np.array(vertices)
@@ -148,7 +145,17 @@ def vase():
         faces += zip_rings(*ring_by_angle(vertices, ring(i)), *ring_by_angle(vertices, ring(i + 1)))
     top, last = len(vertices) - 1, ring(rings - 2)
     faces += [(top, last[j], last[(j + 1) % around]) for j in range(around)]
-    return vertices, orient_outward(vertices, faces, (0, 0, 75))  # from a point on the axis
+    return vertices, orient_outward(vertices, faces, (0, 0, z[-1] / 2))  # from a point on the axis
+
+
+def vase():
+    """A vase of revolution 150 mm tall, radius 30-45 mm: 56 rings at jittered
+    heights, 60 vertices each at a random start angle (3,362 vertices), joined
+    ring to ring by angle, with bumps and noise."""
+    profile = np.array([(0, 0), (30, 0), (38, 8), (44, 30), (45, 55), (41, 80), (34, 105), (30, 125), (32, 140),
+                        (34, 150), (0, 150)], float)
+    return revolution(profile, 58, 60, np.random.default_rng(11),
+                      lambda a, z: 1.2 * np.sin(3 * a + z / 20) * np.cos(z / 35))
 
 
 def handle():
@@ -157,36 +164,13 @@ def handle():
     at jittered heights, 52 vertices each at a random start angle (3,434
     vertices), with 0.05 mm noise, its axis turned 50 degrees off z (a scan
     arrives in the scanner's frame, not the object's)."""
-    rng = np.random.default_rng(31)
     profile = np.array([(0, 0), (9, 0.8), (15, 3), (18, 7), (19, 14), (19, 30), (20, 45), (20.5, 65), (20, 85),
                         (19, 100), (16, 110), (13.5, 122), (11, 128), (6, 130), (0, 130)], float)
-    length = np.r_[0, np.cumsum(np.linalg.norm(np.diff(profile, axis=0), axis=1))]
-    rings, around = 68, 52
-    s = np.linspace(0, length[-1], rings)
-    s[1:-1] += rng.uniform(-0.3, 0.3, rings - 2) * (length[-1] / rings)
-    r, z = np.interp(s, length, profile[:, 0]), np.interp(s, length, profile[:, 1])
-    vertices = [(0, 0, 0)]
-    for i in range(1, rings - 1):
-        start = rng.uniform(0, 2 * np.pi)
-        for j in range(around):
-            a = start + 2 * np.pi * j / around
-            radius = r[i] + 0.3 * np.sin(2 * a + z[i] / 15) + rng.normal(0, 0.05)
-            vertices.append((radius * np.cos(a), radius * np.sin(a), z[i] + rng.normal(0, 0.05)))
-    vertices.append((0, 0, z[-1]))
-    vertices = np.array(vertices)
-
-    def ring(i):
-        return list(range(1 + (i - 1) * around, 1 + i * around))
-
-    faces = [(0, ring(1)[(j + 1) % around], ring(1)[j]) for j in range(around)]
-    for i in range(1, rings - 2):
-        faces += zip_rings(*ring_by_angle(vertices, ring(i)), *ring_by_angle(vertices, ring(i + 1)))
-    top, last = len(vertices) - 1, ring(rings - 2)
-    faces += [(top, last[j], last[(j + 1) % around]) for j in range(around)]
-    faces = orient_outward(vertices, faces, (0, 0, 65))  # from a point on the axis
+    vertices, faces = revolution(profile, 68, 52, np.random.default_rng(31),
+                                 lambda a, z: 0.3 * np.sin(2 * a + z / 15))
     # Centre the handle on the origin, then turn its axis 50 degrees about y.
-    c, s50 = np.cos(np.radians(50)), np.sin(np.radians(50))
-    turn = np.array([[c, 0, s50], [0, 1, 0], [-s50, 0, c]])
+    c, s = np.cos(np.radians(50)), np.sin(np.radians(50))
+    turn = np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
     return (vertices - (0, 0, 65)) @ turn.T, faces
 
 
