@@ -44,13 +44,15 @@ double SmallMaterialWeight(double smaller_area, double mean_area, double max_wei
 
 BoundarySelector::BoundarySelector(const SurfaceLevel& level, double drag_length_mm,
                                    const TextureDistanceOptions& metric, double misclassification_cost,
-                                   bool material_mu_risk, double small_material_weight_max)
+                                   bool material_mu_risk, double small_material_weight_max,
+                                   bool far_gain_expected)
     : level_(&level),
       drag_length_mm_(drag_length_mm),
       metric_(metric),
       misclassification_cost_(misclassification_cost),
       material_mu_risk_(material_mu_risk),
       small_material_weight_max_(small_material_weight_max),
+      far_gain_expected_(far_gain_expected),
       half_window_mm_(0.5 * kWindowShare * drag_length_mm),
       corridor_mm_(kCorridorShare * drag_length_mm) {
   const auto& x = level.limit_positions;
@@ -108,6 +110,10 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   const int nv = static_cast<int>(level_->limit_positions.size());
   Removable r;
   r.far.assign(nv, 0.0);
+  if (far_gain_expected_) {
+    r.data_mm = map.data_distance_mm();
+    r.far_length_mm = 0.5 * map.correlation_length_mm();
+  }
   r.boundary.assign(nv, 0.0);
   r.across.assign(nv, Eigen::Vector3d::Zero());
   // A friction metric reads the map's own variances (the same numbers, bit
@@ -157,6 +163,7 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   for (const Eigen::Vector3d& p : covered) {
     ForEachWithin(p, reach_mm(), [&](int v) {
       r.far[v] = r.boundary[v] = r.material_density[v] = 0.0;
+      if (!r.data_mm.empty()) r.data_mm[v] = 0.0;
       if (!r.material.empty()) r.material[v] = -1;
     });
   }
@@ -221,6 +228,17 @@ void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) cons
   }
 }
 
+double BoundarySelector::FarShareRemoved(const Removable& removable, int w, double path_mm) {
+  if (removable.data_mm.empty()) return 1.0;
+  // far variance(d) = prior^2 (1 - exp(-d / far_length)): after the drag d is
+  // min(d, path_mm).
+  const double before = removable.data_mm[w];
+  if (!(path_mm < before)) return 0.0;
+  const double L = removable.far_length_mm;
+  if (!std::isfinite(before)) return std::exp(-path_mm / L);
+  return 1.0 - std::expm1(-path_mm / L) / std::expm1(-before / L);
+}
+
 BoundarySelector::Gains BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,
                                                    const Removable& removable) const {
   const auto& x = level_->limit_positions;
@@ -234,7 +252,7 @@ BoundarySelector::Gains BoundarySelector::GainAlong(int v, const Eigen::Vector3d
   Gains g;
   for (int w : near) {
     const double d = DistanceToSegment(x[w], a, b);
-    if (d <= corridor_mm_) g.far += removable.far[w];
+    if (d <= corridor_mm_) g.far += removable.far[w] * FarShareRemoved(removable, w, d);
     if ((x[w] - x[v]).squaredNorm() <= h2) g.boundary += removable.boundary[w] * std::abs(u.dot(removable.across[w]));
     if (!in.empty() && d <= band) {
       band_area += area_[w];

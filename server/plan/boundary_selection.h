@@ -7,11 +7,15 @@
 // window c - h u .. c + h u (the middle 80 % of the drag), removes
 //
 //   gain(c, u) = sum over v within `corridor` of the window's segment of
-//                  area(v) * far_variance(v)
+//                  area(v) * (far_variance(d(v)) - far_variance(min(d(v), t(v))))
 //              + sum over v within h of c of
 //                  area(v) * p(v) (1 - p(v)) * cost(v) * |u . n(v)|
 //
 // (region_map.h; mu^2 mm^2, the squared error mass the drag can remove),
+// d(v) the distance from v to the nearest data and t(v) to the drag's path:
+// the drag brings v's data nearer only where its path passes nearer than
+// the data it has (with far_gain_expected; without it, the build before,
+// the whole far_variance(d(v)) of the corridor counts),
 // p(v) the boundary probability and cost(v) what confusing the two regions
 // there costs: their mu jump squared for a friction job; for a roughness
 // or both job their texture distance in mu^2 (RegionMap::ConfusionCost), with
@@ -111,9 +115,12 @@ class BoundarySelector {
   // `material_mu_risk`: whether a drag also gains by settling a material's
   // mu (MaterialMuRiskGain below). `small_material_weight_max`: c is
   // weighed by SmallMaterialWeight at each boundary (1 = not at all).
+  // `far_gain_expected`: the far-from-data term at a vertex is what bringing
+  // its distance to data down to the drag's path takes off its far variance
+  // (FarShareRemoved), not all of it.
   BoundarySelector(const SurfaceLevel& level, double drag_length_mm, const TextureDistanceOptions& metric = Friction(),
                    double misclassification_cost = 0.0, bool material_mu_risk = false,
-                   double small_material_weight_max = 1.0);
+                   double small_material_weight_max = 1.0, bool far_gain_expected = false);
 
   // The friction-only metric: boundaries weighed by their mu jump.
   static TextureDistanceOptions Friction() {
@@ -160,6 +167,8 @@ class BoundarySelector {
   };
   struct Removable {
     std::vector<double> far;       // area * far variance
+    std::vector<double> data_mm;   // far_gain_expected: distance to the nearest data (0 where covered)
+    double far_length_mm = 0.0;    // far_gain_expected: the correlation length over 2 (region_map.h)
     std::vector<double> boundary;  // area * boundary variance
     std::vector<Eigen::Vector3d> across;  // n(v), zero where no boundary
     std::vector<int> material;     // per vertex, of its region; -1 none or covered
@@ -168,8 +177,6 @@ class BoundarySelector {
   };
   Removable RemovableVariance(const RegionMap& map, const std::vector<Eigen::Vector3d>& covered) const;
   BoundarySelection ScanDirections(int v, const Removable& removable) const;
-  // far + boundary gain of a drag at v along u (unit tangent), over `near`
-  // (the vertices within the window's reach of v).
   // What a drag at v along u (unit tangent) gains, over `near` (the
   // vertices within the window's reach of v), in one pass: far from data,
   // at boundaries, and by settling the materials' mu (MaterialMuRiskGain of
@@ -179,6 +186,10 @@ class BoundarySelector {
     double total() const { return far + boundary + material; }
   };
   Gains GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near, const Removable& removable) const;
+  // Of vertex w's far variance, the share a drag whose path passes path_mm
+  // from it removes: all of it without far_gain_expected; with it, what
+  // bringing its distance to data down to path_mm takes off.
+  static double FarShareRemoved(const Removable& removable, int w, double path_mm);
   // The materials' risks (material_mu_risk; nothing without it or c).
   void AddMaterialRisks(const RegionMap& map, Removable* r) const;
   // Each material's area on the map (its regions' vertices'), indexed by
@@ -194,6 +205,7 @@ class BoundarySelector {
   double misclassification_cost_;
   bool material_mu_risk_;
   double small_material_weight_max_;
+  bool far_gain_expected_;
   double half_window_mm_;  // h
   double corridor_mm_;
   std::vector<double> area_;  // a third of the area of the triangles around each vertex

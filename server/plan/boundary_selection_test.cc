@@ -215,6 +215,44 @@ TEST(BoundarySelectorTest, ASmallMaterialsBoundaryWeighsByItsArea) {
   EXPECT_NEAR(wood_growth, wood_expected, 0.05 * wood_expected);
 }
 
+// Glass drags along y at x = -30 and -20: one material, so a drag gains
+// only far from data. On the plate (2.5 mm grid) the map's correlation
+// length is a tenth of its diagonal, 10.9 mm.
+absl::StatusOr<RegionMap> TwoGlassDrags(const SurfaceLevel& level) {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  for (double x : {-30.0, -20.0}) pieces.push_back(testing::StraightPiece(drag++, {x, -20, 0}, {x, 20, 0}, 0.13));
+  return testing::MapOfPieces(level, pieces);
+}
+
+// A drag along y 40 mm from data brings its whole corridor nearer: a vertex
+// t mm off its path keeps exp(-t / l) of its far variance removable (l, half
+// the correlation length, 5.45 mm), 0.61 over the corridor's columns t = 0,
+// 2.5 and 5 mm. Between the two drags every vertex already lies within 5 mm
+// of data, and a drag down the middle brings only the vertices within 2.5 mm
+// of its path nearer: 0.37 of what the build before counted, measured.
+TEST(BoundarySelectorTest, AFarGainExpectedCountsOnlyWhatBringingDataNearerTakesOff) {
+  const SurfaceLevel level = testing::Plate();
+  absl::StatusOr<RegionMap> map = TwoGlassDrags(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  const BoundarySelector in_full(level, kDragLengthMm),
+      expected(level, kDragLengthMm, BoundarySelector::Friction(), 0.0, false, 1.0, /*far_gain_expected=*/true);
+  const int between = in_full.NearestVertex({-25, 0, 0}, 1.0), open = in_full.NearestVertex({20, 0, 0}, 1.0);
+  ASSERT_TRUE(between >= 0 && open >= 0);
+  // A drag along y there: the only candidate.
+  const std::vector<char> none(level.limit_positions.size(), 0);
+  const auto gain = [&](const BoundarySelector& s, int v) {
+    const std::vector<DirectedCandidate> along_y = {{v, Eigen::Vector3d::UnitY(), 0.0}};
+    return s.Select(*map, none, {}, along_y).gain;
+  };
+  const double between_share = gain(expected, between) / gain(in_full, between);
+  const double open_share = gain(expected, open) / gain(in_full, open);
+  EXPECT_GT(open_share, 0.5);
+  EXPECT_LT(open_share, 0.75);
+  EXPECT_GT(between_share, 0.0) << "the middle band is brought nearer";
+  EXPECT_LT(between_share, 0.7 * open_share);
+}
+
 // The pebble's strip (MaterialMuRiskGain's comment): 260 mm^2 of masonite
 // read 0.325 +- 0.017 from 80 mm of pieces, 0.02 from rubber's mu; a 16 mm
 // drag along it lowers the chance it reads nearer rubber than its own truth

@@ -119,7 +119,7 @@ absl::Status SamplingPlan::Initialise() {
     selector_.emplace(*levels_.back(), options_.probe.segment_length_mm,
                       options_.boundary_cost_follows_property ? options_.distance : BoundarySelector::Friction(),
                       options_.misclassification_cost, options_.material_mu_risk,
-                      options_.small_material_weight_max);
+                      options_.small_material_weight_max, options_.far_gain_expected);
   }
   state_counts_.assign(options_.max_level - options_.coarsest_level + 1, {});
   edge_index_.assign(options_.max_level - options_.coarsest_level, {});

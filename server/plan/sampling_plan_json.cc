@@ -167,6 +167,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"misclassification_cost", o.misclassification_cost},
       {"material_mu_risk", o.material_mu_risk},
       {"small_material_weight_max", o.small_material_weight_max},
+      {"far_gain_expected", o.far_gain_expected},
   };
 }
 
@@ -259,6 +260,9 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   // Added later: a plan saved before goes on weighing every boundary alike.
   o.small_material_weight_max =
       j.contains("small_material_weight_max") ? in.Double(j, "options", "small_material_weight_max") : 1.0;
+  // Added later: a plan saved before goes on counting a corridor's far
+  // variance in full.
+  o.far_gain_expected = j.contains("far_gain_expected") && in.Bool(j, "options", "far_gain_expected");
   return o;
 }
 

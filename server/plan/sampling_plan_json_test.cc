@@ -218,6 +218,12 @@ TEST(SaveRestoreTest, SmallMaterialWeightIsSavedAndAPlanSavedBeforeItRestoresWei
   EXPECT_EQ(RestoredOptions(o, "").status().code(), absl::StatusCode::kInvalidArgument);
 }
 
+TEST(SaveRestoreTest, FarGainExpectedIsSavedAndAPlanSavedBeforeItRestoresCountingTheCorridorInFull) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.far_gain_expected = true;
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::far_gain_expected, "far_gain_expected", false);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

@@ -156,6 +156,18 @@ struct SamplingPlanOptions {
   // a region outright. 1 = every boundary alike (the build before, and
   // what plans stored without the key restore with).
   double small_material_weight_max = 1.0;
+  // kBoundary: a drag's far-from-data gain at a vertex is what bringing its
+  // distance to data down to the drag's path takes off its far variance
+  // (boundary_selection.h), not all of it: a vertex 3 mm from data that a
+  // drag passes 5 mm away is no nearer data after it. Counted in full, the
+  // corridors of well-sampled surface kept a third of an open corridor's
+  // gain, and the plan spread drags there instead of settling boundaries.
+  // Measured in-process on 19 scenes x seeds 1-16 (docs/method.md, "A
+  // drag's far gain is what it brings nearer"): goals met 283 -> 294 of
+  // 304, the held-out tool handle 5 -> 14 of 16. false = all of it within
+  // the corridor (the build before, and what plans stored without the key
+  // restore with).
+  bool far_gain_expected = true;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map
