@@ -333,6 +333,9 @@ class RegionMap {
   // drag between pieces of different regions), in piece order.
   const std::vector<ChangeMark>& change_marks() const { return marks_; }
   double prior_mu_std() const { return prior_mu_std_; }
+  // The friction variance of a point d mm from the nearest data, beside its
+  // region's own: prior_mu_std()^2 (1 - exp(-2 d / correlation_length_mm())).
+  double FarVariance(double d) const;
   double correlation_length_mm() const { return correlation_length_mm_; }
 
   // Values at vertex v (0 <= v < vertex_count(), after SetPieces).
@@ -416,7 +419,6 @@ class RegionMap {
   void RecomputeUncertainty();
   double PointVariance(int region, int second, double p, double d) const;
   double BoundaryVariance(int region, int second, double p) const;
-  double FarVariance(double d) const;
   // Whether `end`, a piece beside a change to `other` on its drag, is too
   // short and too alike to `other` to confirm the change as a crossing
   // (RegionMapOptions::min_end_piece_mark_mm).

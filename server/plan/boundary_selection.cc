@@ -112,7 +112,7 @@ BoundarySelector::Removable BoundarySelector::RemovableVariance(const RegionMap&
   r.far.assign(nv, 0.0);
   if (far_gain_expected_) {
     r.data_mm = map.data_distance_mm();
-    r.far_length_mm = 0.5 * map.correlation_length_mm();
+    r.map = &map;
   }
   r.boundary.assign(nv, 0.0);
   r.across.assign(nv, Eigen::Vector3d::Zero());
@@ -230,13 +230,10 @@ void BoundarySelector::AddMaterialRisks(const RegionMap& map, Removable* r) cons
 
 double BoundarySelector::FarShareRemoved(const Removable& removable, int w, double path_mm) {
   if (removable.data_mm.empty()) return 1.0;
-  // far variance(d) = prior^2 (1 - exp(-d / far_length)): after the drag d is
-  // min(d, path_mm).
+  // After the drag the distance to data is min(d, path_mm).
   const double before = removable.data_mm[w];
   if (!(path_mm < before)) return 0.0;
-  const double L = removable.far_length_mm;
-  if (!std::isfinite(before)) return std::exp(-path_mm / L);
-  return 1.0 - std::expm1(-path_mm / L) / std::expm1(-before / L);
+  return 1.0 - removable.map->FarVariance(path_mm) / removable.map->FarVariance(before);
 }
 
 BoundarySelector::Gains BoundarySelector::GainAlong(int v, const Eigen::Vector3d& u, const std::vector<int>& near,

@@ -168,7 +168,7 @@ class BoundarySelector {
   struct Removable {
     std::vector<double> far;       // area * far variance
     std::vector<double> data_mm;   // far_gain_expected: distance to the nearest data (0 where covered)
-    double far_length_mm = 0.0;    // far_gain_expected: the correlation length over 2 (region_map.h)
+    const RegionMap* map = nullptr;  // far_gain_expected: whose FarVariance the far term is
     std::vector<double> boundary;  // area * boundary variance
     std::vector<Eigen::Vector3d> across;  // n(v), zero where no boundary
     std::vector<int> material;     // per vertex, of its region; -1 none or covered
