@@ -90,6 +90,7 @@ int Main(int argc, char** argv) {
   bool material_mu_risk = SamplingPlanOptions{}.material_mu_risk;
   double small_material_weight_max = SamplingPlanOptions{}.small_material_weight_max;
   bool far_gain_expected = SamplingPlanOptions{}.far_gain_expected;
+  bool issue_by_gain = SamplingPlanOptions{}.issue_selected_by_gain;
   bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
@@ -154,6 +155,10 @@ int Main(int argc, char** argv) {
   app.add_option("--far-expected", far_gain_expected,
                  "boundary plans: a drag's far-from-data gain is what bringing data nearer takes off, not the "
                  "corridor's whole far variance (sampling_plan_options.h; false: the build before) (true|false)")
+      ->capture_default_str();
+  app.add_option("--issue-by-gain", issue_by_gain,
+                 "boundary plans issue a selection's sites in the order they were chosen, the largest gain first "
+                 "(sampling_plan_options.h; false: the plan's issue order, the build before) (true|false)")
       ->capture_default_str();
   app.add_flag("--friction-boundary-cost", friction_boundary_cost,
                "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
@@ -328,6 +333,7 @@ int Main(int argc, char** argv) {
   base.material_mu_risk = material_mu_risk;
   base.small_material_weight_max = small_material_weight_max;
   base.far_gain_expected = far_gain_expected;
+  base.issue_selected_by_gain = issue_by_gain;
   base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;

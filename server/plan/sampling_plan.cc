@@ -174,6 +174,13 @@ int SamplingPlan::NaturalLevel(int vertex) const {
 }
 
 SamplingPlan::PendingKey SamplingPlan::KeyOf(const SiteRecord& r) const {
+  if (options_.issue_selected_by_gain && r.origin == SiteOrigin::kSelected && r.failures == 0 &&
+      r.selection_rank > 0) {
+    // Ahead of every other pending site: a selection is made only once no
+    // coarsest-level site waits (RefreshBoundarySelection), and retries go
+    // behind fresh sites.
+    return {options_.coarsest_level, 0, static_cast<std::uint64_t>(r.selection_rank), r.site.vertex};
+  }
   return {r.site.level, r.failures, SiteShuffleKey(options_.seed, r.site.vertex), r.site.vertex};
 }
 
@@ -635,7 +642,8 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     for (const Eigen::Vector3d& p : no_go_) near_no_go |= (finest.limit_positions[v] - p).squaredNorm() < reach * reach;
     candidate[v] = !near_no_go;
   }
-  if (options_.follow_boundaries) slots -= FollowBoundaries(slots, candidate, covered);
+  int rank = 0;  // of the choices below, in the order they are made
+  if (options_.follow_boundaries) slots -= FollowBoundaries(slots, candidate, covered, rank);
   // Stop when no drag could remove more than a resolution-sized error over
   // its whole corridor.
   const double min_gain = std::max(options_.min_uncertainty_score, selector_->MinGain(options_.regions.merge.mu_resolution));
@@ -650,6 +658,7 @@ absl::Status SamplingPlan::RefreshBoundarySelection() {
     SiteRecord r;
     r.site = {std::max(options_.coarsest_level, NaturalLevel(choice.vertex)), choice.vertex};
     r.origin = SiteOrigin::kSelected;
+    r.selection_rank = ++rank;
     AddSite(std::move(r));
     selected_direction_[choice.vertex] = choice.direction;
     candidate[choice.vertex] = 0;
@@ -759,7 +768,8 @@ std::vector<DragSegment> SamplingPlan::DragWindows() const {
   return out;
 }
 
-int SamplingPlan::FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered) {
+int SamplingPlan::FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered,
+                                   int& rank) {
   if (slots <= 0) return 0;
   const SurfaceLevel& finest = *levels_.back();
   const double h = selector_->half_window_mm();
@@ -773,6 +783,7 @@ int SamplingPlan::FollowBoundaries(int slots, std::vector<char>& candidate, std:
     SiteRecord r;
     r.site = {std::max(options_.coarsest_level, NaturalLevel(v)), v};
     r.origin = SiteOrigin::kSelected;
+    r.selection_rank = ++rank;
     AddSite(std::move(r));
     if (sites_.at(v).state != SiteState::kPending) break;  // skipped: out of budget or cancelled
     selected_direction_[v] = drag.direction;

@@ -43,7 +43,8 @@
 // Issue order (deterministic for a given seed and sequence of calls): lowest
 // level first, then fewest failures (retries go behind fresh sites of their
 // level), then a seeded shuffle of the vertices (site_order.h) that depends
-// only on (seed, vertex).
+// only on (seed, vertex). With options.issue_selected_by_gain, a boundary
+// plan's fresh selected sites go first, in the order they were chosen.
 //
 // Several commands may be outstanding (several rigs); NextCommand returns
 // nothing while all remaining work waits on outstanding measurements or the
@@ -105,6 +106,10 @@ struct SiteRecord {
   SiteState state = SiteState::kPending;
   SiteOrigin origin = SiteOrigin::kInitial;
   int failures = 0;
+  // kSelected sites of a boundary plan: 1 for the first choice of the
+  // selection that added it (the largest gain), 2 for the next, ...; 0 for
+  // other sites. SamplingPlanOptions::issue_selected_by_gain issues by it.
+  int selection_rank = 0;
   std::uint64_t sequence = 0;      // of the latest command issued for it (0 = never issued)
   std::string reason;              // why it failed or was skipped
   std::optional<TextureParams> fit;  // when measured (SummaryTexture of the line sample)
@@ -221,7 +226,8 @@ class SamplingPlan {
   absl::Status RefreshBoundarySelection();  // kBoundary
   // kBoundary with follow_boundaries: queues up to `slots` drags that follow
   // boundaries found so far (boundary_tracing.h); returns how many.
-  int FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered);
+  // `rank` counts the selection's choices (SiteRecord::selection_rank).
+  int FollowBoundaries(int slots, std::vector<char>& candidate, std::vector<Eigen::Vector3d>& covered, int& rank);
   // The drag that explores targets[k] (centred between it and its twin
   // across a narrow feature when one window holds both): vertex -1 when no
   // candidate vertex is near enough.

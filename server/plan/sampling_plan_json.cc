@@ -5,7 +5,7 @@
 //    "triangle_counts": [...]}, "next_sequence": n, "cancelled": false,
 //    "measured_order": [vertex, ...], "no_go": [[x, y, z], ...],
 //    "sites": [{"vertex", "level", "state", "origin", "failures", "sequence",
-//               "reason", "fit": {"mu", "mu_std", "reflection", "sigma"},
+//               "reason", "selection_rank", "fit": {"mu", "mu_std", "reflection", "sigma"},
 //               "line": {line_sample_json.h}, "parent_a", "parent_b",
 //               "parent_distance"}, ...]}
 //
@@ -168,6 +168,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"material_mu_risk", o.material_mu_risk},
       {"small_material_weight_max", o.small_material_weight_max},
       {"far_gain_expected", o.far_gain_expected},
+      {"issue_selected_by_gain", o.issue_selected_by_gain},
   };
 }
 
@@ -263,6 +264,9 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   // Added later: a plan saved before goes on counting a corridor's far
   // variance in full.
   o.far_gain_expected = j.contains("far_gain_expected") && in.Bool(j, "options", "far_gain_expected");
+  // Added later: a plan saved before goes on issuing its choices in the
+  // plan's issue order.
+  o.issue_selected_by_gain = j.contains("issue_selected_by_gain") && in.Bool(j, "options", "issue_selected_by_gain");
   return o;
 }
 
@@ -288,6 +292,7 @@ std::string SamplingPlan::SaveJson() const {
               {"failures", r.failures},
               {"sequence", r.sequence},
               {"reason", r.reason}};
+    if (r.selection_rank > 0) s["selection_rank"] = r.selection_rank;
     if (r.fit) {
       s["fit"] = {{"mu", r.fit->mu},
                   {"mu_std", r.fit->mu_std},
@@ -401,6 +406,15 @@ absl::StatusOr<SamplingPlan> SamplingPlan::Restore(std::string_view text, std::v
                                                      " is outside 0..", plan.options_.max_retries + 1));
     }
     r.failures = static_cast<int>(failures);
+    if (js.contains("selection_rank")) {  // added later: sites saved before have none
+      const std::int64_t rank = in.Int(js, where, "selection_rank");
+      if (!status.ok()) return status;
+      if (r.origin != SiteOrigin::kSelected || rank < 1 || rank > plan.options_.lookahead) {
+        return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".selection_rank ", rank,
+                                                       " is not a selected site's 1..", plan.options_.lookahead));
+      }
+      r.selection_rank = static_cast<int>(rank);
+    }
     if (r.sequence >= plan.next_sequence_) {
       return absl::InvalidArgumentError(absl::StrCat("plan JSON: ", where, ".sequence ", r.sequence,
                                                      " is not below next_sequence ", plan.next_sequence_));

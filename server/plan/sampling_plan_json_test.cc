@@ -224,6 +224,12 @@ TEST(SaveRestoreTest, FarGainExpectedIsSavedAndAPlanSavedBeforeItRestoresCountin
   ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::far_gain_expected, "far_gain_expected", false);
 }
 
+TEST(SaveRestoreTest, IssueSelectedByGainIsSavedAndAPlanSavedBeforeItRestoresIssuingInThePlansOrder) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.issue_selected_by_gain = true;
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::issue_selected_by_gain, "issue_selected_by_gain", false);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);
@@ -270,6 +276,10 @@ TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   j = good;
   j["options"]["max_level"] = 7;
   expect_error(j, "max_level");
+  // A selection rank on a site the boundary plan did not choose.
+  j = good;
+  j["sites"][0]["selection_rank"] = 1;
+  expect_error(j, "sites[0].selection_rank 1 is not a selected site's");
   // The measured site without its fit, and with a bad one.
   for (size_t i = 0; i < good["sites"].size(); ++i) {
     if (good["sites"][i]["state"] == "measured") {

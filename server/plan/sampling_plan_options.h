@@ -168,6 +168,14 @@ struct SamplingPlanOptions {
   // the corridor (the build before, and what plans stored without the key
   // restore with).
   bool far_gain_expected = true;
+  // kBoundary: the sites chosen in one selection are issued in the order
+  // they were chosen: the one with the largest gain first, each next one
+  // chosen with those before it counted as covered. false = in the plan's
+  // issue order (lowest level first, then the seeded shuffle), which with
+  // one rig issued whichever of the `lookahead` choices sat on the coarsest
+  // level, and re-made the others after its answer. Plans stored without
+  // the key restore with false.
+  bool issue_selected_by_gain = false;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map

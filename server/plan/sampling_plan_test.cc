@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <map>
+#include <optional>
+#include <string>
 #include <set>
 
 #include <gtest/gtest.h>
@@ -477,6 +480,84 @@ TEST(CoverageSkip, ShareZeroDragsEveryCoarseSite) {
   std::set<int> skipped, expected;
   FirstDragSkips(0.0, &skipped, &expected);
   EXPECT_TRUE(skipped.empty());
+}
+
+// The boundary plan's pending selected sites: vertex -> selection rank.
+std::map<int, int> PendingSelected(const SamplingPlan& plan) {
+  std::map<int, int> out;
+  for (const SiteRecord& r : plan.Sites()) {
+    if (r.state == SiteState::kPending && r.origin == SiteOrigin::kSelected) out[r.site.vertex] = r.selection_rank;
+  }
+  return out;
+}
+
+// Answers one rig with the truth's fits until the boundary plan has chosen
+// sites (the coarse pass is done).
+void AnswerUntilSelection(SamplingPlan& plan, const SurfaceLevel& finest) {
+  while (PendingSelected(plan).empty() && !plan.IsComplete()) {
+    const std::optional<ProbeCommand> c = plan.NextCommand();
+    ASSERT_TRUE(c.has_value());
+    ASSERT_TRUE(plan.RecordFit(c->sequence, SynthesiseFit(finest.limit_positions[c->site.vertex], c->site.vertex)).ok());
+  }
+}
+
+// Over `answers` answers after the coarse pass, how many commands issued a
+// selected site that was not its selection's first choice.
+int LaterChoicesIssuedFirst(bool by_gain, int answers, std::string* saved = nullptr) {
+  const auto levels = TwoMaterialPlate(3);
+  SamplingPlanOptions o;
+  o.mode = PlanMode::kBoundary;
+  o.max_level = 3;
+  o.seed = 17;
+  o.issue_selected_by_gain = by_gain;
+  auto plan = SamplingPlan::Create(Pointers(levels), o);
+  EXPECT_TRUE(plan.ok()) << plan.status();
+  if (!plan.ok()) return -1;
+  AnswerUntilSelection(*plan, levels.back());
+  int later = 0;
+  for (int k = 0; k < answers && !plan->IsComplete(); ++k) {
+    const std::map<int, int> selected = PendingSelected(*plan);
+    EXPECT_FALSE(selected.empty());
+    std::set<int> ranks;
+    for (const auto& [v, rank] : selected) ranks.insert(rank);
+    EXPECT_EQ(*ranks.begin(), 1);
+    EXPECT_EQ(*ranks.rbegin(), static_cast<int>(selected.size())) << "ranks are 1..n, each once";
+    EXPECT_EQ(ranks.size(), selected.size());
+    if (k == answers / 2 && saved != nullptr) *saved = plan->SaveJson();
+    const std::optional<ProbeCommand> c = plan->NextCommand();
+    EXPECT_TRUE(c.has_value());
+    if (!c) return -1;
+    auto it = selected.find(c->site.vertex);
+    EXPECT_NE(it, selected.end()) << "after the coarse pass every command is a selected site";
+    later += it != selected.end() && it->second != 1;
+    EXPECT_TRUE(plan->RecordFit(c->sequence, SynthesiseFit(levels.back().limit_positions[c->site.vertex],
+                                                             c->site.vertex)).ok());
+  }
+  return later;
+}
+
+TEST(IssueOrder, ByGainASelectionIsIssuedInTheOrderItsSitesWereChosen) {
+  EXPECT_EQ(LaterChoicesIssuedFirst(/*by_gain=*/true, 24), 0);
+  // The plan's issue order (level, then the seeded shuffle) issued later
+  // choices first: the build before.
+  EXPECT_GT(LaterChoicesIssuedFirst(/*by_gain=*/false, 24), 0);
+}
+
+TEST(IssueOrder, ARestoredPlanKeepsItsSelectionsOrder) {
+  std::string saved;
+  ASSERT_EQ(LaterChoicesIssuedFirst(/*by_gain=*/true, 24, &saved), 0);
+  ASSERT_FALSE(saved.empty());
+  const auto levels = TwoMaterialPlate(3);
+  auto live = SamplingPlan::Restore(saved, Pointers(levels));
+  ASSERT_TRUE(live.ok()) << live.status();
+  const std::map<int, int> selected = PendingSelected(*live);
+  ASSERT_GT(selected.size(), 1u);
+  auto restored = SamplingPlan::Restore(live->SaveJson(), Pointers(levels));
+  ASSERT_TRUE(restored.ok()) << restored.status();
+  EXPECT_EQ(PendingSelected(*restored), selected);
+  const std::optional<ProbeCommand> c = restored->NextCommand();
+  ASSERT_TRUE(c.has_value());
+  EXPECT_EQ(selected.at(c->site.vertex), 1);
 }
 
 }  // namespace
