@@ -43,6 +43,10 @@ struct ObjectRecord {
   int64_t control_faces = 0;
   int64_t created_unix_ms = 0;
   std::string metadata_json = "{}";  // provenance (the service's JSON object)
+  // What the mesh is: "control_mesh" (a Loop control mesh, or a dense scan
+  // that is the surface itself) or "facets" (flat triangles that are the
+  // surface, sharp edges and all: a CAD export). server/mesh/flat_refine.h.
+  std::string surface = "control_mesh";
 };
 
 struct JobRecord {
@@ -132,6 +136,7 @@ struct NewObject {
   int64_t control_vertices = 0;
   int64_t control_faces = 0;
   std::string metadata_json = "{}";
+  std::string surface = "control_mesh";  // as ObjectRecord::surface
 };
 
 // The newest traces of a job and the time of its last change, for restoring a

@@ -177,6 +177,15 @@ CREATE UNIQUE INDEX rejected_traces_by_import ON rejected_traces (job_id, import
   WHERE import_sha256 IS NOT NULL;
 )sql";
 
+// Version 7: what an object's mesh is. 'control_mesh' (every object before):
+// a Loop control mesh whose smooth limit surface is the object, or a dense
+// scan that is the surface itself; 'facets': a faceted mesh (a CAD export)
+// whose flat triangles are the surface, sharp edges and all.
+constexpr char kObjectSurface[] = R"sql(
+ALTER TABLE objects ADD COLUMN surface TEXT NOT NULL DEFAULT 'control_mesh'
+  CHECK (surface IN ('control_mesh', 'facets'));
+)sql";
+
 constexpr Migration kMigrations[] = {
     {1, "initial schema: objects, jobs, plans, commands, traces, fits, events", kInitialSchema},
     {2, "plan journal after the plan's checkpoint; leasable commands by job", kPlanJournal},
@@ -185,6 +194,7 @@ constexpr Migration kMigrations[] = {
     {5, "rig registrations (frames and calibration); the frame of traces sent in a rig's frame", kRigRegistrations},
     {6, "refused imports kept once per file and job; the frame and registration of rejected traces",
      kRejectedImportsAndFrames},
+    {7, "what an object's mesh is: a control mesh (or scan), or facets that are the surface", kObjectSurface},
 };
 
 }  // namespace

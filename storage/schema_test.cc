@@ -96,6 +96,22 @@ TEST(SchemaTest, ForeignKeysAreEnforced) {
             0);
 }
 
+// Version 7 on a version-6 file: an object stored before is a control mesh
+// (what it was planned as), and a surface outside the two kinds is refused.
+TEST(SchemaTest, Version7ReadsOlderObjectsAsControlMeshes) {
+  TempDbDir dir;
+  auto db = OpenRaw(dir.Path("a.db"));
+  ASSERT_GE(SchemaMigrations().size(), 7u);
+  ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations().first(6)).ok());
+  ASSERT_TRUE(db->Exec("INSERT INTO objects (id, name, mesh_format, control_vertices, "
+                       "control_faces, created_unix_ms, mesh_bytes) VALUES (1,'o','obj',0,0,0,x'00')")
+                  .ok());
+  ASSERT_TRUE(ApplyMigrations(*db, SchemaMigrations()).ok());
+  EXPECT_EQ(QueryInt(*db, "SELECT COUNT(*) FROM objects WHERE surface = 'control_mesh'"), 1);
+  EXPECT_TRUE(db->Exec("UPDATE objects SET surface = 'facets' WHERE id = 1").ok());
+  EXPECT_FALSE(db->Exec("UPDATE objects SET surface = 'nurbs' WHERE id = 1").ok());
+}
+
 TEST(SchemaTest, InvalidJsonAndStatesAreRejectedByChecks) {
   TempDbDir dir;
   auto db = OpenRaw(dir.Path("a.db"));

@@ -13,6 +13,7 @@ ObjectRecord ReadObject(const SqliteStatement& s, int c) {
   r.control_faces = s.ColumnInt(c + 4);
   r.created_unix_ms = s.ColumnInt(c + 5);
   r.metadata_json = s.ColumnText(c + 6);
+  r.surface = s.ColumnText(c + 7);
   return r;
 }
 

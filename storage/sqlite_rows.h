@@ -14,7 +14,7 @@
 namespace surfmap::sqlite {
 
 inline constexpr char kObjectColumns[] =
-    "id, name, mesh_format, control_vertices, control_faces, created_unix_ms, metadata_json";
+    "id, name, mesh_format, control_vertices, control_faces, created_unix_ms, metadata_json, surface";
 ObjectRecord ReadObject(const SqliteStatement& s, int first_column = 0);
 
 inline constexpr char kJobColumns[] =

@@ -91,6 +91,10 @@ absl::StatusOr<int64_t> SqliteStore::CreateObject(const NewObject& object) {
                                                    object.mesh_format, "\""));
   }
   if (object.mesh_bytes.empty()) return absl::InvalidArgumentError("mesh_bytes is empty");
+  if (object.surface != "control_mesh" && object.surface != "facets") {
+    return absl::InvalidArgumentError(
+        absl::StrCat("surface must be \"control_mesh\" or \"facets\", got \"", object.surface, "\""));
+  }
   if (object.control_vertices < 0 || object.control_faces < 0) {
     return absl::InvalidArgumentError("control_vertices and control_faces must be >= 0");
   }
@@ -99,10 +103,10 @@ absl::StatusOr<int64_t> SqliteStore::CreateObject(const NewObject& object) {
     SURFMAP_ASSIGN_OR_RETURN(
         SqliteStatement stmt,
         db.Prepare("INSERT INTO objects (name, mesh_format, control_vertices, control_faces, "
-                   "created_unix_ms, mesh_bytes, metadata_json) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7)"));
+                   "created_unix_ms, mesh_bytes, metadata_json, surface) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)"));
     stmt.BindText(1, object.name).BindText(2, object.mesh_format);
     stmt.BindInt(3, object.control_vertices).BindInt(4, object.control_faces);
-    stmt.BindInt(5, now).BindBlob(6, object.mesh_bytes).BindText(7, object.metadata_json);
+    stmt.BindInt(5, now).BindBlob(6, object.mesh_bytes).BindText(7, object.metadata_json).BindText(8, object.surface);
     SURFMAP_RETURN_IF_ERROR(Annotate(stmt.Run(), "object"));
     return db.LastInsertRowId();
   });
@@ -121,7 +125,7 @@ absl::StatusOr<ObjectRecord> SqliteStore::GetObject(int64_t object_id, bool incl
   SURFMAP_ASSIGN_OR_RETURN(bool found, stmt.Step());
   if (!found) return absl::NotFoundError(absl::StrCat("object ", object_id, " does not exist"));
   ObjectRecord record = ReadObject(stmt);
-  if (include_mesh) record.mesh_bytes = std::string(stmt.ColumnBlob(7));
+  if (include_mesh) record.mesh_bytes = std::string(stmt.ColumnBlob(8));
   return record;
 }
 

@@ -41,6 +41,7 @@ struct UploadArgs {
   std::string name;
   std::string units;     // mm, cm, m, in; empty = not stated (the server assumes mm)
   double scale = 0;      // mm per file unit; 0 = not given
+  bool facets = false;   // the flat facets are the surface (a CAD export)
   ProvenanceArgs provenance;
   bool json = false;
 };
@@ -70,6 +71,9 @@ void RunUpload(RemoteCli& cli, const UploadArgs& args) {
     request.set_units(pb::LENGTH_UNIT_IN);
   } else if (!args.units.empty()) {
     return FailUsage(cli, "--units must be mm, cm, m or in, got '" + args.units + "'");
+  }
+  if (args.facets) {
+    request.set_surface(pb::OBJECT_SURFACE_FACETS);
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) return FailUsage(cli, args.file + ": cannot open file");
@@ -113,6 +117,9 @@ void AddObjectCommands(CLI::App& app, std::shared_ptr<RemoteCli> cli) {
   upload->add_option("--units", upload_args->units, "The file's length unit: mm, cm, m or in (default: mm, unchecked)");
   upload->add_option("--scale", upload_args->scale, "mm per file unit (instead of --units)")
       ->check(CLI::PositiveNumber);
+  upload->add_flag("--facets", upload_args->facets,
+                   "The flat triangles are the object's surface (a CAD export: a box as 12 triangles); without it a "
+                   "coarse mesh is a Loop control mesh, whose limit surface rounds edges and corners");
   AddProvenanceOptions(upload, &upload_args->provenance);
   upload->add_flag("--json", upload_args->json, "Print the ObjectInfo as JSON");
   upload->callback([cli, upload_args] { RunUpload(*cli, *upload_args); });

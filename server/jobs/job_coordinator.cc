@@ -4,6 +4,7 @@
 #include "server/base/status_macros.h"
 #include "server/base/utf8_text.h"
 #include "server/jobs/job_watchers.h"
+#include "server/mesh/facets_surface.h"
 #include "server/mesh/mesh_units.h"
 
 namespace surfmap {
@@ -58,10 +59,15 @@ absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& n
     if (!plausible.ok()) out.warnings.emplace_back(plausible.message());
     for (std::string& w : size_warnings) out.warnings.push_back(std::move(w));
   }
-  SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());
+  if (options.facets) {
+    SURFMAP_RETURN_IF_ERROR(FacetsSurface(mesh, kUploadCheckLevel, 0).status());
+  } else {
+    SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());
+  }
   NewObject object;
   object.name = name;
   object.metadata_json = MetadataJsonOf(provenance);
+  object.surface = options.facets ? "facets" : "control_mesh";
   // A clean file in mm is stored as it came; anything changed is stored as
   // the repaired mesh in mm (OBJ, coordinates exact: shortest round trip).
   if (out.repairs.empty() && options.mm_per_unit == 1.0 && format != MeshFormat::kStl) {

@@ -104,6 +104,8 @@ class JobCoordinator {
     double mm_per_unit = 1.0;
     std::string unit_text = "mm";
     bool unit_stated = false;
+    // The flat facets are the surface (ObjectRecord::surface "facets").
+    bool facets = false;
   };
   absl::StatusOr<UploadedObject> UploadObject(const std::string& name, MeshFormat format, std::string bytes,
                                               const UploadOptions& options);

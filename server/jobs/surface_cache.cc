@@ -4,6 +4,7 @@
 #include "server/mesh/control_mesh.h"
 #include "server/mesh/control_simplify.h"
 #include "server/mesh/dense_surface.h"
+#include "server/mesh/facets_surface.h"
 
 namespace surfmap {
 
@@ -56,6 +57,11 @@ absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Build(int64_t o
   if (!mesh.ok()) {
     return absl::DataLossError(absl::StrCat("stored mesh of object ", object_id, " no longer parses: ",
                                             mesh.status().message()));
+  }
+  if (object->surface == "facets") {
+    absl::StatusOr<std::unique_ptr<LoopSurface>> surface = FacetsSurface(*mesh, level, site_spacing_mm);
+    if (!surface.ok()) return surface.status();
+    return std::shared_ptr<const LoopSurface>(std::move(*surface));
   }
   if (site_spacing_mm > 0) {
     absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(*mesh, site_spacing_mm);

@@ -31,6 +31,16 @@ ControlMesh MakeOctahedron(double radius) {
   return Scaled(std::move(mesh), radius);
 }
 
+ControlMesh MakeCadBox(double half) {
+  ControlMesh mesh;
+  for (int i = 0; i < 8; ++i) {
+    mesh.positions.emplace_back(i & 1 ? half : -half, i & 2 ? half : -half, i & 4 ? half : -half);
+  }
+  mesh.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                    {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return mesh;
+}
+
 ControlMesh MakeIcosahedron(double radius) {
   const double g = std::numbers::phi;
   ControlMesh mesh;

@@ -15,6 +15,9 @@ namespace surfmap {
 ControlMesh MakeTetrahedron(double radius);   // 4 vertices, 4 faces
 ControlMesh MakeOctahedron(double radius);    // 6 vertices, 8 faces
 ControlMesh MakeIcosahedron(double radius);   // 12 vertices, 20 faces
+// A box from -half to +half on each axis as a CAD program exports it: its 8
+// corners, two triangles per face (12), outward winding.
+ControlMesh MakeCadBox(double half);
 
 // An icosahedron whose faces are split `subdivisions` times (0..6) into four,
 // new vertices pushed out to the sphere: 20 * 4^s faces.

@@ -42,6 +42,12 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
       options.unit_text = LengthUnitName(unit);
       options.unit_stated = true;
     }
+    switch (request->surface()) {
+      case pb::OBJECT_SURFACE_UNSPECIFIED:
+      case pb::OBJECT_SURFACE_CONTROL_MESH: options.facets = false; break;
+      case pb::OBJECT_SURFACE_FACETS: options.facets = true; break;
+      default: return absl::InvalidArgumentError(absl::StrCat("surface: unknown value ", request->surface()));
+    }
     absl::StatusOr<UploadedObject> uploaded =
         s_.coordinator->UploadObject(request->name(), format, request->mesh(), options, *provenance);
     if (!uploaded.ok()) return uploaded.status();
@@ -59,9 +65,10 @@ grpc::ServerUnaryReactor* ObjectServiceImpl::UploadObject(grpc::CallbackServerCo
     response->mutable_extent_mm()->set_y(uploaded->extent_mm.y());
     response->mutable_extent_mm()->set_z(uploaded->extent_mm.z());
     response->set_area_mm2(uploaded->area_mm2);
-    spdlog::info("rpc=UploadObject object_id={} name=\"{}\" vertices={} faces={} scale={} repairs={} warnings={}",
-                 object.id, object.name, object.control_vertices, object.control_faces, uploaded->mm_per_unit,
-                 uploaded->repairs.size(), uploaded->warnings.size());
+    spdlog::info(
+        "rpc=UploadObject object_id={} name=\"{}\" vertices={} faces={} surface={} scale={} repairs={} warnings={}",
+        object.id, object.name, object.control_vertices, object.control_faces, object.surface, uploaded->mm_per_unit,
+        uploaded->repairs.size(), uploaded->warnings.size());
     return absl::OkStatus();
   });
 }

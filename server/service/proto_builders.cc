@@ -64,6 +64,7 @@ pb::ObjectInfo ObjectInfoToProto(const ObjectRecord& o) {
   out.set_control_vertex_count(static_cast<int32_t>(o.control_vertices));
   out.set_control_face_count(static_cast<int32_t>(o.control_faces));
   *out.mutable_created() = TimestampFromUnixMs(o.created_unix_ms);
+  out.set_surface(o.surface == "facets" ? pb::OBJECT_SURFACE_FACETS : pb::OBJECT_SURFACE_CONTROL_MESH);
   FillMetadata(o.metadata_json, 0, out.mutable_provenance(), nullptr);
   return out;
 }

@@ -159,7 +159,8 @@ class SurfmapClient:
     def upload_object(self, mesh: PathOrBytes, name: Optional[str] = None, format: Optional[str] = None,
                       timeout: Optional[float] = None, units: Optional[str] = None,
                       scale: Optional[float] = None,
-                      provenance: Optional[Union[r.Provenance, dict]] = None) -> r.ObjectInfo:
+                      provenance: Optional[Union[r.Provenance, dict]] = None,
+                      facets: bool = False) -> r.ObjectInfo:
         """Uploads a mesh (OBJ, PLY or STL): a file path or the file's bytes.
 
         The format comes from ``format`` ("obj"/"ply"/"stl"), else the file
@@ -169,6 +170,9 @@ class SurfmapClient:
         refuses an implausible size in stated units, repairs innocuous defects
         and stores the object in mm (README: "Bring your own mesh").
         ``provenance``: a ``Provenance`` (or a dict of its fields) kept with it.
+        ``facets``: the flat triangles are the object's surface (a CAD export);
+        without it a coarse mesh is a Loop control mesh, whose limit surface
+        rounds edges and corners.
         """
         if isinstance(mesh, (bytes, bytearray)):
             data, hint = bytes(mesh), ""
@@ -189,6 +193,8 @@ class SurfmapClient:
             if units not in _UNITS:
                 raise invalid_argument("UploadObject", f"units must be one of {sorted(_UNITS)}, got {units!r}")
             request.units = _UNITS[units]
+        if facets:
+            request.surface = pb.OBJECT_SURFACE_FACETS
         return conv.object_info(self._call("UploadObject", self._objects.UploadObject, request, timeout).object)
 
     # ------------------------------------------------------------ frames and calibration

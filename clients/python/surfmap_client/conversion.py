@@ -70,8 +70,9 @@ def rejected_trace(m) -> r.RejectedTrace:
 
 def object_info(m) -> r.ObjectInfo:
     fmt = {pb.MESH_FORMAT_OBJ: "obj", pb.MESH_FORMAT_PLY: "ply"}.get(m.format, "unspecified")
+    surface = "facets" if m.surface == pb.OBJECT_SURFACE_FACETS else "control_mesh"
     return r.ObjectInfo(m.object_id, m.name, fmt, m.control_vertex_count, m.control_face_count, _time(m, "created"),
-                        provenance(m.provenance))
+                        provenance(m.provenance), surface)
 
 
 def mesh(m) -> r.Mesh:

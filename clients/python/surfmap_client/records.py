@@ -124,6 +124,7 @@ class ObjectInfo:
     control_face_count: int
     created: Optional[datetime]
     provenance: Provenance = field(default_factory=Provenance)
+    surface: str = "control_mesh"  # or "facets": the flat triangles are the surface
 
 
 @dataclass(frozen=True)

@@ -50,6 +50,25 @@ def test_upload_path_and_ply_bytes_give_the_same_mesh(client, lab):
     assert client.get_object(from_ply.object_id) == from_ply
 
 
+CAD_BOX_TRIANGLES = ((0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4),
+                     (2, 6, 7), (2, 7, 3), (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5))
+CAD_BOX_OBJ = ("".join(f"v {x} {y} {z}\n" for z in (-0.05, 0.05) for y in (-0.05, 0.05) for x in (-0.05, 0.05))
+               + "".join(f"f {a + 1} {b + 1} {c + 1}\n" for a, b, c in CAD_BOX_TRIANGLES))
+
+
+def test_a_cad_box_uploaded_as_facets_is_served_on_its_faces(client):
+    """A 100 mm box of 12 triangles, in metres: as facets its served surface is the box; as a control mesh a blob."""
+    box = client.upload_object(CAD_BOX_OBJ.encode(), name="cad-box", format="obj", units="m", facets=True)
+    assert box.surface == "facets"
+    assert client.get_object(box.object_id).surface == "facets"
+    off = np.abs(np.abs(client.get_mesh(box.object_id, 2).positions).max(axis=1) - 50.0)
+    assert off.max() < 1e-6
+    blob = client.upload_object(CAD_BOX_OBJ.encode(), name="cad-blob", format="obj", units="m")
+    assert blob.surface == "control_mesh"
+    off = np.abs(np.abs(client.get_mesh(blob.object_id, 2).positions).max(axis=1) - 50.0)
+    assert off.max() > 10.0
+
+
 def test_name_defaults_to_the_file_stem(client, lab):
     assert client.upload_object(lab.mesh()).name == "plate"
 

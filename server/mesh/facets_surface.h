@@ -1,0 +1,31 @@
+// The Loop surface of an object whose flat facets are its surface (a CAD
+// export: ObjectRecord::surface "facets"). Taken as a control mesh, a box of
+// 12 triangles would be a blob up to ~2 cm inside the box.
+//
+// Sites come from a control mesh refined flat from the facets to edges of
+// sqrt(2) x the site spacing (flat_refine.h) or shorter (about area /
+// spacing^2 vertices on a box, as control_simplify.h aims for), or, where the facets are already finer, the
+// facets simplified as a scan is. Every limit position and normal is then
+// projected onto the facets refined to ~2 mm edges (dense_surface.h), so a
+// face's normal is the face's own except within ~2 mm of a sharp edge.
+#pragma once
+
+#include <memory>
+
+#include "absl/status/statusor.h"
+#include "server/mesh/control_mesh.h"
+#include "server/mesh/loop_surface.h"
+
+namespace surfmap {
+
+// The refined facets that positions are projected onto have at most this
+// many vertices (edges grow past 2 mm on objects above ~0.4 m^2).
+inline constexpr int kMaxFacetsProjectionVertices = 200000;
+
+// `facets` must be valid (ValidateControlMesh). `site_spacing_mm` 0: the
+// facets themselves are the control mesh (GetMesh's surface of the object).
+// Errors: those of RefineFlat, ControlMeshForSpacing and LoopSurface::Create.
+absl::StatusOr<std::unique_ptr<LoopSurface>> FacetsSurface(const ControlMesh& facets, int level,
+                                                           double site_spacing_mm);
+
+}  // namespace surfmap

@@ -1,0 +1,63 @@
+#include "server/mesh/facets_surface.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <gtest/gtest.h>
+#include "server/mesh/primitive_meshes.h"
+
+namespace surfmap {
+namespace {
+
+constexpr double kHalf = 50.0;  // a 100 mm box
+
+double OffBox(const Eigen::Vector3d& p) { return std::abs(p.cwiseAbs().maxCoeff() - kHalf); }
+
+// How far `p` (on the box) lies from the box's nearest edge.
+double FromEdge(const Eigen::Vector3d& p) {
+  Eigen::Vector3d a = p.cwiseAbs();
+  std::sort(a.data(), a.data() + 3);
+  return kHalf - a[1];  // the second largest coordinate reaches kHalf on an edge
+}
+
+TEST(FacetsSurfaceTest, AsAControlMeshA12TriangleBoxIsABlob) {
+  absl::StatusOr<std::unique_ptr<LoopSurface>> blob = LoopSurface::Create(MakeCadBox(kHalf), 2);
+  ASSERT_TRUE(blob.ok()) << blob.status();
+  double off = 0.0;
+  for (const Eigen::Vector3d& p : (*blob)->level(2).limit_positions) off = std::max(off, OffBox(p));
+  EXPECT_GT(off, 10.0) << "why facets exist: the limit surface lies centimetres inside the box";
+}
+
+TEST(FacetsSurfaceTest, SitesLieOnTheFacetsWithTheFacesNormals) {
+  for (double spacing : {13.0, 20.0, 0.0}) {
+    SCOPED_TRACE(spacing);
+    absl::StatusOr<std::unique_ptr<LoopSurface>> surface = FacetsSurface(MakeCadBox(kHalf), 2, spacing);
+    ASSERT_TRUE(surface.ok()) << surface.status();
+    const SurfaceLevel& level0 = (*surface)->level(0);
+    if (spacing > 0) {
+      // About area / spacing^2 control vertices, as a scan's control mesh.
+      const double target = 6 * 100.0 * 100.0 / (spacing * spacing);
+      EXPECT_GT(level0.limit_positions.size(), 0.5 * target);
+      EXPECT_LT(level0.limit_positions.size(), 1.5 * target);
+    } else {
+      EXPECT_EQ(level0.limit_positions.size(), 8u);  // the facets themselves
+    }
+    const SurfaceLevel& fine = (*surface)->level(2);
+    int inside_faces = 0;
+    for (std::size_t v = 0; v < fine.limit_positions.size(); ++v) {
+      const Eigen::Vector3d& p = fine.limit_positions[v];
+      ASSERT_LT(OffBox(p), 1e-9) << "vertex " << v;
+      // 2 mm from an edge the normal is the face's own (the facets are
+      // refined to 2 mm edges for the projection).
+      if (FromEdge(p) < 2.0) continue;
+      ++inside_faces;
+      int axis = 0;
+      p.cwiseAbs().maxCoeff(&axis);
+      ASSERT_NEAR(fine.limit_normals[v][axis], p[axis] > 0 ? 1.0 : -1.0, 1e-9) << "vertex " << v;
+    }
+    EXPECT_GT(inside_faces, static_cast<int>(fine.limit_positions.size()) / 2);
+  }
+}
+
+}  // namespace
+}  // namespace surfmap
