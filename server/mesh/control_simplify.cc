@@ -6,6 +6,8 @@
 
 #include <meshoptimizer.h>
 #include "absl/strings/str_format.h"
+#include "server/mesh/flat_coarsen.h"
+#include "server/mesh/flat_refine.h"
 #include "server/mesh/mesh_units.h"
 
 namespace surfmap {
@@ -68,6 +70,26 @@ absl::StatusOr<ControlMesh> Simplify(const ControlMesh& dense, int target_vertic
   return result;
 }
 
+// `mesh` simplified to about choice.target_vertices into choice.mesh. A
+// collapse that would pinch the mesh is sometimes taken near the end of an
+// aggressive simplification; stopping earlier avoids it. The last failure
+// when no target gives a valid mesh.
+absl::Status SimplifyToTarget(const ControlMesh& mesh, ControlMeshChoice& choice) {
+  absl::Status last = absl::FailedPreconditionError("the mesh is not finer than the target");
+  for (const double factor : {1.0, 1.25, 1.6, 2.0}) {
+    const int target = static_cast<int>(std::lround(choice.target_vertices * factor));
+    if (target >= static_cast<int>(mesh.positions.size())) break;
+    absl::StatusOr<ControlMesh> simplified = Simplify(mesh, target);
+    if (simplified.ok()) {
+      choice.mesh = std::move(*simplified);
+      choice.simplified = true;
+      return absl::OkStatus();
+    }
+    last = simplified.status();
+  }
+  return last;
+}
+
 }  // namespace
 
 absl::StatusOr<ControlMeshChoice> ControlMeshForSpacing(const ControlMesh& dense, double spacing_mm) {
@@ -83,19 +105,26 @@ absl::StatusOr<ControlMeshChoice> ControlMeshForSpacing(const ControlMesh& dense
     choice.mesh = dense;
     return choice;
   }
-  // A collapse that would pinch the mesh is sometimes taken near the end of an
-  // aggressive simplification; stopping earlier avoids it.
-  absl::Status last;
-  for (const double factor : {1.0, 1.25, 1.6, 2.0}) {
-    const int target = static_cast<int>(std::lround(choice.target_vertices * factor));
-    if (target >= static_cast<int>(dense.positions.size())) break;
-    absl::StatusOr<ControlMesh> simplified = Simplify(dense, target);
-    if (simplified.ok()) {
-      choice.mesh = std::move(*simplified);
+  absl::Status last = SimplifyToTarget(dense, choice);
+  if (last.ok()) return choice;
+  // A faceted part (a CAD export) finer than the spacing: meshoptimizer
+  // leaves zero-area triangles along its straight sharp edges (flat_coarsen.h).
+  // Coarsened without changing its shape and refined flat to the spacing it
+  // is the same surface with sites about the spacing apart; what is still
+  // too fine there (a curved rim) is simplified as before.
+  const ControlMesh coarse = CoarsenFlat(dense);
+  if (coarse.positions.size() < dense.positions.size()) {
+    const int cap = std::max(static_cast<int>(dense.positions.size()), 4 * choice.target_vertices);
+    absl::StatusOr<ControlMesh> refined = RefineFlat(coarse, std::sqrt(2.0) * spacing_mm, cap);
+    if (refined.ok() && static_cast<double>(refined->positions.size()) <= kKeepFactor * choice.target_vertices) {
+      choice.mesh = std::move(*refined);
       choice.simplified = true;
       return choice;
     }
-    last = simplified.status();
+    if (refined.ok()) {
+      const absl::Status again = SimplifyToTarget(*refined, choice);
+      if (again.ok()) return choice;
+    }
   }
   return absl::FailedPreconditionError(absl::StrFormat(
       "could not simplify the %d-vertex mesh to a valid control mesh for %g mm site spacing (~%d vertices): %s; "

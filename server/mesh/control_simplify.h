@@ -26,8 +26,12 @@ inline constexpr int kMinControlVertices = 6;
 // area / spacing^2 vertices (then a regular triangulation's mean edge is
 // ~1.07 x spacing). The result passes ValidateControlMesh; when a
 // simplification fails it (a collapse can pinch an edge into a non-manifold
-// one), less aggressive targets are tried, then FAILED_PRECONDITION naming
-// the spacing. INVALID_ARGUMENT for a non-positive spacing or an invalid mesh.
+// one), less aggressive targets are tried; when none is valid (a flat-faced
+// CAD part: zero-area triangles along its straight edges), the mesh is
+// coarsened exactly (flat_coarsen.h) and refined flat to sqrt(2) x the
+// spacing (flat_refine.h), simplified again if still too fine; then
+// FAILED_PRECONDITION naming the spacing. INVALID_ARGUMENT for a
+// non-positive spacing or an invalid mesh.
 absl::StatusOr<ControlMeshChoice> ControlMeshForSpacing(const ControlMesh& dense, double spacing_mm);
 
 }  // namespace surfmap

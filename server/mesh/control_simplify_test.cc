@@ -12,6 +12,7 @@
 
 #include "gtest/gtest.h"
 #include "server/mesh/dense_surface.h"
+#include "server/mesh/flat_refine.h"
 #include "server/mesh/loop_surface.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/mesh/mesh_units.h"
@@ -177,6 +178,47 @@ TEST(ControlSimplify, AnOpenScanKeepsItsOpenEdge) {
     }
     EXPECT_LT(nearest, 4.0) << "scan edge point " << q.transpose() << " is far from the simplified edge";
   }
+}
+
+// A CAD part tessellated finer than the spacing (a 100 mm box at 2 mm,
+// 49,154 vertices): meshoptimizer's result has zero-area triangles along the
+// box's edges at every target; the part is coarsened to its corners and
+// refined flat to the spacing instead. Every control vertex is on the box,
+// and there are about area / spacing^2 of them.
+TEST(ControlSimplify, AFineFlatBoxSimplifies) {
+  absl::StatusOr<ControlMesh> fine = RefineFlat(MakeCadBox(50.0), 2.0, 100000);
+  ASSERT_TRUE(fine.ok()) << fine.status();
+  for (double spacing : {13.0, 20.0, 35.0}) {
+    absl::StatusOr<ControlMeshChoice> choice = ControlMeshForSpacing(*fine, spacing);
+    ASSERT_TRUE(choice.ok()) << spacing << ": " << choice.status();
+    EXPECT_TRUE(choice->simplified);
+    EXPECT_TRUE(ValidateControlMesh(choice->mesh).ok());
+    // RefineFlat at sqrt(2) x spacing halves edges, so the count is the
+    // target's within a factor 2 (35 mm: the box's 100 mm edges become 25 mm
+    // pieces, 98 vertices for 49) and within a third of it at 13 and 20 mm.
+    const double count = static_cast<double>(choice->mesh.positions.size());
+    EXPECT_LE(count, 2.0 * choice->target_vertices) << spacing;
+    EXPECT_GE(count, 0.5 * choice->target_vertices) << spacing;
+    if (spacing < 30) {
+      EXPECT_NEAR(count, choice->target_vertices, 0.35 * choice->target_vertices) << spacing;
+    }
+    for (const Eigen::Vector3d& p : choice->mesh.positions) ASSERT_NEAR(p.cwiseAbs().maxCoeff(), 50.0, 1e-12);
+  }
+}
+
+// A cylinder with flat caps at 2 mm: flat caps and straight side lines,
+// curved rims. Coarsened, refined and (the rims still finer than the
+// spacing) simplified, it gives a valid control mesh near the target.
+TEST(ControlSimplify, AFineCylinderWithFlatCapsSimplifies) {
+  absl::StatusOr<ControlMesh> cylinder = MakeCylinder(30.0, 80.0, 64, 10);
+  ASSERT_TRUE(cylinder.ok());
+  absl::StatusOr<ControlMesh> fine = RefineFlat(*cylinder, 2.0, 200000);
+  ASSERT_TRUE(fine.ok()) << fine.status();
+  absl::StatusOr<ControlMeshChoice> choice = ControlMeshForSpacing(*fine, 13.0);
+  ASSERT_TRUE(choice.ok()) << choice.status();
+  EXPECT_TRUE(choice->simplified);
+  EXPECT_NEAR(static_cast<double>(choice->mesh.positions.size()), choice->target_vertices,
+              0.35 * choice->target_vertices);
 }
 
 }  // namespace

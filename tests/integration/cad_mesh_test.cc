@@ -9,6 +9,7 @@
 #include <string>
 
 #include "gtest/gtest.h"
+#include "server/mesh/flat_refine.h"
 #include "server/mesh/primitive_meshes.h"
 #include "server/mesh/scan_like_mesh.h"
 #include "tests/support/job_helpers.h"
@@ -28,11 +29,20 @@ double FromCadBoxEdge(const Eigen::Vector3d& p) {
   return kHalf - a[1];
 }
 
-absl::StatusOr<pb::UploadObjectResponse> UploadBox(Stubs& stubs, pb::ObjectSurface surface) {
+absl::StatusOr<pb::UploadObjectResponse> UploadBox(Stubs& stubs, pb::ObjectSurface surface,
+                                                   double facet_edge_mm = 0) {
   pb::UploadObjectRequest request;
   request.set_name("cad_box");
-  request.set_format(pb::MESH_FORMAT_OBJ);
-  request.set_mesh(WriteObjScaled(MakeCadBox(kHalf), 1000.0, 0));  // in metres, as CAD exports often are
+  if (facet_edge_mm > 0) {
+    // A finely tessellated export, as a binary STL (float coordinates).
+    absl::StatusOr<ControlMesh> fine = RefineFlat(MakeCadBox(kHalf), facet_edge_mm, 200000);
+    if (!fine.ok()) return fine.status();
+    request.set_format(pb::MESH_FORMAT_STL);
+    request.set_mesh(WriteStlBinary(*fine, 1000.0));
+  } else {
+    request.set_format(pb::MESH_FORMAT_OBJ);
+    request.set_mesh(WriteObjScaled(MakeCadBox(kHalf), 1000.0, 0));  // in metres, as CAD exports often are
+  }
   request.set_units(pb::LENGTH_UNIT_M);
   request.set_surface(surface);
   pb::UploadObjectResponse response;
@@ -116,6 +126,36 @@ TEST(CadMesh, ABoxUploadedAsFacetsIsPlannedAndCommandedOnItsFaces) {
   status = stubs.objects->UploadObject(Context().get(), bad, &refused);
   EXPECT_EQ(status.error_code(), grpc::StatusCode::INVALID_ARGUMENT);
   EXPECT_NE(status.error_message().find("surface"), std::string::npos) << status.error_message();
+}
+
+// The same box exported finely (2.5 mm facets, 37,000 triangles, binary STL
+// in metres): finer than the 13 mm site spacing, so it is simplified to a
+// control mesh. meshoptimizer alone left zero-area triangles along the
+// box's edges and CreateJob refused it; the box is now coarsened to its
+// corners and refined flat, as a control mesh or as facets.
+TEST(CadMesh, AFinelyTessellatedBoxGetsAJobEitherWay) {
+  ITEST_ASSERT_OK_AND_ASSIGN(server, ServerProcess::Start());
+  Stubs stubs(server->channel());
+  for (pb::ObjectSurface surface : {pb::OBJECT_SURFACE_CONTROL_MESH, pb::OBJECT_SURFACE_FACETS}) {
+    SCOPED_TRACE(pb::ObjectSurface_Name(surface));
+    ITEST_ASSERT_OK_AND_ASSIGN(box, UploadBox(stubs, surface, 2.5));
+    EXPECT_GT(box.object().control_vertex_count(), 18000);
+    pb::CreateJobRequest create;
+    create.mutable_spec()->set_object_id(box.object().object_id());
+    create.mutable_spec()->set_property(pb::PROPERTY_FRICTION);
+    pb::CreateJobResponse created;
+    grpc::Status status = stubs.jobs->CreateJob(Context(120).get(), create, &created);
+    ASSERT_TRUE(status.ok()) << status.error_message();
+    const double target = 6 * 100.0 * 100.0 / (13.0 * 13.0);
+    EXPECT_GT(created.estimate().level0_sites(), 0.65 * target);
+    EXPECT_LT(created.estimate().level0_sites(), 1.35 * target);
+    ITEST_ASSERT_OK_AND_ASSIGN(plan, GetPlan(stubs, created.job().job_id()));
+    double worst = 0.0;
+    for (const pb::PlanSite& site : plan.sites()) worst = std::max(worst, OffCadBox(BoxPoint(site.position())));
+    EXPECT_LT(worst, 1e-3);  // on the stored float facets (rounded to ~4e-6 mm)
+    std::cout << "fine CAD box as " << pb::ObjectSurface_Name(surface) << ": " << created.estimate().level0_sites()
+              << " level-0 sites (area / spacing^2 = " << target << "), up to " << worst << " mm off the box\n";
+  }
 }
 
 }  // namespace
