@@ -13,7 +13,8 @@ namespace {
 using Triangle = std::array<int, 3>;
 
 bool SameDirection(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return a.dot(b) > 0 && a.cross(b).norm() <= std::sin(kFlatAngleTolerance);
+  static const double kSin = std::sin(kFlatAngleTolerance);
+  return a.dot(b) > 0 && a.cross(b).squaredNorm() <= kSin * kSin;
 }
 
 // area / (longest edge)^2: 0 for a degenerate triangle, 0.43 equilateral.
@@ -94,12 +95,25 @@ class Coarsener {
     return false;
   }
 
+  struct Star {
+    std::vector<int> neighbours;  // sorted
+    bool border = false;          // v has an edge with one triangle
+    std::vector<int> candidates;  // the neighbours v may move onto with the surface kept
+  };
+
   // The neighbours `v` may move onto with the surface kept (see the header).
-  std::vector<int> Candidates(int v) const {
-    const std::vector<int> neighbours = Neighbours(v);
+  Star StarOf(int v) const {
+    Star star;
+    star.neighbours = Neighbours(v);
+    star.candidates = Candidates(v, star.neighbours, star.border);
+    return star;
+  }
+
+  std::vector<int> Candidates(int v, const std::vector<int>& neighbours, bool& border) const {
     std::vector<int> sharp;
     for (int x : neighbours) {
       const std::vector<int> on_edge = EdgeTriangles(v, x);
+      border = border || on_edge.size() == 1;
       if (on_edge.size() != 2 || !SameDirection(Normal(on_edge[0]), Normal(on_edge[1]))) sharp.push_back(x);
     }
     // Every triangle at v in one plane, or in two (one each side of a
@@ -125,7 +139,7 @@ class Coarsener {
   // The thinnest shape the triangles of `v` would have with `v` moved onto
   // `w`, or nothing when the move would change the mesh's topology, flip a
   // triangle or leave one thinner than kMinCollapsedShape.
-  std::optional<double> CollapseShape(int v, int w) const {
+  std::optional<double> CollapseShape(int v, const Star& star, int w) const {
     const std::vector<int> on_edge = EdgeTriangles(v, w);
     if (on_edge.empty()) return std::nullopt;
     // Link condition: v and w share no neighbour but the corners opposite
@@ -138,12 +152,12 @@ class Coarsener {
     }
     std::sort(opposite.begin(), opposite.end());
     std::vector<int> shared;
-    const std::vector<int> nv = Neighbours(v);
+    const std::vector<int>& nv = star.neighbours;
     const std::vector<int> nw = Neighbours(w);
     std::set_intersection(nv.begin(), nv.end(), nw.begin(), nw.end(), std::back_inserter(shared));
     if (shared != opposite) return std::nullopt;
     // Two border vertices joined across the inside would pinch an open mesh.
-    if (on_edge.size() == 2 && IsBorderVertex(v) && IsBorderVertex(w)) return std::nullopt;
+    if (on_edge.size() == 2 && star.border && IsBorderVertex(w)) return std::nullopt;
     // A closed mesh is not collapsed below a tetrahedron.
     if (on_edge.size() == 2 && nv.size() == 3 && nw.size() == 3) return std::nullopt;
     double thinnest = 1.0;
@@ -182,8 +196,9 @@ class Coarsener {
       if (fans_[v].empty()) continue;
       int best = -1;
       double best_shape = 0.0;
-      for (int w : Candidates(v)) {
-        const std::optional<double> shape = CollapseShape(v, w);
+      const Star star = StarOf(v);
+      for (int w : star.candidates) {
+        const std::optional<double> shape = CollapseShape(v, star, w);
         if (shape && *shape > best_shape) best = w, best_shape = *shape;
       }
       if (best >= 0) {
