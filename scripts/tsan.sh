@@ -12,11 +12,16 @@
 # lists the gRPC-internal frames suppressed for that reason; the project's own
 # locks (server/base/mutex.h) are on pthreads, which TSan sees.
 #
+# Full debug info (SURFMAP_FULL_DEBUG_INFO): with line tables only (-g1, the
+# default build) an inlined frame is symbolized by its bare name ("Unref"),
+# and the suppressions, which name qualified functions, stop matching.
+#
 # Usage: scripts/tsan.sh [--no-build] [ctest -R regex]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 ROOT=$(pwd)
 BUILD_DIR=${SURFMAP_TSAN_BUILD_DIR:-build-tsan}
+case "$BUILD_DIR" in /*) ;; *) BUILD_DIR="$ROOT/$BUILD_DIR" ;; esac
 BUILD=1
 if [ "${1:-}" = "--no-build" ]; then BUILD=0; shift; fi
 FILTER=${1:-'surfmap_base_test|surfmap_storage_test|surfmap_storage_testing_test|surfmap_jobs_test|surfmap_integration_test'}
@@ -28,7 +33,8 @@ if [ "$BUILD" = 1 ]; then
     command -v ccache >/dev/null && launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
     CC=clang-14 CXX=clang++-14 cmake -S . -B "$BUILD_DIR" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
       -DCMAKE_CXX_FLAGS="-fsanitize=thread -O1 -fno-omit-frame-pointer" \
-      -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DSURFMAP_BUILD_BENCHMARKS=OFF "${launcher[@]}"
+      -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=thread" -DSURFMAP_BUILD_BENCHMARKS=OFF "${launcher[@]}" \
+      -DSURFMAP_FULL_DEBUG_INFO=ON
   fi
   lock=()
   [ -e /tmp/surfmap-build.lock ] && lock=(flock /tmp/surfmap-build.lock)
@@ -36,7 +42,7 @@ if [ "$BUILD" = 1 ]; then
     surfmap_storage_testing_test surfmap_jobs_test surfmap_integration_test
 fi
 
-REPORTS="$ROOT/$BUILD_DIR/tsan-reports"
+REPORTS="$BUILD_DIR/tsan-reports"
 rm -rf "$REPORTS"
 mkdir -p "$REPORTS"
 export TSAN_OPTIONS="halt_on_error=1 second_deadlock_stack=1 history_size=4 suppressions=$ROOT/scripts/tsan.supp log_path=$REPORTS/report log_exe_name=1"

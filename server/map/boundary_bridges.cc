@@ -115,9 +115,10 @@ std::vector<BoundarySegment> Stretches(const ChangeMark& p, const ChangeMark& q,
   for (const auto& [begin, end] : runs) {
     const double t0 = begin == 0 ? 0.0 : (begin - 0.5) / n;
     const double t1 = end == n ? 1.0 : (end - 0.5) / n;
+    const int far_region = far[begin];  // clang 14 cannot capture a structured binding
     auto segment = [&](double from, double to) {
       const Eigen::Vector3d a = at(from), b = at(to);
-      return BoundarySegment{a, b, towards_region, region, far[begin], at(0.5 * (from + to)) - 0.5 * (a + b)};
+      return BoundarySegment{a, b, towards_region, region, far_region, at(0.5 * (from + to)) - 0.5 * (a + b)};
     };
     const double c0 = begin == 0 ? t0 : t0 + margin, c1 = end == n ? t1 : t1 - margin;
     if (c1 > c0 && SegmentContradicted(segment(c0, c1), data, BridgeCheck(o))) return {};
