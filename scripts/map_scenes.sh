@@ -89,10 +89,13 @@ map_scene() {
   start=$(date +%s%N)
   # The scene's mesh and its units as its JSON names them (several scenes may
   # share one mesh; big_block_m's is in metres, as a lab's scan would be).
-  read -r mesh units < <(python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print(j["mesh"], j.get("units", "mm"))' \
+  # A CAD scene ("surface": "facets") is uploaded as its facets.
+  local surface facets=()
+  read -r mesh units surface < <(python3 -c 'import json, sys; j = json.load(open(sys.argv[1])); print(j["mesh"], j.get("units", "mm"), j.get("surface", "control_mesh"))' \
     "clients/sim/scenes/$scene.json")
   mesh=clients/sim/scenes/$mesh
-  object=$("$SURFMAP" object upload "$mesh" --name "$scene" --units "$units" 2>"$out/$scene.upload.txt")
+  [ "$surface" = facets ] && facets=(--facets)
+  object=$("$SURFMAP" object upload "$mesh" --name "$scene" --units "$units" ${facets[@]+"${facets[@]}"} 2>"$out/$scene.upload.txt")
   job=$("$SURFMAP" job create --object "$object" --property "$PROPERTY" --seed "$seed" ${JOB_ARGS[@]+"${JOB_ARGS[@]}"} 2>"$out/$scene.job.txt")
   local pids=()
   for i in $(seq 1 "$RIGS"); do

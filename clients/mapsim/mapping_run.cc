@@ -14,6 +14,7 @@
 #include "server/map/region_map.h"
 #include "server/mesh/control_simplify.h"
 #include "server/mesh/dense_surface.h"
+#include "server/mesh/facets_surface.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/plan_request.h"
@@ -219,6 +220,24 @@ bool MappingRunOptions::IsValid(std::string* why) const {
   return true;
 }
 
+namespace {
+
+// The surface the service plans `scene` on at `level` (SurfaceCache::Build):
+// a facets scene's control mesh refined flat, projected onto its facets; a
+// scan's simplified control mesh, projected onto the scan; null when the
+// scene's mesh is coarse enough to be the control mesh as it is (the rig's
+// own surface).
+absl::StatusOr<std::unique_ptr<LoopSurface>> ServicePlanSurface(const Scene& scene, int level, double spacing_mm) {
+  if (scene.facets) return FacetsSurface(scene.mesh, level, spacing_mm);
+  absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(scene.mesh, spacing_mm);
+  if (!control.ok()) return control.status();
+  if (!control->simplified) return nullptr;
+  const DenseSurface dense(scene.mesh);
+  return LoopSurface::Create(control->mesh, level, dense.Projection());
+}
+
+}  // namespace
+
 absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, std::uint64_t rig_seed,
                                                                    int rig_surface_level, int map_level,
                                                                    const SurfaceScoreOptions& score) {
@@ -229,25 +248,17 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
     return absl::InvalidArgumentError(absl::StrCat("rig surface level must be in 0..6, got ", rig_surface_level));
   }
   std::unique_ptr<MappingBench> bench(new MappingBench());
-  absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(
-      scene.mesh, DefaultSiteSpacingMm(PlanMode::kBoundary, ProbeParameters{}.segment_length_mm));
-  if (!control.ok()) return control.status();
-  if (control->simplified) {
+  const double spacing_mm = DefaultSiteSpacingMm(PlanMode::kBoundary, ProbeParameters{}.segment_length_mm);
+  if (map_level == -1) {
     // As the service resolves its levels (ResolveAutoLevels): from the limit
-    // positions of level 0, on the scan.
-    const DenseSurface dense(scene.mesh);
-    if (map_level == -1) {
-      absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = LoopSurface::Create(control->mesh, 0, dense.Projection());
-      if (!coarse.ok()) return coarse.status();
-      map_level = MapLevelFor((*coarse)->level(0));
-    }
-    absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
-        LoopSurface::Create(control->mesh, map_level, dense.Projection());
-    if (!surface.ok()) return surface.status();
-    bench->simplified_ = *std::move(surface);
-  } else if (map_level == -1) {
-    map_level = MapLevelFor(scene.mesh);
+    // positions of the control mesh's level 0.
+    absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = ServicePlanSurface(scene, 0, spacing_mm);
+    if (!coarse.ok()) return coarse.status();
+    map_level = *coarse ? MapLevelFor((*coarse)->level(0)) : MapLevelFor(scene.mesh);
   }
+  absl::StatusOr<std::unique_ptr<LoopSurface>> plan_surface = ServicePlanSurface(scene, map_level, spacing_mm);
+  if (!plan_surface.ok()) return plan_surface.status();
+  bench->plan_surface_ = *std::move(plan_surface);
   absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(scene, score);
   if (!scorer.ok()) return scorer.status();
   SimulatedRigOptions rig_options;

@@ -182,18 +182,19 @@ class MappingBench {
   int map_level() const { return map_level_; }
   int plan_level() const { return std::max(0, map_level_ - kPlanLevelsBelowMap); }
   // The plan's and the map's surface: the rig's, or the simplified one.
-  const LoopSurface& surface() const { return simplified_ ? *simplified_ : rig_->surface(); }
+  const LoopSurface& surface() const { return plan_surface_ ? *plan_surface_ : rig_->surface(); }
   const SurfaceLevel& level(int k) const { return surface().level(k); }
   const SurfaceLevel& map_surface() const { return level(map_level_); }
   const SurfaceScorer& scorer() const { return *scorer_; }
   // Of the control mesh the plan runs on (the budget's unit).
   int control_vertices() const { return static_cast<int>(level(0).limit_positions.size()); }
-  bool simplified() const { return simplified_ != nullptr; }
+  // The plan's control mesh is made from the scene's (a scan simplified, facets refined flat).
+  bool simplified() const { return plan_surface_ != nullptr; }
 
  private:
   MappingBench() = default;
   std::unique_ptr<SimulatedRig> rig_;
-  std::unique_ptr<LoopSurface> simplified_;  // null: the scene's mesh is the control mesh
+  std::unique_ptr<LoopSurface> plan_surface_;  // null: the plan runs on the rig's surface
   int map_level_ = 0;
   std::unique_ptr<SurfaceScorer> scorer_;
 };

@@ -39,15 +39,19 @@ absl::Status ValidateDragGeometry(const DragGeometry& g) {
         return absl::InvalidArgumentError(
             absl::StrFormat("drag geometry points %d and %d coincide", i, i + 1));
       }
-      // A path traced on a mesh pairs chords with interpolated vertex normals:
-      // on tight curvature they disagree by several degrees, which the sampler
-      // absorbs (it makes the tangent perpendicular to the normal). Only a
-      // normal far off the path's perpendicular (> ~17 deg) is an error.
-      if (std::abs(g.normals[i].dot(d.normalized())) > 0.3) {
-        return absl::InvalidArgumentError(absl::StrFormat(
-            "drag geometry normal %d is not perpendicular to the path (n . t = %.3f)", i,
-            g.normals[i].dot(d.normalized())));
-      }
+    }
+    // A path traced on a mesh pairs chords with interpolated vertex normals:
+    // on tight curvature they disagree by several degrees, which the sampler
+    // absorbs (it makes the tangent perpendicular to the normal). Only a
+    // normal far off the path's perpendicular (> ~17 deg) is an error. The
+    // path's direction at a point is the chord through its neighbours: where
+    // a path folds over a sharp edge its chords turn 45 degrees at a point
+    // whose normal can be perpendicular to their mean only.
+    const Eigen::Vector3d along =
+        (g.points[std::min(i + 1, g.points.size() - 1)] - g.points[i == 0 ? 0 : i - 1]).normalized();
+    if (std::abs(g.normals[i].dot(along)) > 0.3) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "drag geometry normal %d is not perpendicular to the path (n . t = %.3f)", i, g.normals[i].dot(along)));
     }
   }
   return absl::OkStatus();

@@ -328,7 +328,7 @@ absl::StatusOr<Scene> SceneParser::Parse(std::string_view text) {
     return absl::InvalidArgumentError(absl::StrCat(source_, ": invalid JSON: ", e.what()));
   }
   if (absl::Status s = CheckKeys(root, "(top level)", {"name", "mesh", "default_material", "materials"},
-                                 {"units", "regions", "seed", "description"});
+                                 {"units", "regions", "seed", "description", "surface"});
       !s.ok()) {
     return s;
   }
@@ -348,6 +348,14 @@ absl::StatusOr<Scene> SceneParser::Parse(std::string_view text) {
     auto it = kUnits.find(*units);
     if (it == kUnits.end()) return Error("units", absl::StrCat("unsupported ", Quoted(*units), " (mm, cm or m)"));
     scale_ = it->second;
+  }
+  if (root.contains("surface")) {
+    auto surface = String(root, "(top level)", "surface");
+    if (!surface.ok()) return surface.status();
+    if (*surface != "control_mesh" && *surface != "facets") {
+      return Error("surface", absl::StrCat("unsupported ", Quoted(*surface), " (control_mesh or facets)"));
+    }
+    scene.facets = *surface == "facets";
   }
   if (root.contains("seed")) {
     const Json& seed = root["seed"];

@@ -1,7 +1,7 @@
 // A scene: an object the simulated rig can probe. A control mesh (OBJ or PLY)
 // plus a small JSON file of materials and regions (clients/sim/scenes/README.md):
 //
-//   {"name": "bottle", "mesh": "bottle.obj", "units": "mm", "seed": 1,
+//   {"name": "bottle", "mesh": "bottle.obj", "units": "mm", "seed": 1, "surface": "control_mesh",
 //    "default_material": "glass",
 //    "materials": {"glass": {"mu": 0.13, "a1": 0, "a2": 0, "sigma": 0.005}, ...},
 //    "regions": [{"material": "sandpaper", "shape": "cylinder_patch", ...},
@@ -111,6 +111,11 @@ struct Scene {
   int default_material = 0;
   std::vector<SceneRegion> regions;          // in file order: the first match wins
   std::uint64_t seed = 1;                    // makes simulated traces reproducible per scene
+  // "surface": "facets" in the JSON: the mesh's flat facets are the object's
+  // surface (a CAD part, uploaded with OBJECT_SURFACE_FACETS), not a Loop
+  // control mesh. The rig drags, and the scorer scores, the facets
+  // (SceneSurface).
+  bool facets = false;
 
   // Index into materials of the material at `point` (mm).
   int MaterialIndexAt(const Eigen::Vector3d& point) const;

@@ -67,6 +67,21 @@ TEST_F(SceneFilesTest, ParsesMaterialsRegionsAndMesh) {
   EXPECT_EQ(scene->MaterialIndexAt({0, 0, 0}), 0);          // box -> glass
 }
 
+TEST_F(SceneFilesTest, SurfaceSaysWhetherTheFacetsAreTheObject) {
+  absl::StatusOr<Scene> loop = Parse(SceneJson(""));
+  ASSERT_TRUE(loop.ok()) << loop.status();
+  EXPECT_FALSE(loop->facets);  // a control mesh unless the file says otherwise
+  absl::StatusOr<Scene> control = Parse(SceneJson("", R"("surface": "control_mesh", )"));
+  ASSERT_TRUE(control.ok()) << control.status();
+  EXPECT_FALSE(control->facets);
+  absl::StatusOr<Scene> facets = Parse(SceneJson("", R"("surface": "facets", )"));
+  ASSERT_TRUE(facets.ok()) << facets.status();
+  EXPECT_TRUE(facets->facets);
+  ExpectError(SceneJson("", R"("surface": "mesh", )"), absl::StatusCode::kInvalidArgument,
+              "test.json: surface: unsupported 'mesh' (control_mesh or facets)");
+  ExpectError(SceneJson("", R"("surface": true, )"), absl::StatusCode::kInvalidArgument, "surface");
+}
+
 TEST_F(SceneFilesTest, FirstMatchingRegionWins) {
   auto scene = Parse(SceneJson(R"({"material": "rubber", "shape": "sphere", "center": [0, 0, 0], "radius": 5},
                                   {"material": "glass", "shape": "sphere", "center": [0, 0, 0], "radius": 10})"));

@@ -6,6 +6,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "clients/sim/rig/scene_surface.h"
 #include "server/base/splitmix64.h"
 
 namespace surfmap {
@@ -18,6 +19,26 @@ bool IsBlockedPath(const absl::Status& s) { return absl::IsOutOfRange(s) || absl
 
 absl::Status WithContext(const absl::Status& s, std::string_view context) {
   return absl::Status(s.code(), absl::StrCat(std::string(context), ": ", s.message()));
+}
+
+// A probe's tip rounds a sharp edge: the contact normal turns with the path
+// as it goes over. On a facets scene the path crosses each edge on a level's
+// chamfer, where the normals interpolated from the two faces' vertices lag
+// the chord by up to 45 degrees (the drag simulator refuses more than ~17):
+// each normal is made perpendicular to the path's local direction. On a
+// face, where path and normal already agree, this changes nothing.
+void TurnNormalsWithThePath(DragGeometry& geometry) {
+  const std::vector<Eigen::Vector3d>& p = geometry.points;
+  const std::size_t n = p.size();
+  if (n < 2) return;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Vector3d along = p[std::min(i + 1, n - 1)] - p[i == 0 ? 0 : i - 1];
+    if (!(along.norm() > 0.0)) continue;
+    const Eigen::Vector3d t = along.normalized();
+    Eigen::Vector3d& normal = geometry.normals[i];
+    const Eigen::Vector3d turned = normal - normal.dot(t) * t;
+    if (turned.norm() > 1e-9) normal = turned.normalized();
+  }
 }
 
 }  // namespace
@@ -54,12 +75,8 @@ absl::StatusOr<std::unique_ptr<SimulatedRig>> SimulatedRig::Create(Scene scene, 
   }
   // A dense scan is touched at a coarser level (its Loop limit lies within
   // its own bumps of it) rather than refused.
-  absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
-      LoopSurface::Create(scene.mesh, LevelWithinTriangleLimit(scene.mesh, options.surface_level));
-  if (!surface.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "' (", scene.source,
-                                                   "): cannot build its Loop surface: ", surface.status().message()));
-  }
+  absl::StatusOr<std::unique_ptr<LoopSurface>> surface = SceneSurface(scene, options.surface_level);
+  if (!surface.ok()) return surface.status();
   return std::unique_ptr<SimulatedRig>(new SimulatedRig(std::move(scene), options, *std::move(surface)));
 }
 
@@ -159,6 +176,7 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
   if (!path.ok()) return WithContext(path.status(), context);
 
   DragGeometry geometry{path->points, path->normals};
+  if (scene_.facets) TurnNormalsWithThePath(geometry);
   DragSimOptions sim = options_.simulation;
   sim.seed = SeedFor(request.command_id);
   sim.length_mm = std::min(path->length_mm, wanted);

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
+#include "clients/sim/rig/scene_surface.h"
 #include "server/mesh/loop_surface.h"
 
 namespace surfmap {
@@ -106,12 +107,8 @@ absl::StatusOr<SurfaceScorer> SurfaceScorer::Create(const Scene& scene, const Su
   std::string why;
   if (!options.IsValid(&why)) return absl::InvalidArgumentError(absl::StrCat("surface score options: ", why));
   if (scene.materials.empty()) return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "' has no materials"));
-  absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
-      LoopSurface::Create(scene.mesh, LevelWithinTriangleLimit(scene.mesh, options.truth_level));
-  if (!surface.ok()) {
-    return absl::InvalidArgumentError(absl::StrCat("scene '", scene.name, "': cannot build its Loop surface: ",
-                                                   surface.status().message()));
-  }
+  absl::StatusOr<std::unique_ptr<LoopSurface>> surface = SceneSurface(scene, options.truth_level);
+  if (!surface.ok()) return surface.status();
   SurfaceScorer scorer;
   scorer.scene_ = scene;
   scorer.options_ = options;
