@@ -1,6 +1,7 @@
 #include "clients/rig/scene_guard.h"
 
 #include "absl/strings/str_format.h"
+#include "server/mesh/facets_surface.h"
 
 namespace surfmap::rig {
 namespace {
@@ -50,6 +51,17 @@ absl::Status CompareMeshes(const MeshFingerprint& scene, const MeshFingerprint& 
 MeshFingerprint SceneFingerprint(const SimulatedRig& rig) {
   MeshFingerprint out;
   out.name = absl::StrFormat("scene '%s'", rig.scene().name);
+  if (rig.scene().facets) {
+    // An object uploaded as facets serves level 0 of its facets taken as the
+    // control mesh, projected onto them (server/mesh/facets_surface.h); the
+    // rig drags the facets refined first, so its own level 0 differs.
+    absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(rig.scene().mesh, 0, /*site_spacing_mm=*/0);
+    if (served.ok()) {
+      out.limit_positions = (*served)->level(0).limit_positions;
+      for (const auto& t : (*served)->level(0).triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
+    }
+    return out;
+  }
   out.limit_positions = rig.surface().level(0).limit_positions;
   for (const auto& t : rig.surface().level(0).triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
   return out;

@@ -36,7 +36,8 @@ inline constexpr double kSameMeshRelativeTolerance = 1e-9;
 // difference (counts, bounding box, a vertex) otherwise.
 absl::Status CompareMeshes(const MeshFingerprint& scene, const MeshFingerprint& object);
 
-// The scene's fingerprint from the rig's own surface.
+// The scene's fingerprint: level 0 of the rig's own surface, or for a facets
+// scene level 0 as the service serves an object uploaded as facets.
 MeshFingerprint SceneFingerprint(const SimulatedRig& rig);
 
 class SceneGuardDriver : public RigDriver {

@@ -6,6 +6,8 @@
 #include "clients/rig/realtime_driver.h"
 #include "gmock/gmock.h"
 #include "gtest/gtest.h"
+#include "clients/sim/rig/simulated_rig.h"
+#include "server/mesh/facets_surface.h"
 #include "server/mesh/loop_surface.h"
 #include "server/mesh/primitive_meshes.h"
 
@@ -41,6 +43,29 @@ TEST(SceneGuard, AnotherMeshIsRefusedNamingBoth) {
   const absl::Status shifted = CompareMeshes(scene, FingerprintOf(moved, "object"));
   EXPECT_EQ(shifted.code(), absl::StatusCode::kFailedPrecondition);
   EXPECT_THAT(std::string(shifted.message()), HasSubstr("away from the scene's"));
+}
+
+// A CAD scene's fingerprint is level 0 as the service serves an object
+// uploaded as facets; the rig's own level 0 is the facets refined.
+TEST(SceneGuard, AFacetsScenesFingerprintIsWhatTheServiceServesForFacets) {
+  Scene scene;
+  scene.name = "case";
+  scene.mesh = MakeCadBox(40.0);
+  scene.material_names = {"abs"};
+  scene.materials = {Material{}};
+  scene.facets = true;
+  absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(scene);
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  const MeshFingerprint fingerprint = SceneFingerprint(**rig);
+  EXPECT_EQ(fingerprint.limit_positions.size(), 8u);
+  EXPECT_GT((*rig)->surface().level(0).limit_positions.size(), 8u);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(scene.mesh, 0, /*site_spacing_mm=*/0);
+  ASSERT_TRUE(served.ok()) << served.status();
+  MeshFingerprint object{"object", (*served)->level(0).limit_positions, {}};
+  for (const auto& t : (*served)->level(0).triangles) object.triangle_indices.insert(object.triangle_indices.end(), t.begin(), t.end());
+  EXPECT_TRUE(CompareMeshes(fingerprint, object).ok()) << CompareMeshes(fingerprint, object);
+  // The same box uploaded as a control mesh is served as its Loop limit: refused.
+  EXPECT_FALSE(CompareMeshes(fingerprint, FingerprintOf(scene.mesh, "object")).ok());
 }
 
 class FixedTraceDriver : public RigDriver {

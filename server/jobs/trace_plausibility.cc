@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
+#include <vector>
 
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
@@ -34,6 +36,44 @@ double AngleDeg(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
 // pause and ramps a rig adds (a few seconds at most).
 double CommandedDurationS(const ProbeCommand& command) {
   return 2.0 * command.probe.segment_length_mm / command.probe.speed_mm_per_s + 3.0;
+}
+
+// How far along the path, either side of the pair nearest the commanded
+// site, the estimated normals may match the commanded one: the service's
+// surface and the rig's meet a sharp edge within a fraction of a mm of each
+// other, and a site on the edge itself may be commanded with either face's
+// normal.
+constexpr double kSiteNormalReachMm = 1.0;
+// A few pairs (0.1 mm apart at the paper's rig) either side: a sharp edge's
+// turn, over ~1 mm of a probe's tip, stays resolved.
+constexpr double kPairNormalSmoothingMm = 0.3;
+
+// The smallest angle, degrees, between `commanded` and the per-pair normals
+// estimated within kSiteNormalReachMm of where the drag passed the site.
+// Over a curved surface or a CAD part's sharp edge the normal turns along
+// the drag (by 90 degrees over an edge), so the drag's mean normal is not the
+// site's. `forward` holds the forward samples the pairs index.
+double SiteNormalAngleDeg(const std::vector<const DragSample*>& forward, const FrictionFit& f,
+                          const Eigen::Vector3d& site, const Eigen::Vector3d& commanded) {
+  std::size_t nearest = 0;
+  double best = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < f.pair_normal.size(); ++i) {
+    const double d = (forward[f.first_forward_sample + i]->position - site).squaredNorm();
+    if (d < best) best = d, nearest = i;
+  }
+  // Each pair's normal is first averaged over kPairNormalSmoothingMm either
+  // side, so that the smallest angle is not one noisy pair's (a trace whose
+  // friction swamps its normal force has pair normals all over the sphere).
+  double angle = 180.0;
+  for (std::size_t i = 0; i < f.pair_normal.size(); ++i) {
+    if (std::abs(f.pair_s_mm[i] - f.pair_s_mm[nearest]) > kSiteNormalReachMm) continue;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (std::size_t j = 0; j < f.pair_normal.size(); ++j) {
+      if (std::abs(f.pair_s_mm[j] - f.pair_s_mm[i]) <= kPairNormalSmoothingMm) sum += f.pair_normal[j];
+    }
+    if (sum.norm() > 0.0) angle = std::min(angle, AngleDeg(sum, commanded));
+  }
+  return angle;
 }
 
 }  // namespace
@@ -111,7 +151,11 @@ absl::Status CheckTraceAgainstCommand(const DragTrace& trace, const ProbeCommand
                                                  "(segment %.1f mm)",
                                                  forward_length, min_length, max_length, length));
   }
-  const Eigen::Vector3d chord = last_forward - first_forward;
+  // Seen along the site's normal: a drag over a curved surface, or over a
+  // CAD part's sharp edge, turns down with the surface (its chord dips up to
+  // 45 degrees and more), not aside.
+  const Eigen::Vector3d chord3 = last_forward - first_forward;
+  const Eigen::Vector3d chord = chord3 - chord3.dot(command.normal) * command.normal;
   if (chord.norm() > 1e-9) {
     const double angle = AngleDeg(chord, command.drag_direction);
     const double off_line = std::min(angle, 180.0 - angle);  // either way along the commanded line
@@ -136,19 +180,34 @@ absl::Status CheckTraceNearSurface(double max_distance_mm, int sample, const Tra
 
 absl::Status CheckFitAgainstCommand(const DragTrace& trace, const TraceFit& fit, const ProbeCommand& command,
                                     const TraceLimits& limits) {
-  const double normal_angle = AngleDeg(fit.friction.normal, command.normal);
+  std::vector<const DragSample*> forward;
+  for (const DragSample& d : trace.samples) {
+    if (d.phase == DragPhase::kForward) forward.push_back(&d);
+  }
+  const FrictionFit& f = fit.friction;
+  const bool per_pair = !f.pair_normal.empty() && f.pair_s_mm.size() == f.pair_normal.size() && f.first_forward_sample >= 0 &&
+                        f.first_forward_sample + static_cast<std::size_t>(f.pair_normal.size()) <= forward.size();
+  const double normal_angle = per_pair ? SiteNormalAngleDeg(forward, f, command.position, command.normal)
+                                        : AngleDeg(f.normal, command.normal);
   if (normal_angle > limits.max_normal_deg) {
-    return Implausible("normal", absl::StrFormat("the estimated surface normal is %.1f deg from the commanded one; "
-                                                 "the limit is %.1f deg: a trace in another frame?",
+    return Implausible("normal", absl::StrFormat("the estimated surface normal at the site is %.1f deg from the "
+                                                 "commanded one; the limit is %.1f deg: a trace in another frame?",
                                                  normal_angle, limits.max_normal_deg));
   }
-  // Mean normal force over the forward pass, along the estimated normal.
+  // Mean normal force over the forward pass, each sample along the normal
+  // estimated where it was (a drag's normal turns with the surface).
   double sum = 0.0;
   int n = 0;
-  for (const DragSample& d : trace.samples) {
-    if (d.phase != DragPhase::kForward) continue;
-    sum += d.force.dot(fit.friction.normal);
-    ++n;
+  if (per_pair) {
+    for (std::size_t i = 0; i < f.pair_normal.size(); ++i) {
+      sum += forward[f.first_forward_sample + i]->force.dot(f.pair_normal[i]);
+      ++n;
+    }
+  } else {
+    for (const DragSample* d : forward) {
+      sum += d->force.dot(f.normal);
+      ++n;
+    }
   }
   const double commanded = command.probe.normal_force_n;
   const double normal_force = n > 0 ? sum / n : 0.0;

@@ -19,12 +19,17 @@
 //                commanded site
 //   length       forward path length in [min_length_fraction, max_length_fraction]
 //                x segment_length
-//   direction    the forward pass's line within max_direction_deg of the
-//                commanded drag direction (either way: rigs may reverse at an edge)
+//   direction    the forward pass's line, seen along the commanded normal,
+//                within max_direction_deg of the commanded drag direction
+//                (either way: rigs may reverse at an edge)
 //   surface      (imports only) every sample within max_offset_mm of the surface
 // After the fit (cheap: uses its normal and mu):
-//   normal       the estimated normal within max_normal_deg of the commanded normal
-//   force        mean normal force in [commanded / normal_force_factor,
+//   normal       the estimated normal where the drag passed the site (any
+//                pair within 1 mm of it) within max_normal_deg of the
+//                commanded normal; not the drag's mean: over a sharp edge the
+//                normal turns 90 degrees
+//   force        mean normal force (each sample along its own estimated
+//                normal) in [commanded / normal_force_factor,
 //                commanded x normal_force_factor]
 //   friction     mu in [0, max_mu] (friction opposes the motion)
 #pragma once

@@ -5,6 +5,7 @@
 // the object it touches, not on the coarse mesh's Loop surface.
 #pragma once
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -16,8 +17,12 @@ namespace surfmap {
 
 class DenseSurface {
  public:
-  // `mesh` must be valid (ValidateControlMesh).
-  explicit DenseSurface(const ControlMesh& mesh);
+  // `mesh` must be valid (ValidateControlMesh). A vertex's normal is smoothed
+  // over the faces around it whose normals lie within `crease_angle_deg` of
+  // the face it is read for: 180 (a scan) smooths over all of them; a CAD
+  // part's sharp edges keep each face's own normal on its side
+  // (kCadCreaseAngleDeg).
+  explicit DenseSurface(const ControlMesh& mesh, double crease_angle_deg = 180.0);
 
   // Replaces `position` by its closest point on the mesh and `normal` by the
   // interpolated vertex normal there (unit, outward by the winding).
@@ -30,7 +35,16 @@ class DenseSurface {
 
  private:
   MeshLocator locator_;
-  std::vector<Eigen::Vector3d> vertex_normals_;
+  std::vector<Eigen::Vector3d> vertex_normals_;  // smooth everywhere (crease 180)
+  // With a crease below 180: each triangle's corners' normals, smoothed only
+  // over faces within the crease of it.
+  std::vector<std::array<Eigen::Vector3d, 3>> corner_normals_;
 };
+
+// A CAD export's facets meet at sharp edges (a box's 90 degrees, a chamfer's
+// 45) or bend gently across a tessellated curve (a 16-segment cylinder's 22.5
+// degrees): normals are smoothed below this angle between faces and kept
+// apart above it.
+inline constexpr double kCadCreaseAngleDeg = 30.0;
 
 }  // namespace surfmap

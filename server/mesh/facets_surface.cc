@@ -26,7 +26,7 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> FacetsSurface(const ControlMesh& fa
     SURFMAP_ASSIGN_OR_RETURN(ControlMeshChoice choice, ControlMeshForSpacing(control, site_spacing_mm));
     control = std::move(choice.mesh);
   }
-  const DenseSurface dense(fine);
+  const DenseSurface dense(fine, kCadCreaseAngleDeg);
   return LoopSurface::Create(control, level, dense.Projection());
 }
 

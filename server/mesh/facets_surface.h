@@ -6,8 +6,10 @@
 // sqrt(2) x the site spacing (flat_refine.h) or shorter (about area /
 // spacing^2 vertices on a box, as control_simplify.h aims for), or, where the facets are already finer, the
 // facets simplified as a scan is. Every limit position and normal is then
-// projected onto the facets refined to ~2 mm edges (dense_surface.h), so a
-// face's normal is the face's own except within ~2 mm of a sharp edge.
+// projected onto the facets refined to ~2 mm edges (dense_surface.h), with
+// normals smoothed across gentle bends only: a face's normal is the face's
+// own up to its sharp edges (kCadCreaseAngleDeg), so a site beside an edge
+// is commanded with the normal of the face it is on.
 #pragma once
 
 #include <memory>

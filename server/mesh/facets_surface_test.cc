@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <gtest/gtest.h>
 #include "server/mesh/primitive_meshes.h"
@@ -47,9 +48,11 @@ TEST(FacetsSurfaceTest, SitesLieOnTheFacetsWithTheFacesNormals) {
     for (std::size_t v = 0; v < fine.limit_positions.size(); ++v) {
       const Eigen::Vector3d& p = fine.limit_positions[v];
       ASSERT_LT(OffBox(p), 1e-9) << "vertex " << v;
-      // 2 mm from an edge the normal is the face's own (the facets are
-      // refined to 2 mm edges for the projection).
-      if (FromEdge(p) < 2.0) continue;
+      // The normal is the face's own (not smoothed across the sharp edges:
+      // dense_surface_test.cc): a site beside an edge is commanded with its
+      // face's normal, which is what a rig feels there. On an edge either
+      // face's will do.
+      if (FromEdge(p) < 1e-9) continue;
       ++inside_faces;
       int axis = 0;
       p.cwiseAbs().maxCoeff(&axis);
@@ -57,6 +60,41 @@ TEST(FacetsSurfaceTest, SitesLieOnTheFacetsWithTheFacesNormals) {
     }
     EXPECT_GT(inside_faces, static_cast<int>(fine.limit_positions.size()) / 2);
   }
+}
+
+// A cylinder exported as 16 segments: its rims are sharp (90 degrees), its
+// segments meet at 22.5 (a tessellated curve). The caps' normals are the
+// caps' and the side's horizontal up to the rims, and across the segments
+// they are never further from the true radial direction than a segment's own
+// face normal (dense_surface_test.cc tests the crease itself).
+TEST(FacetsSurfaceTest, ATessellatedCylindersRimsStaySharp) {
+  constexpr double kRadius = 30.0, kHeight = 60.0;
+  absl::StatusOr<ControlMesh> cylinder = MakeCylinder(kRadius, kHeight, 16, 4);
+  ASSERT_TRUE(cylinder.ok()) << cylinder.status();
+  absl::StatusOr<std::unique_ptr<LoopSurface>> surface = FacetsSurface(*cylinder, 3, 13.0);
+  ASSERT_TRUE(surface.ok()) << surface.status();
+  const SurfaceLevel& fine = (*surface)->finest();
+  const double half_segment = std::numbers::pi / 16;
+  int side = 0, caps = 0, rim = 0;
+  for (std::size_t v = 0; v < fine.limit_positions.size(); ++v) {
+    const Eigen::Vector3d& p = fine.limit_positions[v];
+    const Eigen::Vector3d& n = fine.limit_normals[v];
+    const bool on_cap = p.z() < 1e-9 || p.z() > kHeight - 1e-9;
+    const bool on_rim = on_cap && std::hypot(p.x(), p.y()) >= kRadius * std::cos(half_segment) - 1e-6;
+    if (on_rim) {
+      ++rim;  // on the edge itself: either side's normal
+    } else if (on_cap) {
+      ++caps;
+      EXPECT_NEAR(std::abs(n.z()), 1.0, 1e-9) << "cap vertex " << v;
+    } else {
+      ++side;
+      EXPECT_NEAR(n.z(), 0.0, 1e-9) << "side vertex " << v;
+      const Eigen::Vector3d radial = Eigen::Vector3d(p.x(), p.y(), 0).normalized();
+      EXPECT_GT(n.dot(radial), std::cos(half_segment) - 1e-9) << "side vertex " << v;
+    }
+  }
+  EXPECT_GT(side, 100);
+  EXPECT_GT(caps, 20);
 }
 
 }  // namespace

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <gtest/gtest.h>
 #include "clients/sim/rig/simulated_rig.h"
@@ -101,6 +102,34 @@ TEST(SceneSurfaceTest, TheRigDragsAFacetsSceneOverASharpEdgeOnItsFaces) {
       EXPECT_LT(DepthInBox(p), 0.5 * edge_mm) << p.transpose();
       EXPECT_GT(DepthInBox(p), -1e-6) << p.transpose();
     }
+  }
+}
+
+// A drag centred 4 mm above the bottom edge starts on the bottom face (the
+// rig walks half a segment back over the edge) and comes back over it
+// through the site, up the side: along the commanded line, not aside of it.
+TEST(SceneSurfaceTest, ADragCentredBesideASharpEdgeRetracesItsWalkBackThroughTheSite) {
+  absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(CadBoxScene(true));
+  ASSERT_TRUE(rig.ok()) << rig.status();
+  for (const Eigen::Vector3d& up : {Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(0, 0.5, 0.866)}) {
+    SCOPED_TRACE(up.transpose());
+    ProbeRequest request;
+    request.position = {kHalf, 0.0, -kHalf + 4.0};
+    request.normal = Eigen::Vector3d::UnitX();
+    request.drag_direction = up;
+    request.command_id = 2;
+    absl::StatusOr<ProbeExecution> execution = (*rig)->ExecuteDetailed(request);
+    ASSERT_TRUE(execution.ok()) << execution.status();
+    EXPECT_TRUE(execution->centred);
+    const SurfacePath& path = execution->path;
+    EXPECT_NEAR(path.points.front().z(), -kHalf, 1e-6);  // it starts on the bottom face
+    double nearest = 1e300;
+    for (const Eigen::Vector3d& p : path.points) nearest = std::min(nearest, (p - request.position).norm());
+    EXPECT_LT(nearest, 0.5);
+    // Seen along the site's normal, the forward chord is on the commanded line.
+    Eigen::Vector3d chord = path.points.back() - path.points.front();
+    chord.x() = 0.0;
+    EXPECT_GT(chord.normalized().dot(up.normalized()), std::cos(10.0 * std::numbers::pi / 180));
   }
 }
 

@@ -116,6 +116,14 @@ absl::StatusOr<ProbeExecution> SimulatedRig::ExecuteDetailed(const ProbeRequest&
       back.ok() && back->points.size() >= 2) {
     start = back->points.back();
     forward = contact.position - start;
+    if (scene_.facets) {
+      // On a CAD part the walk back can fold over a sharp edge, and the
+      // chord from its end to the site then leaves the start aside of the
+      // drag's line (measured: 52 degrees, the drag missing the site):
+      // retrace the walk's last step instead.
+      const std::vector<Eigen::Vector3d>& walked = back->points;
+      forward = walked[walked.size() - 2] - walked.back();
+    }
     out.centred = true;
   }
   auto trace = [&](const Eigen::Vector3d& direction, double length) {
