@@ -64,13 +64,18 @@ double SiteNormalAngleDeg(const std::vector<const DragSample*>& forward, const F
   // Each pair's normal is first averaged over kPairNormalSmoothingMm either
   // side, so that the smallest angle is not one noisy pair's (a trace whose
   // friction swamps its normal force has pair normals all over the sphere).
+  // Prefix sums over the pairs, which are in path order: linear in the
+  // pairs, however densely a rig samples.
+  const std::vector<double>& s = f.pair_s_mm;
+  std::vector<Eigen::Vector3d> prefix(f.pair_normal.size() + 1, Eigen::Vector3d::Zero());
+  for (std::size_t i = 0; i < f.pair_normal.size(); ++i) prefix[i + 1] = prefix[i] + f.pair_normal[i];
+  auto first_at_or_after = [&](double at) { return std::lower_bound(s.begin(), s.end(), at) - s.begin(); };
+  auto first_after = [&](double at) { return std::upper_bound(s.begin(), s.end(), at) - s.begin(); };
   double angle = 180.0;
-  for (std::size_t i = 0; i < f.pair_normal.size(); ++i) {
-    if (std::abs(f.pair_s_mm[i] - f.pair_s_mm[nearest]) > kSiteNormalReachMm) continue;
-    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
-    for (std::size_t j = 0; j < f.pair_normal.size(); ++j) {
-      if (std::abs(f.pair_s_mm[j] - f.pair_s_mm[i]) <= kPairNormalSmoothingMm) sum += f.pair_normal[j];
-    }
+  for (auto i = first_at_or_after(s[nearest] - kSiteNormalReachMm); i < first_after(s[nearest] + kSiteNormalReachMm);
+       ++i) {
+    const Eigen::Vector3d sum = prefix[first_after(s[i] + kPairNormalSmoothingMm)] -
+                                prefix[first_at_or_after(s[i] - kPairNormalSmoothingMm)];
     if (sum.norm() > 0.0) angle = std::min(angle, AngleDeg(sum, commanded));
   }
   return angle;
@@ -185,8 +190,11 @@ absl::Status CheckFitAgainstCommand(const DragTrace& trace, const TraceFit& fit,
     if (d.phase == DragPhase::kForward) forward.push_back(&d);
   }
   const FrictionFit& f = fit.friction;
-  const bool per_pair = !f.pair_normal.empty() && f.pair_s_mm.size() == f.pair_normal.size() && f.first_forward_sample >= 0 &&
-                        f.first_forward_sample + static_cast<std::size_t>(f.pair_normal.size()) <= forward.size();
+  // Per-pair normals as FitTrace makes them: one per forward sample of the
+  // window, in path order.
+  const bool per_pair = !f.pair_normal.empty() && f.pair_s_mm.size() == f.pair_normal.size() &&
+                        std::is_sorted(f.pair_s_mm.begin(), f.pair_s_mm.end()) && f.first_forward_sample >= 0 &&
+                        f.first_forward_sample + f.pair_normal.size() <= forward.size();
   const double normal_angle = per_pair ? SiteNormalAngleDeg(forward, f, command.position, command.normal)
                                         : AngleDeg(f.normal, command.normal);
   if (normal_angle > limits.max_normal_deg) {
