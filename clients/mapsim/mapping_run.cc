@@ -14,7 +14,7 @@
 #include "server/map/region_map.h"
 #include "server/mesh/control_simplify.h"
 #include "server/mesh/dense_surface.h"
-#include "server/mesh/facets_surface.h"
+#include "server/mesh/plan_surface.h"
 #include "server/mesh/mesh_locator.h"
 #include "server/plan/drag_direction.h"
 #include "server/plan/plan_request.h"
@@ -220,24 +220,6 @@ bool MappingRunOptions::IsValid(std::string* why) const {
   return true;
 }
 
-namespace {
-
-// The surface the service plans `scene` on at `level` (SurfaceCache::Build):
-// a facets scene's control mesh refined flat, projected onto its facets; a
-// scan's simplified control mesh, projected onto the scan; null when the
-// scene's mesh is coarse enough to be the control mesh as it is (the rig's
-// own surface).
-absl::StatusOr<std::unique_ptr<LoopSurface>> ServicePlanSurface(const Scene& scene, int level, double spacing_mm) {
-  if (scene.facets) return FacetsSurface(scene.mesh, level, spacing_mm);
-  absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(scene.mesh, spacing_mm);
-  if (!control.ok()) return control.status();
-  if (!control->simplified) return nullptr;
-  const DenseSurface dense(scene.mesh);
-  return LoopSurface::Create(control->mesh, level, dense.Projection());
-}
-
-}  // namespace
-
 absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, std::uint64_t rig_seed,
                                                                    int rig_surface_level, int map_level,
                                                                    const SurfaceScoreOptions& score) {
@@ -252,11 +234,11 @@ absl::StatusOr<std::unique_ptr<MappingBench>> MappingBench::Create(Scene scene, 
   if (map_level == -1) {
     // As the service resolves its levels (ResolveAutoLevels): from the limit
     // positions of the control mesh's level 0.
-    absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = ServicePlanSurface(scene, 0, spacing_mm);
+    absl::StatusOr<std::unique_ptr<LoopSurface>> coarse = DerivedPlanSurface(scene.mesh, scene.facets, 0, spacing_mm);
     if (!coarse.ok()) return coarse.status();
     map_level = *coarse ? MapLevelFor((*coarse)->level(0)) : MapLevelFor(scene.mesh);
   }
-  absl::StatusOr<std::unique_ptr<LoopSurface>> plan_surface = ServicePlanSurface(scene, map_level, spacing_mm);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> plan_surface = DerivedPlanSurface(scene.mesh, scene.facets, map_level, spacing_mm);
   if (!plan_surface.ok()) return plan_surface.status();
   bench->plan_surface_ = *std::move(plan_surface);
   absl::StatusOr<SurfaceScorer> scorer = SurfaceScorer::Create(scene, score);

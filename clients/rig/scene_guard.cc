@@ -48,23 +48,26 @@ absl::Status CompareMeshes(const MeshFingerprint& scene, const MeshFingerprint& 
   return absl::OkStatus();
 }
 
-MeshFingerprint SceneFingerprint(const SimulatedRig& rig) {
-  MeshFingerprint out;
-  out.name = absl::StrFormat("scene '%s'", rig.scene().name);
-  if (rig.scene().facets) {
-    // An object uploaded as facets serves level 0 of its facets taken as the
-    // control mesh, projected onto them (server/mesh/facets_surface.h); the
-    // rig drags the facets refined first, so its own level 0 differs.
-    absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(rig.scene().mesh, 0, /*site_spacing_mm=*/0);
-    if (served.ok()) {
-      out.limit_positions = (*served)->level(0).limit_positions;
-      for (const auto& t : (*served)->level(0).triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
-    }
-    return out;
-  }
-  out.limit_positions = rig.surface().level(0).limit_positions;
-  for (const auto& t : rig.surface().level(0).triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
+MeshFingerprint LevelFingerprint(std::string name, const SurfaceLevel& level) {
+  MeshFingerprint out{std::move(name), level.limit_positions, {}};
+  out.triangle_indices.reserve(3 * level.triangles.size());
+  for (const auto& t : level.triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
   return out;
+}
+
+absl::StatusOr<MeshFingerprint> SceneFingerprint(const SimulatedRig& rig) {
+  const std::string name = absl::StrFormat("scene '%s'", rig.scene().name);
+  if (!rig.scene().facets) return LevelFingerprint(name, rig.surface().level(0));
+  // An object uploaded as facets serves level 0 of its facets taken as the
+  // control mesh, projected onto them (server/mesh/facets_surface.h); the
+  // rig drags the facets refined first, so its own level 0 differs.
+  absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(rig.scene().mesh, 0, /*site_spacing_mm=*/0);
+  if (!served.ok()) {
+    return absl::InvalidArgumentError(
+        absl::StrFormat("%s: cannot build the surface the service serves for its facets: %s", name,
+                        served.status().message()));
+  }
+  return LevelFingerprint(name, (*served)->level(0));
 }
 
 absl::StatusOr<DragTrace> SceneGuardDriver::Execute(const ProbeRequest& request) {

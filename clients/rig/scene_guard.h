@@ -36,9 +36,13 @@ inline constexpr double kSameMeshRelativeTolerance = 1e-9;
 // difference (counts, bounding box, a vertex) otherwise.
 absl::Status CompareMeshes(const MeshFingerprint& scene, const MeshFingerprint& object);
 
+// The fingerprint of a surface level (its limit positions and triangles).
+MeshFingerprint LevelFingerprint(std::string name, const SurfaceLevel& level);
+
 // The scene's fingerprint: level 0 of the rig's own surface, or for a facets
-// scene level 0 as the service serves an object uploaded as facets.
-MeshFingerprint SceneFingerprint(const SimulatedRig& rig);
+// scene level 0 as the service serves an object uploaded as facets
+// (INVALID_ARGUMENT naming the scene when that cannot be built).
+absl::StatusOr<MeshFingerprint> SceneFingerprint(const SimulatedRig& rig);
 
 class SceneGuardDriver : public RigDriver {
  public:

@@ -19,9 +19,7 @@ using ::testing::HasSubstr;
 MeshFingerprint FingerprintOf(const ControlMesh& mesh, const std::string& name) {
   absl::StatusOr<std::unique_ptr<LoopSurface>> surface = LoopSurface::Create(mesh, 0);
   EXPECT_TRUE(surface.ok());
-  MeshFingerprint out{name, (*surface)->level(0).limit_positions, {}};
-  for (const auto& t : (*surface)->level(0).triangles) out.triangle_indices.insert(out.triangle_indices.end(), t.begin(), t.end());
-  return out;
+  return LevelFingerprint(name, (*surface)->level(0));
 }
 
 TEST(SceneGuard, SameMeshMatchesEvenAfterAUnitRoundTrip) {
@@ -56,13 +54,14 @@ TEST(SceneGuard, AFacetsScenesFingerprintIsWhatTheServiceServesForFacets) {
   scene.facets = true;
   absl::StatusOr<std::unique_ptr<SimulatedRig>> rig = SimulatedRig::Create(scene);
   ASSERT_TRUE(rig.ok()) << rig.status();
-  const MeshFingerprint fingerprint = SceneFingerprint(**rig);
+  absl::StatusOr<MeshFingerprint> scene_print = SceneFingerprint(**rig);
+  ASSERT_TRUE(scene_print.ok()) << scene_print.status();
+  const MeshFingerprint& fingerprint = *scene_print;
   EXPECT_EQ(fingerprint.limit_positions.size(), 8u);
   EXPECT_GT((*rig)->surface().level(0).limit_positions.size(), 8u);
   absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(scene.mesh, 0, /*site_spacing_mm=*/0);
   ASSERT_TRUE(served.ok()) << served.status();
-  MeshFingerprint object{"object", (*served)->level(0).limit_positions, {}};
-  for (const auto& t : (*served)->level(0).triangles) object.triangle_indices.insert(object.triangle_indices.end(), t.begin(), t.end());
+  const MeshFingerprint object = LevelFingerprint("object", (*served)->level(0));
   EXPECT_TRUE(CompareMeshes(fingerprint, object).ok()) << CompareMeshes(fingerprint, object);
   // The same box uploaded as a control mesh is served as its Loop limit: refused.
   EXPECT_FALSE(CompareMeshes(fingerprint, FingerprintOf(scene.mesh, "object")).ok());

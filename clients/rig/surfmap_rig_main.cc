@@ -212,10 +212,11 @@ absl::StatusOr<DriverStack> MakeDriver(const RunArgs& args, std::function<void(c
   }
   absl::StatusOr<std::unique_ptr<surfmap::SimulatedRig>> rig = MakeSimulatedRig(args.sim, args.sim_rig);
   if (!rig.ok()) return rig.status();
-  surfmap::rig::MeshFingerprint scene = surfmap::rig::SceneFingerprint(**rig);
+  absl::StatusOr<surfmap::rig::MeshFingerprint> scene = surfmap::rig::SceneFingerprint(**rig);
+  if (!scene.ok()) return scene.status();
   stack.layers.push_back(std::move(*rig));
   stack.layers.push_back(std::make_unique<surfmap::rig::SceneGuardDriver>(
-      stack.top(), std::move(scene),
+      stack.top(), *std::move(scene),
       [remote = args.remote](int64_t job_id) { return FetchJobObject(remote, job_id); }));
   if (args.realtime) stack.layers.push_back(std::make_unique<surfmap::rig::RealtimeDriver>(stack.top(), &g_stop));
   if (args.frame != "object") {

@@ -2,9 +2,7 @@
 
 #include "absl/strings/str_cat.h"
 #include "server/mesh/control_mesh.h"
-#include "server/mesh/control_simplify.h"
-#include "server/mesh/dense_surface.h"
-#include "server/mesh/facets_surface.h"
+#include "server/mesh/plan_surface.h"
 
 namespace surfmap {
 
@@ -58,22 +56,10 @@ absl::StatusOr<std::shared_ptr<const LoopSurface>> SurfaceCache::Build(int64_t o
     return absl::DataLossError(absl::StrCat("stored mesh of object ", object_id, " no longer parses: ",
                                             mesh.status().message()));
   }
-  if (object->surface == "facets") {
-    absl::StatusOr<std::unique_ptr<LoopSurface>> surface = FacetsSurface(*mesh, level, site_spacing_mm);
-    if (!surface.ok()) return surface.status();
-    return std::shared_ptr<const LoopSurface>(std::move(*surface));
-  }
-  if (site_spacing_mm > 0) {
-    absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(*mesh, site_spacing_mm);
-    if (!control.ok()) return control.status();
-    if (control->simplified) {
-      const DenseSurface dense(*mesh);
-      absl::StatusOr<std::unique_ptr<LoopSurface>> surface =
-          LoopSurface::Create(control->mesh, level, dense.Projection());
-      if (!surface.ok()) return surface.status();
-      return std::shared_ptr<const LoopSurface>(std::move(*surface));
-    }
-  }
+  absl::StatusOr<std::unique_ptr<LoopSurface>> derived =
+      DerivedPlanSurface(*mesh, object->surface == "facets", level, site_spacing_mm);
+  if (!derived.ok()) return derived.status();
+  if (*derived) return std::shared_ptr<const LoopSurface>(std::move(*derived));
   absl::StatusOr<std::unique_ptr<LoopSurface>> surface = LoopSurface::Create(*mesh, level);
   if (!surface.ok()) return surface.status();
   return std::shared_ptr<const LoopSurface>(std::move(*surface));

@@ -30,10 +30,10 @@ DenseSurface::DenseSurface(const ControlMesh& mesh, double crease_angle_deg)
     for (int v : mesh.triangles[t]) around[v].push_back(t);
   }
   const double cos_crease = std::cos(crease_angle_deg * std::numbers::pi / 180.0);
-  auto unit = [&](int t) {
-    const double norm = face_normals[t].norm();
-    return norm > 0 ? Eigen::Vector3d(face_normals[t] / norm) : Eigen::Vector3d::Zero();
-  };
+  std::vector<Eigen::Vector3d> unit(face_normals.size(), Eigen::Vector3d::Zero());
+  for (std::size_t t = 0; t < face_normals.size(); ++t) {
+    if (const double norm = face_normals[t].norm(); norm > 0) unit[t] = face_normals[t] / norm;
+  }
   // Weighted by each face's angle at the vertex (Thuermer and Wuethrich):
   // a CAD exporter's triangulation is lopsided (a cylinder's quads split
   // one way), and area weights would tilt a cylinder's normals by ~5 degrees.
@@ -46,12 +46,12 @@ DenseSurface::DenseSurface(const ControlMesh& mesh, double crease_angle_deg)
   };
   corner_normals_.resize(mesh.triangles.size());
   for (int t = 0; t < static_cast<int>(mesh.triangles.size()); ++t) {
-    const Eigen::Vector3d own = unit(t);
+    const Eigen::Vector3d& own = unit[t];
     for (int k = 0; k < 3; ++k) {
       const int v = mesh.triangles[t][k];
       Eigen::Vector3d sum = Eigen::Vector3d::Zero();
       for (int u : around[v]) {
-        if (u == t || unit(u).dot(own) >= cos_crease) sum += corner_angle(u, v) * unit(u);
+        if (u == t || unit[u].dot(own) >= cos_crease) sum += corner_angle(u, v) * unit[u];
       }
       const double norm = sum.norm();
       corner_normals_[t][k] = norm > 0 ? Eigen::Vector3d(sum / norm) : vertex_normals_[mesh.triangles[t][k]];
