@@ -29,8 +29,12 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // come from its pairs in those groups (drag_pieces.h); at 100 Hz unchanged.
 // Version 7: where no single split is significant, a band inside the stretch
 // (one model outside, another inside) is tested (change_points.h), so a
-// drag across a low-contrast strip finds both its edges.
-inline constexpr const char* kEstimatorVersion = "7";
+// drag across a low-contrast strip finds both its edges. Version 8: the
+// pause's sensor noise is propagated through the pair normals to the
+// roughness series (series_noise.h) and removed with its autocovariance; the
+// white model before it subtracted about twice the noise the series carries,
+// so weak textures read smoother than they are (ABS a1 1.07 for 0.90).
+inline constexpr const char* kEstimatorVersion = "8";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);
 // Missing keys keep their defaults; unknown keys and wrong types are errors.

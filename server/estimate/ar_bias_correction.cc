@@ -28,7 +28,15 @@ ArBiasEstimate EstimateArBias(const std::vector<double>& a, double sigma, const 
   ArFitOptions replicate_options = options;
   replicate_options.bias_replicates = 0;
   replicate_options.acf_max_lag = 1;  // the replicates' ACF is not used
-  const double noise_std = std::sqrt(options.noise_variance);
+  // The replicates carry white noise of the given noise's variance and are
+  // fitted knowing it: the correction is for the estimator's small-sample
+  // bias, which the noise's colour changes little; its lag-0 share is what
+  // sets the de-noising's own spread.
+  const std::vector<double> noise_autocovariance = options.NoiseAutocovariance();
+  const double noise_variance = noise_autocovariance.empty() ? 0.0 : noise_autocovariance[0];
+  replicate_options.noise_autocovariance.clear();
+  replicate_options.noise_variance = noise_variance;
+  const double noise_std = std::sqrt(noise_variance);
   const ArParams model{a, sigma};
   std::vector<double> sum(p, 0.0);
   double sigma_sum = 0.0;

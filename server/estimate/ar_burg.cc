@@ -5,6 +5,7 @@
 
 #include <Eigen/Cholesky>
 #include "server/estimate/ar_autocorrelation.h"
+#include "server/estimate/ar_noise.h"
 #include "server/estimate/roughness.h"
 
 namespace surfmap {
@@ -35,7 +36,8 @@ std::vector<double> AsymptoticStdErr(const std::vector<double>& a, const std::ve
 }  // namespace
 
 ArSolution SolveBurg(const std::vector<Eigen::VectorXd>& centered, int order, double variance,
-                     double noise_variance) {
+                     const std::vector<double>& noise_autocovariance) {
+  const bool compensate = !noise_autocovariance.empty() && noise_autocovariance[0] > 0.0;
   ArSolution solution;
   // Forward (f) and backward (b) prediction errors per segment. After stage m,
   // f[t] and b[t] are valid for t >= m; stage m pairs f[t] with b[t-1].
@@ -46,7 +48,7 @@ ArSolution SolveBurg(const std::vector<Eigen::VectorXd>& centered, int order, do
 
   std::vector<double> phi;  // order m-1 model
   std::vector<double> k;
-  double error_power = variance - noise_variance;
+  double error_power = variance - NoiseAutocovarianceAt(noise_autocovariance, 0);
   if (error_power <= 0.0) {
     solution.noise_correction_failed = true;
     return solution;
@@ -63,22 +65,21 @@ ArSolution SolveBurg(const std::vector<Eigen::VectorXd>& centered, int order, do
       denominator += fs.squaredNorm() + bs.squaredNorm();
       pairs += static_cast<double>(n - m);
     }
-    if (noise_variance > 0.0) {
-      // Expected white-noise contributions to sum f[t] b[t-1] and to
+    if (compensate) {
+      // Expected noise contributions to sum f[t] b[t-1] and to
       // sum f[t]^2 + b[t-1]^2: both errors are the noise filtered by the
-      // order m-1 prediction filter (taps 1, -phi_1..-phi_{m-1}), b reversed
-      // and shifted; their taps overlap at lags 1..m-1.
-      double cross = 0.0;
-      double energy = 1.0;
-      for (int j = 1; j < m; ++j) {
-        cross += phi[j - 1] * phi[m - j - 1];
-        energy += phi[j - 1] * phi[j - 1];
-      }
-      numerator -= pairs * noise_variance * cross;
-      denominator -= 2.0 * pairs * noise_variance * energy;
+      // order m-1 prediction filter, f[t] with taps (1, -phi_1..-phi_{m-1})
+      // at delays 0..m-1, b[t-1] with the same taps at delays m..1. For white
+      // noise this is N_m noise_variance sum phi_j phi_(m-j) and
+      // 2 N_m noise_variance (1 + sum phi_j^2).
+      std::vector<double> taps(m, 1.0);
+      for (int j = 1; j < m; ++j) taps[j] = -phi[j - 1];
+      std::vector<double> reversed(taps.rbegin(), taps.rend());  // b[t-1] taps at delays 1..m
+      numerator -= pairs * FilteredNoiseProduct(noise_autocovariance, taps, reversed, 1);
+      denominator -= 2.0 * pairs * FilteredNoiseProduct(noise_autocovariance, taps, taps, 0);
     }
     if (!(denominator > 0.0)) {
-      if (noise_variance > 0.0) {
+      if (compensate) {
         solution.noise_correction_failed = true;
         return solution;
       }
@@ -90,7 +91,7 @@ ArSolution SolveBurg(const std::vector<Eigen::VectorXd>& centered, int order, do
     if (!(std::abs(km) < 1.0)) {
       // Plain Burg has |k| <= 1 by Cauchy-Schwarz (equality only for a
       // perfectly predictable series); the compensated one can overshoot.
-      if (noise_variance > 0.0) {
+      if (compensate) {
         solution.noise_correction_failed = true;
         return solution;
       }

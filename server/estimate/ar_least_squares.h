@@ -1,5 +1,6 @@
 // Least-squares (covariance method) AR(p) over several segments of one
-// process, optionally bias-compensated for white measurement noise.
+// process, optionally bias-compensated for measurement noise of known
+// autocovariance (ar_noise.h).
 #pragma once
 
 #include <vector>
@@ -11,11 +12,13 @@ namespace surfmap {
 
 // Regresses x(t) on x(t-1..t-p) over every t with t-p inside the same segment
 // (rows never span a boundary). `centered`: mean-removed segments, each longer
-// than `order`. noise_variance > 0 solves (X^T X - rows noise_variance I) a = X^T y
-// and reports innovation variance RSS/rows - noise_variance (1 + sum a_j^2).
+// than `order`. A noise autocovariance c with c(0) > 0 solves
+// (X^T X - rows C) a = X^T y - rows c, C(i, j) = c(|i - j|), c = c(1..p), and
+// reports innovation variance RSS/rows minus the noise's power through the
+// filter (1, -a1..-ap) (white noise: noise_variance (1 + sum a_j^2)).
 // Rank-deficient regressors (e.g. a pure sinusoid at order >= 3) get the
 // minimum-norm solution.
 ArSolution SolveLeastSquares(const std::vector<Eigen::VectorXd>& centered, int order,
-                             double noise_variance);
+                             const std::vector<double>& noise_autocovariance);
 
 }  // namespace surfmap

@@ -10,6 +10,7 @@
 #include "server/estimate/drag_passes.h"
 #include "server/estimate/force_variation.h"
 #include "server/estimate/pair_groups.h"
+#include "server/estimate/series_noise.h"
 
 namespace surfmap {
 namespace {
@@ -35,22 +36,64 @@ DragPathSamples SamplePath(std::span<const DragSample> forward, const PathPairin
   return path;
 }
 
-ArFitOptions RoughnessOptions(const FitOptions& options, double noise_std, double mu) {
+// `noise`: the noise propagated to the stretch's series, or empty when the
+// propagation failed (then the white model).
+ArFitOptions RoughnessOptions(const FitOptions& options, double noise_std, double mu,
+                              std::vector<double> noise) {
   ArFitOptions ar;
   ar.order = options.ar_order;
   ar.method = options.ar_method;
   ar.step_mm = options.step_mm;
-  if (options.noise_aware) ar.noise_variance = noise_std * noise_std * (1.0 + mu * mu);
+  if (!options.noise_aware) return ar;
+  if (!noise.empty()) {
+    ar.noise_autocovariance = std::move(noise);
+  } else {
+    ar.noise_variance = noise_std * noise_std * (1.0 + mu * mu);
+  }
   return ar;
+}
+
+// The noise on each stretch's series (series_noise.h), or empty vectors when
+// there is none to correct for or it could not be propagated.
+std::vector<std::vector<double>> StretchNoise(std::span<const DragSample> forward,
+                                              std::span<const DragSample> reverse,
+                                              const PathPairing& pairing, const DataWindow& window,
+                                              const FitOptions& options, const TraceFit& fit,
+                                              const std::vector<SeriesStretch>& stretches) {
+  std::vector<std::vector<double>> none(stretches.size());
+  if (!options.noise_aware || !(fit.noise_std > 0.0) || stretches.empty()) return none;
+  SeriesNoiseOptions noise;
+  noise.noise_std = fit.noise_std;
+  noise.step_mm = options.step_mm;
+  noise.max_lag = options.ar_order;
+  noise.replicates = options.noise_replicates;
+  noise.seed = BiasSeedFromData(fit.friction.mu, fit.friction.window_start_mm);
+  absl::StatusOr<std::vector<std::vector<double>>> propagated =
+      PropagateSeriesNoise(forward, reverse, pairing, window, options.friction, fit.friction, stretches, noise);
+  return propagated.ok() ? *std::move(propagated) : none;
+}
+
+// The stretch a piece's roughness is fitted over: the piece less the guard at
+// each change.
+SeriesStretch PieceStretch(const DragPiece& piece, const FitOptions& options) {
+  return {piece.start_mm + (piece.starts_at_change ? options.change_guard_mm : 0.0),
+          piece.end_mm - (piece.ends_at_change ? options.change_guard_mm : 0.0), piece.mu};
 }
 
 // The roughness of each piece of a drag that crossed material changes, fitted
 // over the piece alone (less the guard next to each change).
 void FitPieceRoughness(std::span<const DragSample> forward, std::span<const DragSample> reverse,
-                       const PathPairing& pairing, const FitOptions& options, TraceFit& fit) {
+                       const PathPairing& pairing, const DataWindow& window, const FitOptions& options,
+                       TraceFit& fit) {
+  std::vector<SeriesStretch> stretches;
+  for (const DragPiece& piece : fit.pieces) {
+    const SeriesStretch stretch = PieceStretch(piece, options);
+    if (stretch.end_mm - stretch.start_mm >= options.min_roughness_piece_mm) stretches.push_back(stretch);
+  }
+  std::vector<std::vector<double>> noise = StretchNoise(forward, reverse, pairing, window, options, fit, stretches);
+  std::size_t next_noise = 0;
   for (DragPiece& piece : fit.pieces) {
-    const double start = piece.start_mm + (piece.starts_at_change ? options.change_guard_mm : 0.0);
-    const double end = piece.end_mm - (piece.ends_at_change ? options.change_guard_mm : 0.0);
+    const auto [start, end, mu] = PieceStretch(piece, options);
     if (end - start < options.min_roughness_piece_mm) {
       piece.roughness_state = PieceRoughness::kTooShort;
       piece.roughness_note = absl::StrCat("piece of ", end - start, " mm is shorter than the ",
@@ -59,7 +102,7 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
     }
     absl::StatusOr<std::vector<Eigen::VectorXd>> series =
         ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm);
-    ArFitOptions ar = RoughnessOptions(options, fit.noise_std, piece.mu);
+    ArFitOptions ar = RoughnessOptions(options, fit.noise_std, mu, std::move(noise[next_noise++]));
     ar.bias_replicates = options.piece_bias_replicates;
     ar.segments_detrended = true;  // ForceVariationSeries removed a line from each segment
     // A seed from the piece's own data (deterministic for a trace), so the
@@ -107,6 +150,7 @@ bool FitOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(change_guard_mm) && change_guard_mm >= 0.0)) return fail("change_guard_mm must be >= 0");
   if (!(std::isfinite(path_step_mm) && path_step_mm > 0.0)) return fail("path_step_mm must be > 0");
+  if (noise_replicates < 1 || noise_replicates > 64) return fail("noise_replicates must be in 1..64");
   if (piece_bias_replicates < 0 || piece_bias_replicates > 10000) {
     return fail("piece_bias_replicates must be in 0..10000");
   }
@@ -172,7 +216,7 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   if (!pieces.ok()) return pieces.status();
   fit.pieces = *std::move(pieces);
   if (fit.pieces.size() > 1) {
-    FitPieceRoughness(forward, reverse, *pairing, options, fit);
+    FitPieceRoughness(forward, reverse, *pairing, *window, options, fit);
     return fit;
   }
 
@@ -180,7 +224,11 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
   absl::StatusOr<std::vector<Eigen::VectorXd>> series =
       ForceVariationSeries(forward, reverse, *pairing, fit.friction, options.step_mm);
   if (!series.ok()) return series.status();
-  absl::StatusOr<ArFit> roughness = FitAutoregressive(*series, RoughnessOptions(options, fit.noise_std, fit.friction.mu));
+  const std::vector<SeriesStretch> whole{
+      {fit.friction.window_start_mm, fit.friction.window_end_mm, fit.friction.mu}};
+  std::vector<std::vector<double>> noise = StretchNoise(forward, reverse, *pairing, *window, options, fit, whole);
+  absl::StatusOr<ArFit> roughness =
+      FitAutoregressive(*series, RoughnessOptions(options, fit.noise_std, fit.friction.mu, std::move(noise[0])));
   if (!roughness.ok()) {
     return absl::Status(roughness.status().code(),
                         absl::StrCat("roughness fit: ", roughness.status().message()));

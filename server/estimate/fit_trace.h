@@ -33,9 +33,12 @@ struct FitOptions {
   double step_mm = 0.1;           // roughness grid step L
   int ar_order = 2;
   ArMethod ar_method = ArMethod::kBurg;
-  // Use the pause to de-bias roughness: the variance of the sensor noise on
-  // the roughness series (see FitTrace) goes to ArFitOptions::noise_variance.
+  // Use the pause to de-bias roughness: the sensor noise measured in the
+  // pause is propagated to the roughness series (series_noise.h) and its
+  // autocovariance goes to ArFitOptions::noise_autocovariance.
   bool noise_aware = true;
+  // Replicates of that propagation (SeriesNoiseOptions::replicates), 1..64.
+  int noise_replicates = 4;
   // Data window: keep where both passes move at >= min_speed_fraction of their
   // median speed, intersected with the common forward/reverse path minus
   // window_trim_fraction of it at each end (see data_window.h for why).
@@ -110,9 +113,13 @@ struct TraceFit {
 // "roughness fit: " before FitAutoregressive's message.
 //
 // Roughness: FitAutoregressive on the two segments of ForceVariationSeries
-// (forward and reverse pass); with noise_aware the noise variance passed on
-// is noise_std^2 * (1 + mu^2): the variation |f_t| - mu f_n carries the
-// tangential noise plus mu times the normal noise. With one piece a failing
+// (forward and reverse pass); with noise_aware the pause's noise propagated
+// to that series (series_noise.h, seeded from the trace's own data, so a refit
+// gives the same answer) is passed on as its autocovariance. Should the
+// propagation fail (a replicate's noise taking a contact force below the
+// floor), the white model noise_std^2 * (1 + mu^2) is passed instead: the
+// variation |f_t| - mu f_n carries the tangential noise plus mu times the
+// normal noise, were the normal known. With one piece a failing
 // roughness fit is an error (as above); with several, each piece's fit is its
 // own, and a piece whose fit fails is marked kFitFailed with the reason.
 absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& options);

@@ -19,6 +19,7 @@ namespace {
 
 constexpr int kMaxOrder = 20;
 constexpr int kMaxBiasReplicates = 10000;
+constexpr std::size_t kMaxNoiseLags = 64;
 // Below this the texture is not resolvable against the given noise: the
 // de-noised variance would be at most half the noise variance.
 constexpr double kNoiseFloorRatio = 1.5;
@@ -69,14 +70,32 @@ bool ArFitOptions::IsValid(std::string* why) const {
     reason = absl::StrCat("step_mm ", step_mm, " must be a finite length > 0");
   } else if (!std::isfinite(noise_variance) || noise_variance < 0.0) {
     reason = absl::StrCat("noise_variance ", noise_variance, " must be finite and >= 0");
+  } else if (!noise_autocovariance.empty() && noise_variance > 0.0) {
+    reason = "noise_variance and noise_autocovariance are both given; give one";
+  } else if (noise_autocovariance.size() > kMaxNoiseLags) {
+    reason = absl::StrCat("noise_autocovariance has ", noise_autocovariance.size(), " lags; at most ",
+                          kMaxNoiseLags);
   } else if (acf_max_lag < 0) {
     reason = absl::StrCat("acf_max_lag ", acf_max_lag, " must be >= 0 (0 = automatic)");
   } else if (bias_replicates < 0 || bias_replicates > kMaxBiasReplicates) {
     reason = absl::StrCat("bias_replicates ", bias_replicates, " is outside 0..", kMaxBiasReplicates);
   }
+  for (std::size_t lag = 0; reason.empty() && lag < noise_autocovariance.size(); ++lag) {
+    const double c = noise_autocovariance[lag];
+    if (!std::isfinite(c) || (lag == 0 && c < 0.0) || (lag > 0 && std::abs(c) > noise_autocovariance[0])) {
+      reason = absl::StrCat("noise_autocovariance lag ", lag, " is ", c,
+                            "; lag 0 must be finite and >= 0 and no lag larger than lag 0 in size");
+    }
+  }
   if (reason.empty()) return true;
   if (why != nullptr) *why = std::move(reason);
   return false;
+}
+
+std::vector<double> ArFitOptions::NoiseAutocovariance() const {
+  if (!noise_autocovariance.empty()) return noise_autocovariance;
+  if (noise_variance > 0.0) return {noise_variance};
+  return {};
 }
 
 absl::StatusOr<ArFit> FitAutoregressive(const Eigen::VectorXd& series, const ArFitOptions& options) {
@@ -150,22 +169,22 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
 
   ArFit fit;
   fit.n = static_cast<int>(n_total);
-  fit.below_noise_floor =
-      options.noise_variance > 0.0 && raw_variance <= kNoiseFloorRatio * options.noise_variance;
-  const double correction = fit.below_noise_floor ? 0.0 : options.noise_variance;
-  auto solve = [&](double noise) {
-    return options.method == ArMethod::kBurg ? SolveBurg(centered, p, raw_variance, noise)
-                                             : SolveLeastSquares(centered, p, noise);
+  const std::vector<double> noise = options.NoiseAutocovariance();
+  const double noise_variance = noise.empty() ? 0.0 : noise[0];
+  fit.below_noise_floor = noise_variance > 0.0 && raw_variance <= kNoiseFloorRatio * noise_variance;
+  auto solve = [&](const std::vector<double>& correction) {
+    return options.method == ArMethod::kBurg ? SolveBurg(centered, p, raw_variance, correction)
+                                             : SolveLeastSquares(centered, p, correction);
   };
-  ArSolution solution = solve(correction);
+  ArSolution solution = solve(fit.below_noise_floor ? std::vector<double>{} : noise);
   if (solution.noise_correction_failed) {
     fit.below_noise_floor = true;
-    solution = solve(0.0);
+    solution = solve({});
   }
   fit.a = std::move(solution.a);
   fit.a_stderr = std::move(solution.a_stderr);
   fit.sigma = std::sqrt(std::max(0.0, solution.innovation_variance));
-  fit.variance = std::max(0.0, raw_variance - options.noise_variance);
+  fit.variance = std::max(0.0, raw_variance - noise_variance);
 
   double largest_root = ArLargestRootModulus(fit.a);
   if (options.bias_replicates > 0 && largest_root < 1.0 && !fit.below_noise_floor) {

@@ -52,6 +52,16 @@ struct ArFitOptions {
   // Both are the Yule-Walker "subtract the noise from lag 0" correction carried
   // into the respective estimator, and consistent when the noise is white.
   double noise_variance = 0.0;
+  // The same for noise that is not white: its autocovariance at lags 0, 1, ...
+  // (N^2; lags past the end are 0), e.g. sensor noise after it has passed
+  // through the estimated normals and the resampling (series_noise.h). Each
+  // estimator then removes the noise's expected share of every lagged moment
+  // (Burg: of its prediction errors' energy and cross products; least
+  // squares: of X^T X and X^T y), consistent for any stationary noise of that
+  // autocovariance. When set, noise_variance must be 0 and lag 0 plays its
+  // part everywhere (noise floor, process variance, bias replicates, which
+  // add white noise of that variance).
+  std::vector<double> noise_autocovariance;
   // >= 0; 0 = min(n/4, 200). Clamped to the shortest segment's length - 1.
   int acf_max_lag = 0;
   // Small-sample bias correction by parametric bootstrap (ar_bias_correction.h):
@@ -68,9 +78,13 @@ struct ArFitOptions {
   bool segments_detrended = false;
   std::uint64_t bias_seed = 1;
   // False (with a reason in *why, if given) for order outside 1..20, step_mm
-  // <= 0 or non-finite, negative or non-finite noise_variance, acf_max_lag < 0,
-  // bias_replicates outside 0..10000.
+  // <= 0 or non-finite, negative or non-finite noise_variance, a
+  // noise_autocovariance with a non-finite entry, a negative lag 0, a lag
+  // larger than lag 0 in size, more than 64 lags, or given with
+  // noise_variance > 0, acf_max_lag < 0, bias_replicates outside 0..10000.
+  // NoiseAutocovariance() is the noise as the estimators take it.
   bool IsValid(std::string* why) const;
+  std::vector<double> NoiseAutocovariance() const;
 };
 
 struct ArFit {

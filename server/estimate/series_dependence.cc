@@ -25,7 +25,7 @@ SeriesDependence EstimateSeriesDependence(const std::vector<Eigen::VectorXd>& se
     n += x.size();
   }
   if (n < 4 * (kOrder + 1) || !(sum_squares > 0.0)) return out;
-  const ArSolution solution = SolveBurg(centred, kOrder, sum_squares / static_cast<double>(n), 0.0);
+  const ArSolution solution = SolveBurg(centred, kOrder, sum_squares / static_cast<double>(n), {});
   const std::vector<double> k = ArToReflection(solution.a);
   double prediction_gain = 1.0;  // Prod(1 - k^2) = innovation variance / process variance
   for (double km : k) prediction_gain *= 1.0 - km * km;
