@@ -58,10 +58,10 @@ MeshFingerprint LevelFingerprint(std::string name, const SurfaceLevel& level) {
 absl::StatusOr<MeshFingerprint> SceneFingerprint(const SimulatedRig& rig) {
   const std::string name = absl::StrFormat("scene '%s'", rig.scene().name);
   if (!rig.scene().facets) return LevelFingerprint(name, rig.surface().level(0));
-  // An object uploaded as facets serves level 0 of its facets taken as the
-  // control mesh, projected onto them (server/mesh/facets_surface.h); the
-  // rig drags the facets refined first, so its own level 0 differs.
-  absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(rig.scene().mesh, 0, /*site_spacing_mm=*/0);
+  // An object uploaded as facets serves its facets themselves as level 0
+  // (ExactFacetsSurface, server/mesh/facets_surface.h); the rig drags the
+  // facets refined and smoothed, so its own level 0 differs.
+  absl::StatusOr<std::unique_ptr<LoopSurface>> served = ExactFacetsSurface(rig.scene().mesh, 0);
   if (!served.ok()) {
     return absl::InvalidArgumentError(
         absl::StrFormat("%s: cannot build the surface the service serves for its facets: %s", name,

@@ -59,10 +59,14 @@ TEST(SceneGuard, AFacetsScenesFingerprintIsWhatTheServiceServesForFacets) {
   const MeshFingerprint& fingerprint = *scene_print;
   EXPECT_EQ(fingerprint.limit_positions.size(), 8u);
   EXPECT_GT((*rig)->surface().level(0).limit_positions.size(), 8u);
-  absl::StatusOr<std::unique_ptr<LoopSurface>> served = FacetsSurface(scene.mesh, 0, /*site_spacing_mm=*/0);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> served = ExactFacetsSurface(scene.mesh, 0);
   ASSERT_TRUE(served.ok()) << served.status();
   const MeshFingerprint object = LevelFingerprint("object", (*served)->level(0));
   EXPECT_TRUE(CompareMeshes(fingerprint, object).ok()) << CompareMeshes(fingerprint, object);
+  // Which is the box's own corners.
+  for (std::size_t v = 0; v < scene.mesh.positions.size(); ++v) {
+    EXPECT_LT((fingerprint.limit_positions[v] - scene.mesh.positions[v]).norm(), 1e-9) << "corner " << v;
+  }
   // The same box uploaded as a control mesh is served as its Loop limit: refused.
   EXPECT_FALSE(CompareMeshes(fingerprint, FingerprintOf(scene.mesh, "object")).ok());
 }

@@ -60,7 +60,7 @@ absl::StatusOr<UploadedObject> JobCoordinator::UploadObject(const std::string& n
     for (std::string& w : size_warnings) out.warnings.push_back(std::move(w));
   }
   if (options.facets) {
-    SURFMAP_RETURN_IF_ERROR(FacetsSurface(mesh, kUploadCheckLevel, 0).status());
+    SURFMAP_RETURN_IF_ERROR(ExactFacetsSurface(mesh, kUploadCheckLevel).status());
   } else {
     SURFMAP_RETURN_IF_ERROR(LoopSurface::Create(mesh, kUploadCheckLevel).status());
   }

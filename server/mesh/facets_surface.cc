@@ -11,12 +11,28 @@
 
 namespace surfmap {
 
+namespace {
+
+// The facets refined to ~2 mm that positions and normals are projected onto
+// (as a DenseSurface with creased normals, built in place: its search tree
+// points into it).
+absl::StatusOr<ControlMesh> ProjectionFacets(const ControlMesh& facets) {
+  return RefineFlat(facets, FacetedRefineEdgeMm(SurfaceArea(facets), kMaxFacetsProjectionVertices),
+                    2 * kMaxFacetsProjectionVertices);
+}
+
+}  // namespace
+
+absl::StatusOr<std::unique_ptr<LoopSurface>> ExactFacetsSurface(const ControlMesh& facets, int level) {
+  SURFMAP_ASSIGN_OR_RETURN(const ControlMesh fine, ProjectionFacets(facets));
+  const DenseSurface dense(fine, kCadCreaseAngleDeg);
+  return LoopSurface::Create(facets, level, dense.Projection(), LoopSurface::Edges::kSharp);
+}
+
 absl::StatusOr<std::unique_ptr<LoopSurface>> FacetsSurface(const ControlMesh& facets, int level,
                                                            double site_spacing_mm) {
-  const double area = SurfaceArea(facets);
-  SURFMAP_ASSIGN_OR_RETURN(
-      ControlMesh fine,
-      RefineFlat(facets, FacetedRefineEdgeMm(area, kMaxFacetsProjectionVertices), 2 * kMaxFacetsProjectionVertices));
+  SURFMAP_ASSIGN_OR_RETURN(const ControlMesh fine, ProjectionFacets(facets));
+  const DenseSurface dense(fine, kCadCreaseAngleDeg);
   ControlMesh control = facets;
   if (site_spacing_mm > 0) {
     SURFMAP_ASSIGN_OR_RETURN(control, RefineFlat(facets, std::sqrt(2.0) * site_spacing_mm,
@@ -26,7 +42,6 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> FacetsSurface(const ControlMesh& fa
     SURFMAP_ASSIGN_OR_RETURN(ControlMeshChoice choice, ControlMeshForSpacing(control, site_spacing_mm));
     control = std::move(choice.mesh);
   }
-  const DenseSurface dense(fine, kCadCreaseAngleDeg);
   return LoopSurface::Create(control, level, dense.Projection());
 }
 

@@ -25,9 +25,19 @@ namespace surfmap {
 inline constexpr int kMaxFacetsProjectionVertices = 200000;
 
 // `facets` must be valid (ValidateControlMesh). `site_spacing_mm` 0: the
-// facets themselves are the control mesh (GetMesh's surface of the object).
+// facets themselves are the control mesh, Loop-smoothed and projected back
+// (the simulated rig's scene, which rounds edges as a probe tip does).
 // Errors: those of RefineFlat, ControlMeshForSpacing and LoopSurface::Create.
 absl::StatusOr<std::unique_ptr<LoopSurface>> FacetsSurface(const ControlMesh& facets, int level,
                                                            double site_spacing_mm);
+
+// The object's own shape as the service serves it (GetMesh): the facets
+// refined with every edge sharp (LoopSurface::Edges::kSharp), so level 0 is
+// the uploaded mesh itself, corners and edges where they are, and every level
+// lies on the facets; normals are the facets' refined to ~2 mm, creased as
+// above. Taken as a smooth control mesh instead, a 12-triangle box's level-0
+// corners were served 28 mm inside the box. Errors: those of RefineFlat and
+// LoopSurface::Create.
+absl::StatusOr<std::unique_ptr<LoopSurface>> ExactFacetsSurface(const ControlMesh& facets, int level);
 
 }  // namespace surfmap

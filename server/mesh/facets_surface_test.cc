@@ -62,6 +62,48 @@ TEST(FacetsSurfaceTest, SitesLieOnTheFacetsWithTheFacesNormals) {
   }
 }
 
+// The object's shape as GetMesh serves it. Taken as a smooth control mesh
+// and projected back (FacetsSurface at spacing 0, the simulated rig's scene)
+// the box's level-0 corners land on the faces far from the corners (measured
+// 28 mm); with every edge sharp level 0 is the box's own 8 corners and every
+// finer level lies on its faces, with its edges and corners where they are.
+TEST(FacetsSurfaceTest, ExactFacetsAreTheBoxCornersAndAll) {
+  const ControlMesh box = MakeCadBox(kHalf);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> smoothed = FacetsSurface(box, 3, /*site_spacing_mm=*/0);
+  absl::StatusOr<std::unique_ptr<LoopSurface>> exact = ExactFacetsSurface(box, 3);
+  ASSERT_TRUE(smoothed.ok()) << smoothed.status();
+  ASSERT_TRUE(exact.ok()) << exact.status();
+  double smoothed_corner_error = 0.0;
+  for (std::size_t v = 0; v < box.positions.size(); ++v) {
+    smoothed_corner_error =
+        std::max(smoothed_corner_error, ((*smoothed)->level(0).limit_positions[v] - box.positions[v]).norm());
+    EXPECT_LT(((*exact)->level(0).limit_positions[v] - box.positions[v]).norm(), 1e-9) << "corner " << v;
+  }
+  EXPECT_GT(smoothed_corner_error, 10.0);
+  const SurfaceLevel& fine = (*exact)->level(3);
+  int on_edges = 0;
+  for (std::size_t v = 0; v < fine.limit_positions.size(); ++v) {
+    const Eigen::Vector3d& p = fine.limit_positions[v];
+    ASSERT_LT(OffBox(p), 1e-9) << "vertex " << v;
+    if (FromEdge(p) < 1e-9) {
+      ++on_edges;
+      continue;
+    }
+    int axis = 0;
+    p.cwiseAbs().maxCoeff(&axis);
+    ASSERT_NEAR(fine.limit_normals[v][axis], p[axis] > 0 ? 1.0 : -1.0, 1e-9) << "vertex " << v;
+  }
+  // Each of the 12 edges keeps 2^3 + 1 vertices on it at level 3 (the corners
+  // shared by three edges): 12 x 7 + 8.
+  EXPECT_EQ(on_edges, 12 * 7 + 8);
+  // Every level's triangles are flat pieces of the faces: none spans an edge.
+  for (const auto& t : fine.triangles) {
+    const Eigen::Vector3d centroid =
+        (fine.limit_positions[t[0]] + fine.limit_positions[t[1]] + fine.limit_positions[t[2]]) / 3.0;
+    ASSERT_LT(OffBox(centroid), 1e-9);
+  }
+}
+
 // A cylinder exported as 16 segments: its rims are sharp (90 degrees), its
 // segments meet at 22.5 (a tessellated curve). The caps' normals are the
 // caps' and the side's horizontal up to the rims, and across the segments

@@ -1,16 +1,19 @@
 #include "server/mesh/loop_surface.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <mutex>
 #include <string>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <opensubdiv/far/error.h>
 #include <opensubdiv/far/primvarRefiner.h>
 #include <opensubdiv/far/topologyDescriptor.h>
 #include <opensubdiv/far/topologyRefinerFactory.h>
+#include <opensubdiv/sdc/crease.h>
 #include "absl/strings/str_cat.h"
 #include "absl/strings/str_format.h"
 #include "server/mesh/triangle_bvh.h"
@@ -135,6 +138,11 @@ int LevelWithinTriangleLimit(const ControlMesh& control, int wanted) {
 
 absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level,
                                                                  const LimitProjection& projection) {
+  return Create(control, max_level, projection, Edges::kSmooth);
+}
+
+absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMesh& control, int max_level,
+                                                                 const LimitProjection& projection, Edges edges) {
   if (max_level < 0 || max_level > kMaxLevel) {
     return absl::InvalidArgumentError(
         absl::StrFormat("subdivision level %d is out of range 0..%d", max_level, kMaxLevel));
@@ -160,6 +168,22 @@ absl::StatusOr<std::unique_ptr<LoopSurface>> LoopSurface::Create(const ControlMe
   descriptor.numFaces = num_control_faces;
   descriptor.numVertsPerFace = verts_per_face.data();
   descriptor.vertIndicesPerFace = face_vertices.data();
+  std::vector<int> crease_pairs;
+  std::vector<float> crease_weights;
+  if (edges == Edges::kSharp) {
+    std::vector<std::array<int, 2>> unique_edges;
+    unique_edges.reserve(3 * control.triangles.size());
+    for (const auto& t : control.triangles) {
+      for (int i = 0; i < 3; ++i) unique_edges.push_back({std::min(t[i], t[(i + 1) % 3]), std::max(t[i], t[(i + 1) % 3])});
+    }
+    std::sort(unique_edges.begin(), unique_edges.end());
+    unique_edges.erase(std::unique(unique_edges.begin(), unique_edges.end()), unique_edges.end());
+    for (const auto& e : unique_edges) crease_pairs.insert(crease_pairs.end(), e.begin(), e.end());
+    crease_weights.assign(unique_edges.size(), Sdc::Crease::SHARPNESS_INFINITE);
+    descriptor.numCreases = static_cast<int>(unique_edges.size());
+    descriptor.creaseVertexIndexPairs = crease_pairs.data();
+    descriptor.creaseWeights = crease_weights.data();
+  }
 
   Sdc::Options sdc_options;
   // EDGE_AND_CORNER keeps the corners of open meshes on the surface (a

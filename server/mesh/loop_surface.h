@@ -93,6 +93,19 @@ class LoopSurface {
   using LimitProjection = std::function<void(Eigen::Vector3d& position, Eigen::Vector3d& normal)>;
   static absl::StatusOr<std::unique_ptr<LoopSurface>> Create(const ControlMesh& control, int max_level,
                                                              const LimitProjection& projection);
+
+  // How the control mesh's edges are refined.
+  enum class Edges {
+    // Loop's smooth rules: the control mesh is a cage the surface lies inside.
+    kSmooth,
+    // Every control edge infinitely sharp (OpenSubdiv creases): every vertex
+    // where three or more edges meet is a corner that stays put, every edge
+    // stays a straight line and every face stays flat, so each level lies
+    // exactly on the control mesh's own facets (a CAD export's surface).
+    kSharp,
+  };
+  static absl::StatusOr<std::unique_ptr<LoopSurface>> Create(const ControlMesh& control, int max_level,
+                                                             const LimitProjection& projection, Edges edges);
   ~LoopSurface();
 
   int max_level() const;

@@ -8,7 +8,7 @@ namespace surfmap {
 
 absl::StatusOr<std::unique_ptr<LoopSurface>> DerivedPlanSurface(const ControlMesh& mesh, bool facets, int level,
                                                                 double site_spacing_mm) {
-  if (facets) return FacetsSurface(mesh, level, site_spacing_mm);
+  if (facets) return site_spacing_mm > 0 ? FacetsSurface(mesh, level, site_spacing_mm) : ExactFacetsSurface(mesh, level);
   if (!(site_spacing_mm > 0)) return nullptr;
   absl::StatusOr<ControlMeshChoice> control = ControlMeshForSpacing(mesh, site_spacing_mm);
   if (!control.ok()) return control.status();

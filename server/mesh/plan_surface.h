@@ -12,7 +12,8 @@
 namespace surfmap {
 
 // At `level`: an object uploaded as facets, its FacetsSurface
-// (facets_surface.h); a mesh finer than `site_spacing_mm`, a control mesh
+// (facets_surface.h) at a spacing, its ExactFacetsSurface at spacing 0 (the
+// object's shape: GetMesh); a mesh finer than `site_spacing_mm`, a control mesh
 // simplified from it (control_simplify.h) whose limit is projected onto the
 // mesh. Null when the mesh is coarse enough to be the control mesh as it is
 // (always for a control mesh at spacing 0): the caller refines the mesh

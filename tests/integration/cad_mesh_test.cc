@@ -1,6 +1,7 @@
 // A CAD export through the real server: a 100 mm box as 12 triangles, in
 // metres. Uploaded as FACETS, every surface point the service serves (the
-// mesh, the plan's sites, a leased command) lies on the box, with the face's
+// mesh, its corners where they are; the plan's sites, a leased command) lies
+// on the box, with the face's
 // own normal away from its edges; uploaded as a control mesh (the default),
 // its Loop limit surface is a blob centimetres inside the box.
 #include <algorithm>
@@ -84,6 +85,17 @@ TEST(CadMesh, ABoxUploadedAsFacetsIsPlannedAndCommandedOnItsFaces) {
   // The stored mesh is the box x 1000 / 1000 (text round trip).
   ITEST_ASSERT_OK_AND_ASSIGN(off, MeshOffCadBox(stubs, object_id));
   EXPECT_LT(off, 1e-6);
+  // Level 0 is the box's own 8 corners (every edge sharp), not corners of
+  // its Loop blob squashed onto the faces (28 mm off before).
+  pb::GetMeshRequest level0_request;
+  level0_request.set_object_id(object_id);
+  level0_request.set_level(0);
+  pb::GetMeshResponse level0;
+  ASSERT_TRUE(stubs.objects->GetMesh(Context(60).get(), level0_request, &level0).ok());
+  ASSERT_EQ(level0.positions_size(), 8);
+  for (const pb::Vec3& p : level0.positions()) {
+    EXPECT_LT((BoxPoint(p).cwiseAbs() - Eigen::Vector3d::Constant(kHalf)).cwiseAbs().maxCoeff(), 1e-6);
+  }
 
   // The default job (BOUNDARY, 13 mm spacing): about area / spacing^2 sites,
   // every one on the box.
