@@ -107,6 +107,7 @@ int Main(int argc, char** argv) {
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
   double change_guard_mm = FitOptions{}.change_guard_mm;
+  int noise_replicates = FitOptions{}.noise_replicates;
   bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -277,6 +278,11 @@ int Main(int argc, char** argv) {
                    "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)");
   AddDegreesOption(app, "--plan-extension-turn", plan_links.max_extension_turn_deg, 90.0,
                    "the plan's map carries chains of links on (as --map-extension-turn; 0: off)");
+  app.add_option("--noise-replicates", noise_replicates,
+                 "replicates propagating the pause's sensor noise to the roughness series (series_noise.h; 0: the "
+                 "white model sigma^2 (1 + mu^2), estimator version 7)")
+      ->check(CLI::Range(0, 64))
+      ->capture_default_str();
   app.add_option("--change-guard-mm", change_guard_mm,
                  "a piece's roughness fit leaves this many mm out next to each change it ends at (FitOptions)")
       ->check(CLI::NonNegativeNumber)
@@ -350,6 +356,7 @@ int Main(int argc, char** argv) {
   base.plan_link_materials = plan_link_materials;
   base.plan_link_options = plan_links;
   base.fit.change_guard_mm = change_guard_mm;
+  base.fit.noise_replicates = noise_replicates;
   base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name

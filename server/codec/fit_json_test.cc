@@ -109,6 +109,19 @@ TEST(FitJsonTest, ChangeOptionsRoundTripAndAreValidated) {
             "changes: group_spacing_mm -1 must be a finite length >= 0");
 }
 
+TEST(FitJsonTest, NoiseReplicatesRoundTripAndAreValidated) {
+  FitOptions options;
+  options.noise_replicates = 0;  // the white model of estimator version 7
+  auto back = FitOptionsFromJson(FitOptionsToJson(options));
+  ASSERT_TRUE(back.ok()) << back.status();
+  EXPECT_EQ(back->noise_replicates, 0);
+  auto old = FitOptionsFromJson(nlohmann::json{{"step_mm", 0.1}});
+  ASSERT_TRUE(old.ok());
+  EXPECT_EQ(old->noise_replicates, FitOptions{}.noise_replicates);
+  EXPECT_EQ(FitOptionsFromJson(nlohmann::json{{"noise_replicates", 65}}).status().message(),
+            "noise_replicates must be in 0..64");
+}
+
 TEST(FitJsonTest, PairsPerGroupIsKeptWhereThePairsWereGrouped) {
   TraceFit fit = SplitDragFit();  // 100 Hz: not grouped, and no key written
   ASSERT_EQ(fit.pairs_per_group, 1);

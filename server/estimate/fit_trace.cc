@@ -54,14 +54,17 @@ ArFitOptions RoughnessOptions(const FitOptions& options, double noise_std, doubl
 }
 
 // The noise on each stretch's series (series_noise.h), or empty vectors when
-// there is none to correct for or it could not be propagated.
+// there is none to correct for, it is not to be propagated
+// (noise_replicates 0) or it could not be.
 std::vector<std::vector<double>> StretchNoise(std::span<const DragSample> forward,
                                               std::span<const DragSample> reverse,
                                               const PathPairing& pairing, const DataWindow& window,
                                               const FitOptions& options, const TraceFit& fit,
                                               const std::vector<SeriesStretch>& stretches) {
   std::vector<std::vector<double>> none(stretches.size());
-  if (!options.noise_aware || !(fit.noise_std > 0.0) || stretches.empty()) return none;
+  if (!options.noise_aware || !(fit.noise_std > 0.0) || stretches.empty() || options.noise_replicates == 0) {
+    return none;
+  }
   SeriesNoiseOptions noise;
   noise.noise_std = fit.noise_std;
   noise.step_mm = options.step_mm;
@@ -150,7 +153,7 @@ bool FitOptions::IsValid(std::string* why) const {
   }
   if (!(std::isfinite(change_guard_mm) && change_guard_mm >= 0.0)) return fail("change_guard_mm must be >= 0");
   if (!(std::isfinite(path_step_mm) && path_step_mm > 0.0)) return fail("path_step_mm must be > 0");
-  if (noise_replicates < 1 || noise_replicates > 64) return fail("noise_replicates must be in 1..64");
+  if (noise_replicates < 0 || noise_replicates > 64) return fail("noise_replicates must be in 0..64");
   if (piece_bias_replicates < 0 || piece_bias_replicates > 10000) {
     return fail("piece_bias_replicates must be in 0..10000");
   }

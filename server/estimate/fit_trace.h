@@ -37,7 +37,9 @@ struct FitOptions {
   // pause is propagated to the roughness series (series_noise.h) and its
   // autocovariance goes to ArFitOptions::noise_autocovariance.
   bool noise_aware = true;
-  // Replicates of that propagation (SeriesNoiseOptions::replicates), 1..64.
+  // Replicates of that propagation (SeriesNoiseOptions::replicates), 0..64;
+  // 0 = not propagated: the white model noise_std^2 (1 + mu^2) of estimator
+  // version 7, kept for comparison.
   int noise_replicates = 4;
   // Data window: keep where both passes move at >= min_speed_fraction of their
   // median speed, intersected with the common forward/reverse path minus

@@ -21,9 +21,12 @@ const DragTrace& Trace() {
   return trace;
 }
 
+// Arg: FitOptions::noise_replicates (4, the default, against 0, the white
+// noise model without propagation: the cost of series_noise.h).
 void BM_FitTrace(benchmark::State& state) {
   const DragTrace& trace = Trace();
-  const FitOptions options;
+  FitOptions options;
+  options.noise_replicates = static_cast<int>(state.range(0));
   for (auto _ : state) {
     absl::StatusOr<TraceFit> fit = FitTrace(trace, options);
     benchmark::DoNotOptimize(fit);
@@ -32,7 +35,7 @@ void BM_FitTrace(benchmark::State& state) {
   state.SetItemsProcessed(state.iterations());  // items = traces
   state.counters["samples"] = static_cast<double>(trace.samples.size());
 }
-BENCHMARK(BM_FitTrace);
+BENCHMARK(BM_FitTrace)->Arg(4)->Arg(0);
 
 void BM_ParseTraceCsv(benchmark::State& state) {
   const std::string text = FormatTraceCsv(Trace());

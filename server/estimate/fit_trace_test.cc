@@ -10,6 +10,10 @@
 #include "clients/sim/dragsim/drag_geometry.h"
 #include "clients/sim/dragsim/drag_simulator.h"
 #include "server/base/testing/status_matchers.h"
+#include "server/estimate/drag_passes.h"
+#include "server/estimate/force_variation.h"
+#include "server/estimate/path_pairing.h"
+#include "server/estimate/roughness.h"
 #include "server/estimate/trace_csv.h"
 
 namespace surfmap {
@@ -73,6 +77,41 @@ TEST(FitTraceTest, RejectsInvalidOptions) {
   options = FitOptions{};
   options.piece_bias_replicates = -1;
   EXPECT_EQ(ErrorOf(sim.trace, options), "FitOptions: piece_bias_replicates must be in 0..10000");
+  options = FitOptions{};
+  options.noise_replicates = 65;
+  EXPECT_EQ(ErrorOf(sim.trace, options), "FitOptions: noise_replicates must be in 0..64");
+}
+
+// noise_replicates 0 is estimator version 7's white noise model, exactly:
+// the roughness fit of the series with noise_std^2 (1 + mu^2) removed. The
+// default propagates the noise and, on a weak texture (ABS), removes about
+// half as much, so it reads a lower a1 (fit_accuracy_test.cc has the
+// accuracy over 40 drags).
+TEST(FitTraceTest, TheWhiteNoiseModelIsKeptForComparison) {
+  const Material abs{0.30, 0.9, -0.25, 0.035};
+  const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), abs, 3);
+  FitOptions white_options;
+  white_options.noise_replicates = 0;
+  absl::StatusOr<TraceFit> white = FitTrace(sim.trace, white_options);
+  absl::StatusOr<TraceFit> propagated = FitTrace(sim.trace, FitOptions{});
+  ASSERT_TRUE(white.ok()) << white.status();
+  ASSERT_TRUE(propagated.ok()) << propagated.status();
+  ASSERT_EQ(white->pieces.size(), 1u);
+
+  absl::StatusOr<DragPasses> passes = SplitDragPasses(sim.trace);
+  ASSERT_TRUE(passes.ok());
+  absl::StatusOr<PathPairing> pairing = PairPasses(passes->forward, passes->reverse, {});
+  ASSERT_TRUE(pairing.ok());
+  absl::StatusOr<std::vector<Eigen::VectorXd>> series =
+      ForceVariationSeries(passes->forward, passes->reverse, *pairing, white->friction, 0.1);
+  ASSERT_TRUE(series.ok());
+  ArFitOptions ar;
+  ar.noise_variance = white->noise_std * white->noise_std * (1.0 + white->friction.mu * white->friction.mu);
+  absl::StatusOr<ArFit> by_hand = FitAutoregressive(*series, ar);
+  ASSERT_TRUE(by_hand.ok());
+  EXPECT_EQ(white->roughness.a, by_hand->a);
+  EXPECT_EQ(white->roughness.sigma, by_hand->sigma);
+  EXPECT_GT(white->roughness.a[0], propagated->roughness.a[0] + 0.02);
 }
 
 TEST(FitTraceTest, RejectsATraceWithoutReversePass) {
