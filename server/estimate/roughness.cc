@@ -20,9 +20,6 @@ namespace {
 constexpr int kMaxOrder = 20;
 constexpr int kMaxBiasReplicates = 10000;
 constexpr std::size_t kMaxNoiseLags = 64;
-// Below this the texture is not resolvable against the given noise: the
-// de-noised variance would be at most half the noise variance.
-constexpr double kNoiseFloorRatio = 1.5;
 // The model ACF is followed until the dominant root has decayed by e^-30, far
 // past any 1/e crossing; and never past this many lags (roots within ~3e-4 of
 // the unit circle), where the correlation length is reported as a lower bound.
@@ -75,6 +72,8 @@ bool ArFitOptions::IsValid(std::string* why) const {
   } else if (noise_autocovariance.size() > kMaxNoiseLags) {
     reason = absl::StrCat("noise_autocovariance has ", noise_autocovariance.size(), " lags; at most ",
                           kMaxNoiseLags);
+  } else if (!std::isfinite(noise_floor_ratio) || noise_floor_ratio < 1.0) {
+    reason = absl::StrCat("noise_floor_ratio ", noise_floor_ratio, " must be finite and >= 1");
   } else if (acf_max_lag < 0) {
     reason = absl::StrCat("acf_max_lag ", acf_max_lag, " must be >= 0 (0 = automatic)");
   } else if (bias_replicates < 0 || bias_replicates > kMaxBiasReplicates) {
@@ -171,7 +170,7 @@ absl::StatusOr<ArFit> FitAutoregressive(const std::vector<Eigen::VectorXd>& segm
   fit.n = static_cast<int>(n_total);
   const std::vector<double> noise = options.NoiseAutocovariance();
   const double noise_variance = noise.empty() ? 0.0 : noise[0];
-  fit.below_noise_floor = noise_variance > 0.0 && raw_variance <= kNoiseFloorRatio * noise_variance;
+  fit.below_noise_floor = noise_variance > 0.0 && raw_variance <= options.noise_floor_ratio * noise_variance;
   auto solve = [&](const std::vector<double>& correction) {
     return options.method == ArMethod::kBurg ? SolveBurg(centered, p, raw_variance, correction)
                                              : SolveLeastSquares(centered, p, correction);

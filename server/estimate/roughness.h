@@ -62,6 +62,13 @@ struct ArFitOptions {
   // part everywhere (noise floor, process variance, bias replicates, which
   // add white noise of that variance).
   std::vector<double> noise_autocovariance;
+  // The texture is below the noise floor (ArFit::below_noise_floor) when the
+  // series' variance is at most this many times the noise's (lag 0), >= 1.
+  // 1.5: a texture of at most half the noise's variance. FitTrace asks 3.0 of
+  // the noise it propagates (series_noise.h): a texture of at most twice the
+  // noise the series carries, where version 7's 1.5 times the white model
+  // (twice that noise) drew the line, so glass and steel stay unresolved.
+  double noise_floor_ratio = 1.5;
   // >= 0; 0 = min(n/4, 200). Clamped to the shortest segment's length - 1.
   int acf_max_lag = 0;
   // Small-sample bias correction by parametric bootstrap (ar_bias_correction.h):
@@ -81,7 +88,8 @@ struct ArFitOptions {
   // <= 0 or non-finite, negative or non-finite noise_variance, a
   // noise_autocovariance with a non-finite entry, a negative lag 0, a lag
   // larger than lag 0 in size, more than 64 lags, or given with
-  // noise_variance > 0, acf_max_lag < 0, bias_replicates outside 0..10000.
+  // noise_variance > 0, noise_floor_ratio below 1 or not finite,
+  // acf_max_lag < 0, bias_replicates outside 0..10000.
   // NoiseAutocovariance() is the noise as the estimators take it.
   bool IsValid(std::string* why) const;
   std::vector<double> NoiseAutocovariance() const;
@@ -125,7 +133,8 @@ struct ArFit {
   // oscillation) or the model's power spectrum peaks at zero frequency.
   std::optional<double> dominant_wavelength_mm;
   // True when the texture variance is not above the given measurement noise
-  // (the sensor cannot resolve it): series variance <= 1.5 * noise_variance,
+  // (the sensor cannot resolve it): series variance <= noise_floor_ratio
+  // times the noise's variance,
   // or the noise correction broke down (de-noised moments not positive). The
   // fit is then returned without noise correction (or with the correction
   // clamped) and must be treated as an upper bound on the texture.
