@@ -89,6 +89,7 @@ absl::Status RunPlan(const MappingBench& bench, const MappingRunOptions& options
   plan_options.small_material_weight_max = options.small_material_weight_max;
   plan_options.far_gain_expected = options.far_gain_expected;
   plan_options.issue_selected_by_gain = options.issue_selected_by_gain;
+  plan_options.coarse_direction_by_gain = options.coarse_direction_by_gain;
   plan_options.boundary_cost_follows_property = options.boundary_cost_follows_property;
   plan_options.coverage_skip_share = options.coverage_skip_share;
   plan_options.quiet_coverage_skip_share = options.quiet_coverage_skip_share;

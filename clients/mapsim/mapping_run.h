@@ -67,6 +67,7 @@ struct MappingRunOptions {
   double small_material_weight_max = SamplingPlanOptions{}.small_material_weight_max;  // kBoundary
   bool far_gain_expected = SamplingPlanOptions{}.far_gain_expected;                    // kBoundary
   bool issue_selected_by_gain = SamplingPlanOptions{}.issue_selected_by_gain;          // kBoundary
+  bool coarse_direction_by_gain = SamplingPlanOptions{}.coarse_direction_by_gain;      // kBoundary
   bool boundary_cost_follows_property = SamplingPlanOptions{}.boundary_cost_follows_property;  // kBoundary
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;  // kBoundary
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;  // kBoundary

@@ -91,6 +91,7 @@ int Main(int argc, char** argv) {
   double small_material_weight_max = SamplingPlanOptions{}.small_material_weight_max;
   bool far_gain_expected = SamplingPlanOptions{}.far_gain_expected;
   bool issue_by_gain = SamplingPlanOptions{}.issue_selected_by_gain;
+  bool coarse_by_gain = SamplingPlanOptions{}.coarse_direction_by_gain;
   bool friction_boundary_cost = !SamplingPlanOptions{}.boundary_cost_follows_property;
   double coverage_skip_share = SamplingPlanOptions{}.coverage_skip_share;
   double quiet_coverage_skip_share = SamplingPlanOptions{}.quiet_coverage_skip_share;
@@ -160,6 +161,10 @@ int Main(int argc, char** argv) {
   app.add_option("--issue-by-gain", issue_by_gain,
                  "boundary plans issue a selection's sites in the order they were chosen, the largest gain first "
                  "(sampling_plan_options.h; false: the plan's issue order, the build before) (true|false)")
+      ->capture_default_str();
+  app.add_option("--coarse-by-gain", coarse_by_gain,
+                 "boundary plans drag a coarsest-level site in whichever of its three varied orientations gains most "
+                 "(sampling_plan_options.h; false: its own by the seeded key, the build before) (true|false)")
       ->capture_default_str();
   app.add_flag("--friction-boundary-cost", friction_boundary_cost,
                "boundary plans weigh a boundary by its mu jump alone whatever --property says (the build before)");
@@ -340,6 +345,7 @@ int Main(int argc, char** argv) {
   base.small_material_weight_max = small_material_weight_max;
   base.far_gain_expected = far_gain_expected;
   base.issue_selected_by_gain = issue_by_gain;
+  base.coarse_direction_by_gain = coarse_by_gain;
   base.boundary_cost_follows_property = !friction_boundary_cost;
   base.coverage_skip_share = coverage_skip_share;
   base.quiet_coverage_skip_share = quiet_coverage_skip_share;

@@ -338,5 +338,28 @@ BoundarySelection BoundarySelector::BestDirection(const RegionMap& map, int v,
   return ScanDirections(v, RemovableVariance(map, covered));
 }
 
+BoundarySelection BoundarySelector::BestAmong(const RegionMap& map, int v, std::span<const Eigen::Vector3d> directions,
+                                              const std::vector<Eigen::Vector3d>& covered) const {
+  const auto& x = level_->limit_positions;
+  if (!map.has_pieces() || v < 0 || v >= static_cast<int>(x.size()) || directions.empty()) return {};
+  const Removable removable = RemovableVariance(map, covered);
+  std::vector<int> near;
+  ForEachWithin(x[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
+  BoundarySelection best;
+  best.vertex = v;
+  best.direction = directions.front();
+  best.gain = -1.0;
+  for (const Eigen::Vector3d& u : directions) {
+    const Gains g = GainAlong(v, u, near, removable);
+    const double gain = g.total();
+    if (gain > best.gain) {
+      best.gain = gain;
+      best.boundary_share = gain > 0.0 ? g.boundary / gain : 0.0;
+      best.direction = u;
+    }
+  }
+  return best;
+}
+
 
 }  // namespace surfmap

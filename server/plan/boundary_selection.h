@@ -144,6 +144,12 @@ class BoundarySelector {
   // some data came in) with its gain and boundary share.
   BoundarySelection BestDirection(const RegionMap& map, int v, const std::vector<Eigen::Vector3d>& covered) const;
 
+  // The best of `directions` (unit tangents at v) for a drag at v, by the
+  // same gain; ties go to the first. An empty selection (vertex -1) when the
+  // map has no pieces or v is not a vertex of the level.
+  BoundarySelection BestAmong(const RegionMap& map, int v, std::span<const Eigen::Vector3d> directions,
+                              const std::vector<Eigen::Vector3d>& covered) const;
+
   // The gain below which a drag is not worth making: a resolution-sized
   // error (mu_resolution) over the whole corridor.
   double MinGain(double mu_resolution) const;

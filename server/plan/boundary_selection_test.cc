@@ -253,6 +253,32 @@ TEST(BoundarySelectorTest, AFarGainExpectedCountsOnlyWhatBringingDataNearerTakes
   EXPECT_LT(between_share, 0.7 * open_share);
 }
 
+// A coverage drag between two drags 10 mm apart: down the middle of the gap
+// it brings a 10 mm band nearer data; across them, only the two short
+// stretches between and beyond them. BestAmong takes the gap's direction
+// whichever order the directions come in.
+TEST(BoundarySelectorTest, BestAmongLaysACoverageDragDownAGap) {
+  const SurfaceLevel level = testing::Plate();
+  absl::StatusOr<RegionMap> map = TwoGlassDrags(level);
+  ASSERT_TRUE(map.ok()) << map.status();
+  const BoundarySelector selector(level, kDragLengthMm, BoundarySelector::Friction(), 0.0, false, 1.0,
+                                  /*far_gain_expected=*/true);
+  const int between = selector.NearestVertex({-25, 0, 0}, 1.0);
+  ASSERT_GE(between, 0);
+  for (const auto& directions : {std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()},
+                                 std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX()}}) {
+    const BoundarySelection best = selector.BestAmong(*map, between, directions, {});
+    EXPECT_EQ(best.vertex, between);
+    EXPECT_GT(best.gain, 0.0);
+    EXPECT_NEAR(std::abs(best.direction.dot(Eigen::Vector3d::UnitY())), 1.0, 1e-12);
+  }
+  // Nothing to choose from, or nowhere to choose at: no selection.
+  EXPECT_EQ(selector.BestAmong(*map, between, {}, {}).vertex, -1);
+  const std::vector<Eigen::Vector3d> one = {Eigen::Vector3d::UnitX()};
+  EXPECT_EQ(selector.BestAmong(*map, -1, one, {}).vertex, -1);
+  EXPECT_EQ(selector.BestAmong(*map, static_cast<int>(level.limit_positions.size()), one, {}).vertex, -1);
+}
+
 // The pebble's strip (MaterialMuRiskGain's comment): 260 mm^2 of masonite
 // read 0.325 +- 0.017 from 80 mm of pieces, 0.02 from rubber's mu; a 16 mm
 // drag along it lowers the chance it reads nearer rubber than its own truth

@@ -24,4 +24,9 @@ Eigen::Vector3d VariedDragDirection(const Eigen::Vector3d& normal, std::uint64_t
   return (std::cos(angle) * t + std::sin(angle) * n.cross(t)).normalized();
 }
 
+std::array<Eigen::Vector3d, 3> VariedDragDirections(const Eigen::Vector3d& normal, std::uint64_t key) {
+  const std::uint64_t k = key % 3;
+  return {VariedDragDirection(normal, k), VariedDragDirection(normal, k + 1), VariedDragDirection(normal, k + 2)};
+}
+
 }  // namespace surfmap

@@ -1,6 +1,7 @@
 // The deterministic drag direction of a probe command.
 #pragma once
 
+#include <array>
 #include <cstdint>
 
 #include <Eigen/Core>
@@ -20,5 +21,9 @@ Eigen::Vector3d TangentDragDirection(const Eigen::Vector3d& normal);
 // direction is crossed at 60 degrees or more by a third of them (a drag that
 // runs along a narrow band never finds it).
 Eigen::Vector3d VariedDragDirection(const Eigen::Vector3d& normal, std::uint64_t key);
+
+// The three directions VariedDragDirection takes at `normal`, the one `key`
+// gives first, then the next two keys'.
+std::array<Eigen::Vector3d, 3> VariedDragDirections(const Eigen::Vector3d& normal, std::uint64_t key);
 
 }  // namespace surfmap

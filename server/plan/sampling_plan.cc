@@ -594,6 +594,14 @@ Eigen::Vector3d SamplingPlan::DirectionFor(const SiteRecord& r) {
     if (best.boundary_share >= 0.5 && best.gain > selector_->MinGain(options_.regions.merge.mu_resolution)) {
       return best.direction;
     }
+    // Of the three varied orientations, the one whose path brings the most
+    // surface nearer data (and settles the most): a coverage drag laid down
+    // the middle of a gap between earlier ones, not along one of them.
+    if (options_.coarse_direction_by_gain) {
+      const auto directions = VariedDragDirections(normal, SiteShuffleKey(options_.seed, r.site.vertex));
+      const BoundarySelection among = selector_->BestAmong(*region_map_, r.site.vertex, directions, {});
+      if (among.vertex >= 0) return among.direction;
+    }
   }
   return VariedDragDirection(normal, SiteShuffleKey(options_.seed, r.site.vertex));
 }

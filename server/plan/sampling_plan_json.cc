@@ -169,6 +169,7 @@ json OptionsToJson(const SamplingPlanOptions& o) {
       {"small_material_weight_max", o.small_material_weight_max},
       {"far_gain_expected", o.far_gain_expected},
       {"issue_selected_by_gain", o.issue_selected_by_gain},
+      {"coarse_direction_by_gain", o.coarse_direction_by_gain},
   };
 }
 
@@ -267,6 +268,8 @@ SamplingPlanOptions OptionsFromJson(const json& j, Reader& in) {
   // Added later: a plan saved before goes on issuing its choices in the
   // plan's issue order.
   o.issue_selected_by_gain = j.contains("issue_selected_by_gain") && in.Bool(j, "options", "issue_selected_by_gain");
+  o.coarse_direction_by_gain =
+      j.contains("coarse_direction_by_gain") && in.Bool(j, "options", "coarse_direction_by_gain");
   return o;
 }
 

@@ -230,6 +230,13 @@ TEST(SaveRestoreTest, IssueSelectedByGainIsSavedAndAPlanSavedBeforeItRestoresIss
   ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::issue_selected_by_gain, "issue_selected_by_gain", false);
 }
 
+TEST(SaveRestoreTest, CoarseDirectionByGainIsSavedAndAPlanSavedBeforeItRestoresWithTheKeysOrientation) {
+  SamplingPlanOptions o = OptionsFor(PlanMode::kBoundary);
+  o.coarse_direction_by_gain = true;
+  ExpectSavedAndDefaultedBeforeIt(o, &SamplingPlanOptions::coarse_direction_by_gain, "coarse_direction_by_gain",
+                                  false);
+}
+
 TEST(SaveRestoreTest, RejectsCorruptOrMismatchedState) {
   const auto levels = TwoMaterialPlate(2);
   SamplingPlanOptions o = OptionsFor(PlanMode::kAdaptive);

@@ -178,6 +178,13 @@ struct SamplingPlanOptions {
   // (docs/method.md, "A selection issued in the order it was chosen").
   // Plans stored without the key restore with false.
   bool issue_selected_by_gain = false;
+  // kBoundary: a coarsest-level site dragged after data came in, where no
+  // boundary calls for a direction, takes whichever of its three varied
+  // orientations (drag_direction.h) gains most: mostly, whose path brings
+  // the most surface nearer data. false = the site's own orientation, by
+  // its shuffle key (the build before, and what plans stored without the
+  // key restore with).
+  bool coarse_direction_by_gain = false;
   // kBoundary: a coarsest-level site not yet issued is skipped when a
   // measured drag's data window passed within this share of the drag length
   // of it: within a quarter of the length either side of its path the map
