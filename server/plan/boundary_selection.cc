@@ -1,6 +1,7 @@
 #include "server/plan/boundary_selection.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -26,6 +27,20 @@ constexpr int kDirections = 12;
 // disc, so the best drag is among the best few discs; 16 costs ~16 x 12
 // corridor sums per choice.
 constexpr int kShortlist = 16;
+
+// The kDirections steps at a vertex of normal `normal`, from
+// TangentDragDirection: steps 0, 4 and 8 are VariedDragDirection's three.
+std::array<Eigen::Vector3d, kDirections> ScanDirections(const Eigen::Vector3d& normal) {
+  const Eigen::Vector3d n = normal.normalized();
+  const Eigen::Vector3d t1 = TangentDragDirection(n);
+  const Eigen::Vector3d t2 = n.cross(t1);
+  std::array<Eigen::Vector3d, kDirections> directions;
+  for (int k = 0; k < kDirections; ++k) {
+    const double angle = std::numbers::pi * k / kDirections;
+    directions[k] = std::cos(angle) * t1 + std::sin(angle) * t2;
+  }
+  return directions;
+}
 
 }  // namespace
 
@@ -264,17 +279,16 @@ BoundarySelector::Gains BoundarySelector::GainAlong(int v, const Eigen::Vector3d
   return g;
 }
 
-BoundarySelection BoundarySelector::ScanDirections(int v, const Removable& removable) const {
-  BoundarySelection best;
-  const auto& x = level_->limit_positions;
-  const Eigen::Vector3d n = level_->limit_normals[v].normalized();
-  const Eigen::Vector3d t1 = TangentDragDirection(n);
-  const Eigen::Vector3d t2 = n.cross(t1);
+std::vector<int> BoundarySelector::Near(int v) const {
   std::vector<int> near;
-  ForEachWithin(x[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
-  for (int k = 0; k < kDirections; ++k) {
-    const double angle = std::numbers::pi * k / kDirections;
-    const Eigen::Vector3d u = std::cos(angle) * t1 + std::sin(angle) * t2;
+  ForEachWithin(level_->limit_positions[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
+  return near;
+}
+
+BoundarySelection BoundarySelector::BestOf(int v, std::span<const Eigen::Vector3d> directions,
+                                           const std::vector<int>& near, const Removable& removable) const {
+  BoundarySelection best;
+  for (const Eigen::Vector3d& u : directions) {
     const Gains g = GainAlong(v, u, near, removable);
     const double gain = g.total();
     if (gain > best.gain) {
@@ -311,15 +325,13 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
   scored.resize(keep);
   std::sort(scored.begin(), scored.end(), [](const auto& a, const auto& b) { return a.second < b.second; });
   for (const auto& [negative_sum, c] : scored) {
-    const BoundarySelection here = ScanDirections(c, removable);
+    const BoundarySelection here = BestOf(c, ScanDirections(level_->limit_normals[c]), Near(c), removable);
     if (here.gain > best.gain) best = here;
   }
   for (int i = 0; i < static_cast<int>(directed.size()); ++i) {
     const DirectedCandidate& d = directed[i];
     if (d.vertex < 0 || d.vertex >= nv) continue;
-    std::vector<int> near;
-    ForEachWithin(x[d.vertex], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
-    const Gains g = GainAlong(d.vertex, d.direction, near, removable);
+    const Gains g = GainAlong(d.vertex, d.direction, Near(d.vertex), removable);
     const double gain = g.far + g.boundary + d.extra_gain + g.material;
     if (gain > best.gain) {
       best.vertex = d.vertex;
@@ -334,32 +346,16 @@ BoundarySelection BoundarySelector::Select(const RegionMap& map, std::span<const
 
 BoundarySelection BoundarySelector::BestDirection(const RegionMap& map, int v,
                                                   const std::vector<Eigen::Vector3d>& covered) const {
+  return BestDirectionAndAmong(map, v, {}, covered).best;
+}
+
+BoundarySelector::DirectionChoice BoundarySelector::BestDirectionAndAmong(
+    const RegionMap& map, int v, std::span<const Eigen::Vector3d> among,
+    const std::vector<Eigen::Vector3d>& covered) const {
   if (!map.has_pieces() || v < 0 || v >= static_cast<int>(level_->limit_positions.size())) return {};
-  return ScanDirections(v, RemovableVariance(map, covered));
-}
-
-BoundarySelection BoundarySelector::BestAmong(const RegionMap& map, int v, std::span<const Eigen::Vector3d> directions,
-                                              const std::vector<Eigen::Vector3d>& covered) const {
-  const auto& x = level_->limit_positions;
-  if (!map.has_pieces() || v < 0 || v >= static_cast<int>(x.size()) || directions.empty()) return {};
   const Removable removable = RemovableVariance(map, covered);
-  std::vector<int> near;
-  ForEachWithin(x[v], half_window_mm_ + corridor_mm_, [&](int u) { near.push_back(u); });
-  BoundarySelection best;
-  best.vertex = v;
-  best.direction = directions.front();
-  best.gain = -1.0;
-  for (const Eigen::Vector3d& u : directions) {
-    const Gains g = GainAlong(v, u, near, removable);
-    const double gain = g.total();
-    if (gain > best.gain) {
-      best.gain = gain;
-      best.boundary_share = gain > 0.0 ? g.boundary / gain : 0.0;
-      best.direction = u;
-    }
-  }
-  return best;
+  const std::vector<int> near = Near(v);
+  return {BestOf(v, ScanDirections(level_->limit_normals[v]), near, removable), BestOf(v, among, near, removable)};
 }
-
 
 }  // namespace surfmap

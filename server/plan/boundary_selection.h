@@ -144,11 +144,16 @@ class BoundarySelector {
   // some data came in) with its gain and boundary share.
   BoundarySelection BestDirection(const RegionMap& map, int v, const std::vector<Eigen::Vector3d>& covered) const;
 
-  // The best of `directions` (unit tangents at v) for a drag at v, by the
-  // same gain; ties go to the first. An empty selection (vertex -1) when the
-  // map has no pieces or v is not a vertex of the level.
-  BoundarySelection BestAmong(const RegionMap& map, int v, std::span<const Eigen::Vector3d> directions,
-                              const std::vector<Eigen::Vector3d>& covered) const;
+  // BestDirection's answer (`best`), and the best of `among` (unit tangents
+  // at v) by the same gain (`among`; ties go to the first), from one pass
+  // over the map. Either is empty (vertex -1) when no direction gains
+  // anything, the map has no pieces or v is not a vertex of the level.
+  struct DirectionChoice {
+    BoundarySelection best;
+    BoundarySelection among;
+  };
+  DirectionChoice BestDirectionAndAmong(const RegionMap& map, int v, std::span<const Eigen::Vector3d> among,
+                                        const std::vector<Eigen::Vector3d>& covered) const;
 
   // The gain below which a drag is not worth making: a resolution-sized
   // error (mu_resolution) over the whole corridor.
@@ -182,7 +187,12 @@ class BoundarySelector {
     std::vector<double> material_density;  // per vertex: a whole drag's material gain per mm^2 of its disc
   };
   Removable RemovableVariance(const RegionMap& map, const std::vector<Eigen::Vector3d>& covered) const;
-  BoundarySelection ScanDirections(int v, const Removable& removable) const;
+  // The best of `directions` for a drag at v over `near` (empty when none
+  // gains anything; ties go to the first).
+  BoundarySelection BestOf(int v, std::span<const Eigen::Vector3d> directions, const std::vector<int>& near,
+                           const Removable& removable) const;
+  // The vertices within the window's reach of v, the corridor included.
+  std::vector<int> Near(int v) const;
   // What a drag at v along u (unit tangent) gains, over `near` (the
   // vertices within the window's reach of v), in one pass: far from data,
   // at boundaries, and by settling the materials' mu (MaterialMuRiskGain of

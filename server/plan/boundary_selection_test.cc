@@ -255,8 +255,8 @@ TEST(BoundarySelectorTest, AFarGainExpectedCountsOnlyWhatBringingDataNearerTakes
 
 // A coverage drag between two drags 10 mm apart: down the middle of the gap
 // it brings a 10 mm band nearer data; across them, only the two short
-// stretches between and beyond them. BestAmong takes the gap's direction
-// whichever order the directions come in.
+// stretches between and beyond them. The best among the directions offered
+// is the gap's, whichever order they come in.
 TEST(BoundarySelectorTest, BestAmongLaysACoverageDragDownAGap) {
   const SurfaceLevel level = testing::Plate();
   absl::StatusOr<RegionMap> map = TwoGlassDrags(level);
@@ -267,16 +267,23 @@ TEST(BoundarySelectorTest, BestAmongLaysACoverageDragDownAGap) {
   ASSERT_GE(between, 0);
   for (const auto& directions : {std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY()},
                                  std::vector<Eigen::Vector3d>{Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitX()}}) {
-    const BoundarySelection best = selector.BestAmong(*map, between, directions, {});
+    const BoundarySelection best = selector.BestDirectionAndAmong(*map, between, directions, {}).among;
     EXPECT_EQ(best.vertex, between);
     EXPECT_GT(best.gain, 0.0);
     EXPECT_NEAR(std::abs(best.direction.dot(Eigen::Vector3d::UnitY())), 1.0, 1e-12);
   }
   // Nothing to choose from, or nowhere to choose at: no selection.
-  EXPECT_EQ(selector.BestAmong(*map, between, {}, {}).vertex, -1);
+  EXPECT_EQ(selector.BestDirectionAndAmong(*map, between, {}, {}).among.vertex, -1);
   const std::vector<Eigen::Vector3d> one = {Eigen::Vector3d::UnitX()};
-  EXPECT_EQ(selector.BestAmong(*map, -1, one, {}).vertex, -1);
-  EXPECT_EQ(selector.BestAmong(*map, static_cast<int>(level.limit_positions.size()), one, {}).vertex, -1);
+  EXPECT_EQ(selector.BestDirectionAndAmong(*map, -1, one, {}).among.vertex, -1);
+  EXPECT_EQ(selector.BestDirectionAndAmong(*map, static_cast<int>(level.limit_positions.size()), one, {}).among.vertex,
+            -1);
+  // The scan's answer from the same pass is BestDirection's.
+  const BoundarySelection scan = selector.BestDirection(*map, between, {});
+  const BoundarySelection same_pass = selector.BestDirectionAndAmong(*map, between, one, {}).best;
+  EXPECT_EQ(same_pass.vertex, scan.vertex);
+  EXPECT_EQ(same_pass.gain, scan.gain);
+  EXPECT_EQ(same_pass.direction, scan.direction);
 }
 
 // The pebble's strip (MaterialMuRiskGain's comment): 260 mm^2 of masonite

@@ -590,18 +590,20 @@ Eigen::Vector3d SamplingPlan::DirectionFor(const SiteRecord& r) {
   // is most of what a drag here could settle); where nothing is known,
   // orientations varied from site to site.
   if (HasDrags() && EnsureRegionMap().ok()) {
-    const BoundarySelection best = selector_->BestDirection(*region_map_, r.site.vertex, {});
+    // coarse_direction_by_gain: of the three varied orientations, the one
+    // whose path brings the most surface nearer data (and settles the most),
+    // a coverage drag laid down the middle of a gap between earlier ones.
+    const auto varied = VariedDragDirections(normal, SiteShuffleKey(options_.seed, r.site.vertex));
+    const BoundarySelector::DirectionChoice choice = selector_->BestDirectionAndAmong(
+        *region_map_, r.site.vertex,
+        options_.coarse_direction_by_gain ? std::span<const Eigen::Vector3d>(varied)
+                                          : std::span<const Eigen::Vector3d>(),
+        {});
+    const BoundarySelection& best = choice.best;
     if (best.boundary_share >= 0.5 && best.gain > selector_->MinGain(options_.regions.merge.mu_resolution)) {
       return best.direction;
     }
-    // Of the three varied orientations, the one whose path brings the most
-    // surface nearer data (and settles the most): a coverage drag laid down
-    // the middle of a gap between earlier ones, not along one of them.
-    if (options_.coarse_direction_by_gain) {
-      const auto directions = VariedDragDirections(normal, SiteShuffleKey(options_.seed, r.site.vertex));
-      const BoundarySelection among = selector_->BestAmong(*region_map_, r.site.vertex, directions, {});
-      if (among.vertex >= 0) return among.direction;
-    }
+    if (choice.among.vertex >= 0) return choice.among.direction;
   }
   return VariedDragDirection(normal, SiteShuffleKey(options_.seed, r.site.vertex));
 }
