@@ -27,6 +27,7 @@ struct FitArgs {
   int order = 2;
   std::string method = "burg";
   bool no_noise_correction = false;
+  double series_normal_mm = FitOptions{}.series_normal.halfwidth_mm;
 };
 
 // "-" is standard input (named "stdin" in messages), as in most Unix tools.
@@ -95,6 +96,7 @@ int RunFit(const FitArgs& args) {
   options.ar_order = args.order;
   options.ar_method = args.method == "ls" ? ArMethod::kLeastSquares : ArMethod::kBurg;
   options.noise_aware = !args.no_noise_correction;
+  options.series_normal.halfwidth_mm = args.series_normal_mm;
   std::string why;
   if (!options.IsValid(&why)) {
     std::cerr << "surfmap fit: invalid options: " << why << "\n";
@@ -140,6 +142,10 @@ void AddFitCommand(CLI::App& app, int* exit_code) {
   fit->add_option("--method", args->method, "AR estimator")->check(CLI::IsMember({"burg", "ls"}));
   fit->add_flag("--no-noise-correction", args->no_noise_correction,
                 "Do not use the pause's noise floor to de-bias the roughness fit");
+  fit->add_option("--series-normal-mm", args->series_normal_mm,
+                  "The roughness series reads each force against the pair normals averaged over +- this many mm "
+                  "(0: each pair's own normal, estimator version 8)")
+      ->check(CLI::Range(0.0, 10.0));
   fit->callback([args, exit_code] { *exit_code = RunFit(*args); });
 }
 

@@ -106,6 +106,10 @@ nlohmann::json RunToJson(const MappingRunResult& run) {
                           {"mu_se", piece.mu_se},
                           {"spread", piece.texture.mu_std},
                           {"roughness", piece.has_roughness()}});
+        if (piece.has_roughness()) {
+          pieces.back()["reflection"] = piece.texture.reflection;
+          pieces.back()["sigma"] = piece.texture.sigma;
+        }
       }
       j["pieces"] = std::move(pieces);
       // The executed path, so a reader can tell which drags crossed which

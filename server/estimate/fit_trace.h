@@ -22,6 +22,7 @@
 #include "server/estimate/data_window.h"
 #include "server/estimate/drag_pieces.h"
 #include "server/estimate/drag_trace.h"
+#include "server/estimate/force_variation.h"
 #include "server/estimate/friction.h"
 #include "server/estimate/path_pairing.h"
 #include "server/estimate/roughness.h"
@@ -41,6 +42,10 @@ struct FitOptions {
   // 0 = not propagated: the white model noise_std^2 (1 + mu^2) of estimator
   // version 7, kept for comparison.
   int noise_replicates = 4;
+  // The normal each sample's force is read against for the roughness series
+  // (force_variation.h): pair normals averaged along the path; halfwidth 0
+  // is each pair's own normal, estimator version 8.
+  SeriesNormalOptions series_normal;
   // Data window: keep where both passes move at >= min_speed_fraction of their
   // median speed, intersected with the common forward/reverse path minus
   // window_trim_fraction of it at each end (see data_window.h for why).

@@ -83,19 +83,18 @@ TEST(FitTraceTest, RejectsInvalidOptions) {
 }
 
 // noise_replicates 0 is estimator version 7's white noise model, exactly:
-// the roughness fit of the series with noise_std^2 (1 + mu^2) removed. The
-// default propagates the noise and, on a weak texture (ABS), removes about
-// half as much, so it reads a lower a1 (fit_accuracy_test.cc has the
-// accuracy over 40 drags).
+// the roughness fit of the series with noise_std^2 (1 + mu^2) removed. (Read
+// against each pair's own normal, as versions 7 and 8 did, the series carried
+// about half that noise and the white model read weak textures smoother; read
+// against the averaged normals it carries about that noise at lag 0:
+// series_noise_test.cc measures it, fit_accuracy_test.cc the fits.)
 TEST(FitTraceTest, TheWhiteNoiseModelIsKeptForComparison) {
   const Material abs{0.30, 0.9, -0.25, 0.035};
   const DragSimResult sim = Simulate(TiltedPlaneGeometry(0.0, 20.0), abs, 3);
   FitOptions white_options;
   white_options.noise_replicates = 0;
   absl::StatusOr<TraceFit> white = FitTrace(sim.trace, white_options);
-  absl::StatusOr<TraceFit> propagated = FitTrace(sim.trace, FitOptions{});
   ASSERT_TRUE(white.ok()) << white.status();
-  ASSERT_TRUE(propagated.ok()) << propagated.status();
   ASSERT_EQ(white->pieces.size(), 1u);
 
   absl::StatusOr<DragPasses> passes = SplitDragPasses(sim.trace);
@@ -103,7 +102,8 @@ TEST(FitTraceTest, TheWhiteNoiseModelIsKeptForComparison) {
   absl::StatusOr<PathPairing> pairing = PairPasses(passes->forward, passes->reverse, {});
   ASSERT_TRUE(pairing.ok());
   absl::StatusOr<std::vector<Eigen::VectorXd>> series =
-      ForceVariationSeries(passes->forward, passes->reverse, *pairing, white->friction, 0.1);
+      ForceVariationSeries(passes->forward, passes->reverse, *pairing, white->friction, 0.1,
+                           white_options.series_normal);
   ASSERT_TRUE(series.ok());
   ArFitOptions ar;
   ar.noise_variance = white->noise_std * white->noise_std * (1.0 + white->friction.mu * white->friction.mu);
@@ -111,7 +111,6 @@ TEST(FitTraceTest, TheWhiteNoiseModelIsKeptForComparison) {
   ASSERT_TRUE(by_hand.ok());
   EXPECT_EQ(white->roughness.a, by_hand->a);
   EXPECT_EQ(white->roughness.sigma, by_hand->sigma);
-  EXPECT_GT(white->roughness.a[0], propagated->roughness.a[0] + 0.02);
 }
 
 TEST(FitTraceTest, RejectsATraceWithoutReversePass) {

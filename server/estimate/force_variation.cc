@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <string>
 #include <vector>
 
 #include "absl/status/status.h"
@@ -15,8 +17,9 @@ namespace {
 // `order` lists the pass's sample indices in increasing arc length.
 template <typename IndexFn>
 void ResamplePass(std::span<const DragSample> samples, const std::vector<double>& s, int count,
-                  const IndexFn& index, const FrictionFit& friction, double mu, double start, double step,
-                  int grid, std::vector<double>& pos, std::vector<double>& val, double* out) {
+                  const IndexFn& index, const FrictionFit& friction, const std::vector<Eigen::Vector3d>& normals,
+                  double mu, double start, double step, int grid, std::vector<double>& pos,
+                  std::vector<double>& val, double* out) {
   pos.clear();
   val.clear();
   const int np = friction.n_pairs;
@@ -36,7 +39,7 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     // With m = `normal`, interpolated and not unit: fn = f.m / |m| and
     // ft^2 = |f|^2 - fn^2. Two independent square roots and a division,
     // instead of normalising m and then measuring f - fn n (a dependent chain).
-    const Eigen::Vector3d normal = (1.0 - w) * friction.pair_normal[k] + w * friction.pair_normal[k1];
+    const Eigen::Vector3d normal = (1.0 - w) * normals[k] + w * normals[k1];
     const Eigen::Vector3d& f = samples[i].force;
     const double m_norm = normal.norm();
     const double fm = f.dot(normal);
@@ -62,19 +65,54 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
 
 }  // namespace
 
+bool SeriesNormalOptions::IsValid(std::string* why) const {
+  if (!(halfwidth_mm >= 0.0 && halfwidth_mm <= 10.0)) {
+    *why = "series normal halfwidth_mm must be in 0..10";
+    return false;
+  }
+  if (!(max_turn_deg > 0.0 && max_turn_deg <= 90.0)) {
+    *why = "series normal max_turn_deg must be in (0, 90]";
+    return false;
+  }
+  return true;
+}
+
+std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesNormalOptions& options) {
+  const int n = friction.n_pairs;
+  const std::vector<double>& s = friction.pair_s_mm;
+  const std::vector<Eigen::Vector3d>& own = friction.pair_normal;
+  if (!(options.halfwidth_mm > 0.0)) return own;
+  const double min_cos = std::cos(options.max_turn_deg * std::numbers::pi / 180.0);
+  std::vector<Eigen::Vector3d> out(n);
+  int lo = 0, hi = 0;  // pairs lo..hi-1 lie within the widest reach of pair i
+  for (int i = 0; i < n; ++i) {
+    const double h = std::min({options.halfwidth_mm, s[i] - s[0], s[n - 1] - s[i]});
+    while (s[lo] < s[i] - options.halfwidth_mm) ++lo;
+    while (hi < n && s[hi] <= s[i] + options.halfwidth_mm) ++hi;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (int j = lo; j < hi; ++j) {
+      if (std::abs(s[j] - s[i]) <= h && own[j].dot(own[i]) >= min_cos) sum += own[j];
+    }
+    out[i] = sum.normalized();  // pair i itself is always in the sum
+  }
+  return out;
+}
+
 absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
-                                                     const FrictionFit& friction, double step_mm) {
+                                                     const FrictionFit& friction, double step_mm,
+                                                     const SeriesNormalOptions& normal) {
   return ForceVariationSeries(forward, reverse, pairing, friction, friction.window_start_mm,
-                              friction.window_end_mm, friction.mu, step_mm);
+                              friction.window_end_mm, friction.mu, step_mm, normal);
 }
 
 absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double start_mm,
-                                                     double end_mm, double mu, double step_mm) {
+                                                     double end_mm, double mu, double step_mm,
+                                                     const SeriesNormalOptions& normal) {
   const double start = start_mm;
   const double length = end_mm - start;
   // Counted in double: the cast to int and the two series' allocation come
@@ -97,9 +135,10 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
   pos.reserve(std::max(nf, nr));
   val.reserve(std::max(nf, nr));
   std::vector<Eigen::VectorXd> series(2, Eigen::VectorXd(grid));
-  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, mu, start, step_mm,
+  const std::vector<Eigen::Vector3d> normals = SeriesNormals(friction, normal);
+  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, normals, mu, start, step_mm,
                grid, pos, val, series[0].data());
-  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction, mu,
+  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction, normals, mu,
                start, step_mm, grid, pos, val, series[1].data());
   return series;
 }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -13,9 +14,37 @@
 
 namespace surfmap {
 
+// The surface normal each sample's force is read against: the pair normals
+// (friction.h) averaged over a short stretch of the path. A pair normal is
+// the bisector of the forward force and the reverse force interpolated at the
+// same arc length, and the two passes' samples never fall at the same places
+// on a real rig: the reverse texture interpolated between two samples is not
+// the forward sample's, the difference tilts the bisector, and a series read
+// against that pair's own normal keeps only about half the forward sample's
+// texture, averaged with its smoothed reverse. A flat sandpaper drag with the
+// simulated rig's 3 % speed jitter alone read a1 0.34 for 0.30 (ideal rig,
+// samples of both passes at the same places: 0.27), rubber and every other
+// texture alike (estimator version 8). The surface's own normal turns over
+// millimetres, the texture's tilt changes every sample, so an average over
+// +-halfwidth_mm keeps the one and removes the other.
+struct SeriesNormalOptions {
+  // Half-width of the average along the path, mm; 0: each pair's own normal
+  // (estimator version 8). Symmetric about the sample (narrowed near the
+  // ends of the pairs), so a normal turning steadily along the path is not
+  // biased. 0.5: ~10 pairs at the 0.1 mm spacing, and the normal of a 5 mm
+  // radius turns by 6 degrees across it.
+  double halfwidth_mm = 0.5;
+  // Only pair normals within this angle of the sample's own pair normal join
+  // its average, so over a sharp edge (a CAD part's facets) the faces'
+  // normals are not blended. 5 degrees: a texture tilts the bisector by
+  // about (texture difference) / (2 Fn): sandpaper's 0.3 N at 5 N, 2 degrees.
+  double max_turn_deg = 5.0;
+  bool IsValid(std::string* why) const;
+};
+
 // Per sample of each pass inside the friction window: |f_t| - mu * f_n with
-// f_n = f . n and f_t = f - f_n n, n the LOCAL normal from the pairing
-// (interpolated at the sample's arc length) and mu the fitted friction.
+// f_n = f . n and f_t = f - f_n n, n the LOCAL normal (SeriesNormalOptions,
+// interpolated at the sample's arc length) and mu the fitted friction.
 // Normal-force changes (force-control transients, vibration) scale friction
 // too, so they cancel here; what is left is texture plus sensor noise.
 // Each pass is resampled on the grid window_start + k * step_mm by taking the
@@ -34,7 +63,8 @@ inline constexpr int kMaxRoughnessGridPoints = 1 << 22;
 absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
-                                                     const FrictionFit& friction, double step_mm);
+                                                     const FrictionFit& friction, double step_mm,
+                                                     const SeriesNormalOptions& normal);
 
 // The same over the stretch start_mm..end_mm of the path (inside the friction
 // window) with friction coefficient `mu`: the series of one piece of a drag
@@ -43,7 +73,11 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double start_mm,
-                                                     double end_mm, double mu, double step_mm);
+                                                     double end_mm, double mu, double step_mm,
+                                                     const SeriesNormalOptions& normal);
+
+// The normals of SeriesNormalOptions, one per pair of `friction` (unit).
+std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesNormalOptions& options);
 
 // White sensor noise of the force during the pause, N: per axis the
 // standard deviation of first differences over sqrt(2), combined as

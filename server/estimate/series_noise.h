@@ -25,6 +25,7 @@
 #include "absl/status/statusor.h"
 #include "server/estimate/data_window.h"
 #include "server/estimate/drag_trace.h"
+#include "server/estimate/force_variation.h"
 #include "server/estimate/friction.h"
 #include "server/estimate/path_pairing.h"
 
@@ -48,6 +49,7 @@ struct SeriesNoiseOptions {
   // itself a tenth of a weak texture's variance.
   int replicates = 4;
   std::uint64_t seed = 1;
+  SeriesNormalOptions normal;  // as the series the noise rides on is built
 };
 
 // Per stretch, the noise's autocovariance at lags 0..max_lag (N^2), pooled

@@ -7,6 +7,7 @@
 #include <iostream>
 #include <map>
 #include <string>
+#include <vector>
 
 #include "CLI/CLI.hpp"
 #include "clients/sim/dragsim/drag_simulator.h"
@@ -65,9 +66,39 @@ int main(int argc, char** argv) {
                  "Gaussian position noise per axis, mm, after --disturbance (default: the rig's, scaled)")
       ->check(CLI::NonNegativeNumber);
   app.add_flag("--ideal", ideal, "switch every disturbance off");
+  // One disturbance alone (the others off), to measure what each does to a
+  // fit: the rig's amplitude of it, times --disturbance.
+  const std::map<std::string, double surfmap::DragSimOptions::*> kDisturbances = {
+      {"speed-jitter", &surfmap::DragSimOptions::speed_jitter},
+      {"contact-overshoot", &surfmap::DragSimOptions::contact_overshoot},
+      {"force-tracking", &surfmap::DragSimOptions::force_tracking_error},
+      {"vibration", &surfmap::DragSimOptions::vibration_n},
+      {"stick-slip", &surfmap::DragSimOptions::stick_slip},
+      {"pause-residual", &surfmap::DragSimOptions::pause_residual},
+      {"force-noise", &surfmap::DragSimOptions::force_noise_n},
+      {"position-noise", &surfmap::DragSimOptions::position_noise_mm}};
+  std::string only;
+  std::vector<std::string> disturbance_names;
+  for (const auto& [name, member] : kDisturbances) disturbance_names.push_back(name);
+  app.add_option("--only", only,
+                 "switch every disturbance off but this one, at the rig's amplitude times --disturbance "
+                 "(after --position-noise)")
+      ->check(CLI::IsMember(disturbance_names))
+      ->excludes("--ideal");
   CLI11_PARSE(app, argc, argv);
   options = options.WithDisturbancesScaled(disturbance);
   if (position_noise_mm >= 0.0) options.position_noise_mm = position_noise_mm;
+  if (!only.empty()) {
+    surfmap::DragSimOptions alone = surfmap::DragSimOptions::Ideal();
+    const auto member = kDisturbances.at(only);
+    alone.*member = options.*member;
+    alone.seed = options.seed;
+    alone.length_mm = options.length_mm;
+    alone.speed_mm_s = options.speed_mm_s;
+    alone.normal_force_n = options.normal_force_n;
+    alone.sample_rate_hz = options.sample_rate_hz;
+    options = alone;
+  }
   if (ideal) {
     const auto seed = options.seed;
     const double length = options.length_mm, speed = options.speed_mm_s,
