@@ -27,7 +27,8 @@ struct FitArgs {
   int order = 2;
   std::string method = "burg";
   bool no_noise_correction = false;
-  double series_normal_mm = FitOptions{}.series_normal.halfwidth_mm;
+  double series_normal_mm = FitOptions{}.series.halfwidth_mm;
+  bool series_follow_samples = FitOptions{}.series.follow_samples;
 };
 
 // "-" is standard input (named "stdin" in messages), as in most Unix tools.
@@ -96,7 +97,8 @@ int RunFit(const FitArgs& args) {
   options.ar_order = args.order;
   options.ar_method = args.method == "ls" ? ArMethod::kLeastSquares : ArMethod::kBurg;
   options.noise_aware = !args.no_noise_correction;
-  options.series_normal.halfwidth_mm = args.series_normal_mm;
+  options.series.halfwidth_mm = args.series_normal_mm;
+  options.series.follow_samples = args.series_follow_samples;
   std::string why;
   if (!options.IsValid(&why)) {
     std::cerr << "surfmap fit: invalid options: " << why << "\n";
@@ -146,6 +148,9 @@ void AddFitCommand(CLI::App& app, int* exit_code) {
                   "The roughness series reads each force against the pair normals averaged over +- this many mm "
                   "(0: each pair's own normal, estimator version 8)")
       ->check(CLI::Range(0.0, 10.0));
+  fit->add_option("--series-follow-samples", args->series_follow_samples,
+                  "Each pass's roughness series is its own samples one step apart (false: the nearest sample to each "
+                  "point of a fixed grid, estimator version 8)");
   fit->callback([args, exit_code] { *exit_code = RunFit(*args); });
 }
 

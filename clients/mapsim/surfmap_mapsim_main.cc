@@ -109,7 +109,8 @@ int Main(int argc, char** argv) {
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
   double change_guard_mm = FitOptions{}.change_guard_mm;
   int noise_replicates = FitOptions{}.noise_replicates;
-  double series_normal_mm = FitOptions{}.series_normal.halfwidth_mm;
+  double series_normal_mm = FitOptions{}.series.halfwidth_mm;
+  bool series_follow_samples = FitOptions{}.series.follow_samples;
   bool map_link_materials = MappingRunOptions{}.map_link_materials;
   app.add_option("--scene", scenes, "scene names (clients/sim/scenes, $SURFMAP_SCENES), or 'all'")->capture_default_str();
   app.add_option("--mode", mode, "evidence | boundary | adaptive | uncertainty | uniform | uniform-spread")
@@ -284,6 +285,10 @@ int Main(int argc, char** argv) {
                    "the plan's map draws links as curves through their chain (as --map-curve-turn-deg; 0: chords)");
   AddDegreesOption(app, "--plan-extension-turn", plan_links.max_extension_turn_deg, 90.0,
                    "the plan's map carries chains of links on (as --map-extension-turn; 0: off)");
+  app.add_option("--series-follow-samples", series_follow_samples,
+                 "each pass's roughness series is its own samples one step apart (force_variation.h; false: the "
+                 "nearest sample to each point of a fixed grid, estimator version 8)")
+      ->capture_default_str();
   app.add_option("--series-normal-mm", series_normal_mm,
                  "the roughness series reads each force against the pair normals averaged over +- this many mm "
                  "(force_variation.h; 0: each pair's own normal, estimator version 8)")
@@ -369,7 +374,8 @@ int Main(int argc, char** argv) {
   base.plan_link_options = plan_links;
   base.fit.change_guard_mm = change_guard_mm;
   base.fit.noise_replicates = noise_replicates;
-  base.fit.series_normal.halfwidth_mm = series_normal_mm;
+  base.fit.series.halfwidth_mm = series_normal_mm;
+  base.fit.series.follow_samples = series_follow_samples;
   base.map_link_materials = map_link_materials;
   base.map = map == "harmonic" ? MapKind::kHarmonic : MapKind::kRegions;
   base.property = ParseTextureProperty(property).value_or(TextureProperty::kFriction);  // CLI11 checked the name

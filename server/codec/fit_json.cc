@@ -120,8 +120,9 @@ json FitOptionsToJson(const FitOptions& o) {
               {"ar_method", ArMethodName(o.ar_method)},
               {"noise_aware", o.noise_aware},
               {"noise_replicates", o.noise_replicates},
-              {"series_normal_halfwidth_mm", o.series_normal.halfwidth_mm},
-              {"series_normal_max_turn_deg", o.series_normal.max_turn_deg},
+              {"series_normal_halfwidth_mm", o.series.halfwidth_mm},
+              {"series_normal_max_turn_deg", o.series.max_turn_deg},
+              {"series_follows_samples", o.series.follow_samples},
               {"window_trim_fraction", o.window_trim_fraction},
               {"change_false_alarm", o.changes.false_alarm_probability},
               {"min_piece_mm", o.changes.min_piece_mm},
@@ -134,7 +135,7 @@ json FitOptionsToJson(const FitOptions& o) {
 absl::StatusOr<FitOptions> FitOptionsFromJson(const json& j) {
   if (!j.is_object()) return absl::InvalidArgumentError("estimator options must be a JSON object");
   static const std::set<std::string> kKnown = {"step_mm", "ar_order", "ar_method", "noise_aware", "noise_replicates",
-                                               "series_normal_halfwidth_mm", "series_normal_max_turn_deg",
+                                               "series_normal_halfwidth_mm", "series_normal_max_turn_deg", "series_follows_samples",
                                                "window_trim_fraction", "change_false_alarm", "min_piece_mm",
                                                "change_group_spacing_mm", "min_roughness_piece_mm", "change_guard_mm", "path_step_mm"};
   for (auto it = j.begin(); it != j.end(); ++it) {
@@ -145,8 +146,9 @@ absl::StatusOr<FitOptions> FitOptionsFromJson(const json& j) {
   for (absl::Status s : {ReadKey(j, "step_mm", &o.step_mm), ReadKey(j, "ar_order", &o.ar_order),
                          ReadKey(j, "ar_method", &method), ReadKey(j, "noise_aware", &o.noise_aware),
                          ReadKey(j, "noise_replicates", &o.noise_replicates),
-                         ReadKey(j, "series_normal_halfwidth_mm", &o.series_normal.halfwidth_mm),
-                         ReadKey(j, "series_normal_max_turn_deg", &o.series_normal.max_turn_deg),
+                         ReadKey(j, "series_normal_halfwidth_mm", &o.series.halfwidth_mm),
+                         ReadKey(j, "series_normal_max_turn_deg", &o.series.max_turn_deg),
+                         ReadKey(j, "series_follows_samples", &o.series.follow_samples),
                          ReadKey(j, "window_trim_fraction", &o.window_trim_fraction),
                          ReadKey(j, "change_false_alarm", &o.changes.false_alarm_probability),
                          ReadKey(j, "min_piece_mm", &o.changes.min_piece_mm),

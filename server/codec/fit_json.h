@@ -34,11 +34,14 @@ inline constexpr const char* kEstimatorName = "surfmap.differential+ar";
 // roughness series (series_noise.h) and removed with its autocovariance; the
 // white model before it subtracted about twice the noise the series carries,
 // so weak textures read smoother than they are (ABS a1 1.07 for 0.90).
-// Version 9: the roughness series reads each force against the pair normals
-// averaged over +-0.5 mm (FitOptions::series_normal, force_variation.h), not
-// its own pair's bisector, which carried half the difference between the
-// forward texture and the reverse one interpolated between samples, so every
-// texture read smoother than it is (sandpaper a1 0.34 for 0.30).
+// Version 9 (FitOptions::series, force_variation.h): the roughness series
+// reads each force against the pair normals averaged over +-0.5 mm, not its
+// own pair's bisector, which carried half the difference between the forward
+// texture and the reverse one interpolated between samples, so every texture
+// read smoother than it is (sandpaper a1 0.34 for 0.30); and each pass's
+// series is its own samples one step apart, not the nearest sample to each
+// point of a fixed grid, which took a sample twice and skipped the next where
+// the rig's speed wandered (masonite read less resonant).
 inline constexpr const char* kEstimatorVersion = "9";
 
 nlohmann::json FitOptionsToJson(const FitOptions& options);

@@ -211,17 +211,18 @@ TextureReading ReadTexture(const Material& material, int drags, const FitOptions
 // between two samples of a texture that changes every 0.1 mm. Read against
 // its own pair's bisector (estimator version 8), a sample kept about half its
 // own texture and half that interpolated reverse: every texture read
-// smoother than it is. Sandpaper over these 60 flat drags: mean a1 0.357
-// for 0.30, median sigma 8.2 % low. Read against the pair normals averaged
-// over +-0.5 mm: 0.300 and 3.0 % low. (surfmap-simtrace's 60 drags, seeds
-// 1-60: 0.348 and 0.287, and only the speed jitter switched on, --only
-// speed-jitter: 0.342 and 0.280, against 0.275 from an ideal rig, whose
-// passes sample the same places.)
+// smoother than it is. Sandpaper over these 60 flat drags: mean a1 0.352
+// for 0.30, median sigma 7.8 % low. Read against the pair normals averaged
+// over +-0.5 mm: 0.292 and 2.9 % low. (surfmap-simtrace's 60 drags, seeds
+// 1-60, own normals and a fixed grid as in version 8: 0.348; averaged
+// normals: 0.287, and 0.280 with the samples followed; only the speed jitter
+// switched on, --only speed-jitter, version 8: 0.342; an ideal rig, whose
+// passes sample the same places: 0.275.)
 TEST(FitAccuracyTest, ATextureIsNotSmoothedByWhereTheReverseSamplesFell) {
   constexpr Material kSandpaper{0.50, 0.30, 0.10, 0.25};
   const TextureReading averaged = ReadTexture(kSandpaper, 60, FitOptions{});
   FitOptions own_normals;
-  own_normals.series_normal.halfwidth_mm = 0.0;
+  own_normals.series.halfwidth_mm = 0.0;
   const TextureReading own = ReadTexture(kSandpaper, 60, own_normals);
   std::printf("sandpaper, 60 flat drags: mean a1 %.3f (own pair normals %.3f), median sigma %.4f (%.4f), truth "
               "0.30, 0.25\n",
@@ -231,6 +232,28 @@ TEST(FitAccuracyTest, ATextureIsNotSmoothedByWhereTheReverseSamplesFell) {
   // The comparison is the one this test is about: if both read alike, the
   // averaging no longer does what it is for.
   EXPECT_GT(own.mean_a1, averaged.mean_a1 + 0.03);
+}
+
+// Where the rig's speed wanders, a fixed grid drifts across the samples and,
+// halfway between two, takes one twice and skips the next; a resonant
+// texture (masonite, a1 1.61, a2 -0.73) then reads rougher and less resonant.
+// Each pass's own samples one step apart (SeriesOptions::follow_samples)
+// take each once. Masonite over these 60 flat drags: mean a1 1.576 against
+// 1.559 from the fixed grid, median sigma 0.159 against 0.164 (surfmap-simtrace
+// seeds 1-60: 1.546 against 1.528; an ideal rig 1.561).
+TEST(FitAccuracyTest, AResonantTextureIsReadFromEachSampleOnce) {
+  constexpr Material kMasonite{0.36, 1.61, -0.73, 0.16};
+  const TextureReading followed = ReadTexture(kMasonite, 60, FitOptions{});
+  FitOptions grid;
+  grid.series.follow_samples = false;
+  const TextureReading gridded = ReadTexture(kMasonite, 60, grid);
+  std::printf("masonite, 60 flat drags: mean a1 %.3f (fixed grid %.3f), median sigma %.4f (%.4f), truth 1.61, "
+              "0.16\n",
+              followed.mean_a1, gridded.mean_a1, followed.median_sigma, gridded.median_sigma);
+  EXPECT_NEAR(followed.mean_a1, kMasonite.a1, 0.08);
+  EXPECT_NEAR(followed.median_sigma, kMasonite.sigma, 0.04 * kMasonite.sigma);
+  EXPECT_GT(followed.mean_a1, gridded.mean_a1 + 0.01);
+  EXPECT_LT(followed.median_sigma, gridded.median_sigma);
 }
 
 // The other side of the noise: textures the sensor cannot resolve stay

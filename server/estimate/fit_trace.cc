@@ -80,7 +80,7 @@ std::vector<std::vector<double>> StretchNoise(std::span<const DragSample> forwar
   noise.step_mm = options.step_mm;
   noise.max_lag = options.ar_order;
   noise.replicates = options.noise_replicates;
-  noise.normal = options.series_normal;
+  noise.series = options.series;
   noise.seed = BiasSeedFromData(fit.friction.mu, fit.friction.window_start_mm);
   absl::StatusOr<std::vector<std::vector<double>>> propagated =
       PropagateSeriesNoise(forward, reverse, pairing, window, options.friction, fit.friction, stretches, noise);
@@ -116,7 +116,7 @@ void FitPieceRoughness(std::span<const DragSample> forward, std::span<const Drag
     }
     absl::StatusOr<std::vector<Eigen::VectorXd>> series =
         ForceVariationSeries(forward, reverse, pairing, fit.friction, start, end, piece.mu, options.step_mm,
-                             options.series_normal);
+                             options.series);
     ArFitOptions ar = RoughnessOptions(options, fit.noise_std, mu, std::move(noise[next_noise++]));
     ar.bias_replicates = options.piece_bias_replicates;
     ar.segments_detrended = true;  // ForceVariationSeries removed a line from each segment
@@ -166,7 +166,7 @@ bool FitOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(change_guard_mm) && change_guard_mm >= 0.0)) return fail("change_guard_mm must be >= 0");
   if (!(std::isfinite(path_step_mm) && path_step_mm > 0.0)) return fail("path_step_mm must be > 0");
   if (noise_replicates < 0 || noise_replicates > 64) return fail("noise_replicates must be in 0..64");
-  if (!series_normal.IsValid(&inner)) return fail(inner);
+  if (!series.IsValid(&inner)) return fail(inner);
   if (piece_bias_replicates < 0 || piece_bias_replicates > 10000) {
     return fail("piece_bias_replicates must be in 0..10000");
   }
@@ -238,7 +238,7 @@ absl::StatusOr<TraceFit> FitTrace(const DragTrace& trace, const FitOptions& opti
 
   // One piece: the whole window, fitted as it always was (an error if it fails).
   absl::StatusOr<std::vector<Eigen::VectorXd>> series =
-      ForceVariationSeries(forward, reverse, *pairing, fit.friction, options.step_mm, options.series_normal);
+      ForceVariationSeries(forward, reverse, *pairing, fit.friction, options.step_mm, options.series);
   if (!series.ok()) return series.status();
   const std::vector<SeriesStretch> whole{
       {fit.friction.window_start_mm, fit.friction.window_end_mm, fit.friction.mu}};

@@ -45,7 +45,7 @@ struct FitOptions {
   // The normal each sample's force is read against for the roughness series
   // (force_variation.h): pair normals averaged along the path; halfwidth 0
   // is each pair's own normal, estimator version 8.
-  SeriesNormalOptions series_normal;
+  SeriesOptions series;
   // Data window: keep where both passes move at >= min_speed_fraction of their
   // median speed, intersected with the common forward/reverse path minus
   // window_trim_fraction of it at each end (see data_window.h for why).

@@ -103,7 +103,7 @@ TEST(FitTraceTest, TheWhiteNoiseModelIsKeptForComparison) {
   ASSERT_TRUE(pairing.ok());
   absl::StatusOr<std::vector<Eigen::VectorXd>> series =
       ForceVariationSeries(passes->forward, passes->reverse, *pairing, white->friction, 0.1,
-                           white_options.series_normal);
+                           white_options.series);
   ASSERT_TRUE(series.ok());
   ArFitOptions ar;
   ar.noise_variance = white->noise_std * white->noise_std * (1.0 + white->friction.mu * white->friction.mu);

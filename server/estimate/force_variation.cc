@@ -13,22 +13,64 @@
 namespace surfmap {
 namespace {
 
-// Variation of one pass resampled on the grid into out[0..grid).
-// `order` lists the pass's sample indices in increasing arc length.
+}  // namespace
+
+std::vector<double> ReadAtStep(const std::vector<double>& pos, const std::vector<double>& val, double start,
+                               double end, double step, bool follow_samples) {
+  const int nv = static_cast<int>(pos.size());
+  std::vector<double> out;
+  if (nv == 0) return out;
+  MonotoneBracket bracket(nv);
+  const auto pos_key = [&](int i) { return pos[i]; };
+  const auto nearest = [&](double at) {
+    int k;
+    double w;
+    bracket.Locate(at, pos_key, &k, &w);
+    return w < 0.5 ? k : std::min(k + 1, nv - 1);
+  };
+  if (!follow_samples) {
+    // Nearest sample, not linear interpolation: the probe samples about
+    // every grid step, and interpolating between neighbours at a fractional
+    // offset would low-pass the texture (a1 of rubber 0.6 read as ~1.2).
+    const int grid = static_cast<int>(std::floor((end - start) / step + 1e-9)) + 1;
+    out.reserve(grid);
+    for (int g = 0; g < grid; ++g) out.push_back(val[nearest(start + g * step)]);
+    return out;
+  }
+  // From the sample nearest the start, each next one is the later sample
+  // nearest one step on; the series ends with the last within half a step
+  // of the end.
+  int current = nearest(start);
+  out.push_back(val[current]);
+  for (;;) {
+    const double target = pos[current] + step;
+    int next = current + 1;
+    if (next >= nv) break;
+    while (next + 1 < nv && std::abs(pos[next + 1] - target) <= std::abs(pos[next] - target)) ++next;
+    if (pos[next] > end + 0.5 * step) break;
+    out.push_back(val[next]);
+    current = next;
+  }
+  return out;
+}
+
+namespace {
+
+// Variation of one pass read at the step (ReadAtStep), detrended.
+// `index(m)` lists the pass's sample indices in increasing arc length.
 template <typename IndexFn>
-void ResamplePass(std::span<const DragSample> samples, const std::vector<double>& s, int count,
-                  const IndexFn& index, const FrictionFit& friction, const std::vector<Eigen::Vector3d>& normals,
-                  double mu, double start, double step, int grid, std::vector<double>& pos,
-                  std::vector<double>& val, double* out) {
+Eigen::VectorXd ResamplePass(std::span<const DragSample> samples, const std::vector<double>& s, int count,
+                             const IndexFn& index, const FrictionFit& friction,
+                             const std::vector<Eigen::Vector3d>& normals, double mu, double start, double end,
+                             double step, bool follow_samples, std::vector<double>& pos, std::vector<double>& val) {
   pos.clear();
   val.clear();
   const int np = friction.n_pairs;
   const auto pair_key = [&](int i) { return friction.pair_s_mm[i]; };
   MonotoneBracket normal_bracket(np);
-  const double end = start + (grid - 1) * step;
   for (int m = 0; m < count; ++m) {
     const int i = index(m);
-    // One sample beyond each end of the window so the end grid points interpolate.
+    // One sample beyond each end of the window, so the nearest to each end is among them.
     const bool before = m + 1 < count && s[index(m + 1)] < start;
     const bool after = m > 0 && s[index(m - 1)] > end;
     if (before || after) continue;
@@ -48,24 +90,15 @@ void ResamplePass(std::span<const DragSample> samples, const std::vector<double>
     pos.push_back(s[i]);
     val.push_back(ft - mu * fn);
   }
-  const int nv = static_cast<int>(pos.size());
-  MonotoneBracket grid_bracket(nv);
-  const auto pos_key = [&](int i) { return pos[i]; };
-  for (int g = 0; g < grid; ++g) {
-    int k;
-    double w;
-    grid_bracket.Locate(start + g * step, pos_key, &k, &w);
-    // Nearest sample, not linear interpolation: the probe samples about
-    // every grid step, and interpolating between neighbours at a fractional
-    // offset would low-pass the texture (a1 of rubber 0.6 read as ~1.2).
-    out[g] = val[w < 0.5 ? k : std::min(k + 1, nv - 1)];
-  }
-  RemoveLinearTrend(out, grid);
+  const std::vector<double> read = ReadAtStep(pos, val, start, end, step, follow_samples);
+  Eigen::VectorXd out = Eigen::Map<const Eigen::VectorXd>(read.data(), static_cast<Eigen::Index>(read.size()));
+  RemoveLinearTrend(out.data(), static_cast<int>(out.size()));
+  return out;
 }
 
 }  // namespace
 
-bool SeriesNormalOptions::IsValid(std::string* why) const {
+bool SeriesOptions::IsValid(std::string* why) const {
   if (!(halfwidth_mm >= 0.0 && halfwidth_mm <= 10.0)) {
     *why = "series normal halfwidth_mm must be in 0..10";
     return false;
@@ -77,7 +110,7 @@ bool SeriesNormalOptions::IsValid(std::string* why) const {
   return true;
 }
 
-std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesNormalOptions& options) {
+std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesOptions& options) {
   const int n = friction.n_pairs;
   const std::vector<double>& s = friction.pair_s_mm;
   const std::vector<Eigen::Vector3d>& own = friction.pair_normal;
@@ -102,9 +135,9 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm,
-                                                     const SeriesNormalOptions& normal) {
+                                                     const SeriesOptions& series) {
   return ForceVariationSeries(forward, reverse, pairing, friction, friction.window_start_mm,
-                              friction.window_end_mm, friction.mu, step_mm, normal);
+                              friction.window_end_mm, friction.mu, step_mm, series);
 }
 
 absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<const DragSample> forward,
@@ -112,7 +145,7 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double start_mm,
                                                      double end_mm, double mu, double step_mm,
-                                                     const SeriesNormalOptions& normal) {
+                                                     const SeriesOptions& series) {
   const double start = start_mm;
   const double length = end_mm - start;
   // Counted in double: the cast to int and the two series' allocation come
@@ -128,19 +161,25 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
         "data window %.6g..%.6g mm holds %.4g points of the %.3g mm roughness grid; the limit is %d",
         start, end_mm, points, step_mm, kMaxRoughnessGridPoints));
   }
-  const int grid = static_cast<int>(points);
   const int nf = static_cast<int>(forward.size());
   const int nr = static_cast<int>(reverse.size());
   std::vector<double> pos, val;
   pos.reserve(std::max(nf, nr));
   val.reserve(std::max(nf, nr));
-  std::vector<Eigen::VectorXd> series(2, Eigen::VectorXd(grid));
-  const std::vector<Eigen::Vector3d> normals = SeriesNormals(friction, normal);
-  ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, normals, mu, start, step_mm,
-               grid, pos, val, series[0].data());
-  ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction, normals, mu,
-               start, step_mm, grid, pos, val, series[1].data());
-  return series;
+  const std::vector<Eigen::Vector3d> normals = SeriesNormals(friction, series);
+  std::vector<Eigen::VectorXd> out;
+  out.push_back(ResamplePass(forward, pairing.forward_s, nf, [](int m) { return m; }, friction, normals, mu, start,
+                             end_mm, step_mm, series.follow_samples, pos, val));
+  out.push_back(ResamplePass(reverse, pairing.reverse_s, nr, [nr](int m) { return nr - 1 - m; }, friction, normals,
+                             mu, start, end_mm, step_mm, series.follow_samples, pos, val));
+  for (int pass = 0; pass < 2; ++pass) {
+    if (out[pass].size() < 2) {
+      return absl::InvalidArgumentError(absl::StrFormat(
+          "the %s pass holds %d sample(s) in %.3f..%.3f mm; a roughness series needs 2", pass == 0 ? "forward" : "reverse",
+          static_cast<int>(out[pass].size()), start, end_mm));
+    }
+  }
+  return out;
 }
 
 double PauseNoiseStd(std::span<const DragSample> pause) {

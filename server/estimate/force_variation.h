@@ -14,7 +14,9 @@
 
 namespace surfmap {
 
-// The surface normal each sample's force is read against: the pair normals
+// How the roughness series is read from the samples.
+//
+// The normal: each sample's force is read against the pair normals
 // (friction.h) averaged over a short stretch of the path. A pair normal is
 // the bisector of the forward force and the reverse force interpolated at the
 // same arc length, and the two passes' samples never fall at the same places
@@ -27,7 +29,9 @@ namespace surfmap {
 // texture alike (estimator version 8). The surface's own normal turns over
 // millimetres, the texture's tilt changes every sample, so an average over
 // +-halfwidth_mm keeps the one and removes the other.
-struct SeriesNormalOptions {
+//
+// The samples: see follow_samples.
+struct SeriesOptions {
   // Half-width of the average along the path, mm; 0: each pair's own normal
   // (estimator version 8). Symmetric about the sample (narrowed near the
   // ends of the pairs), so a normal turning steadily along the path is not
@@ -39,23 +43,32 @@ struct SeriesNormalOptions {
   // normals are not blended. 5 degrees: a texture tilts the bisector by
   // about (texture difference) / (2 Fn): sandpaper's 0.3 N at 5 N, 2 degrees.
   double max_turn_deg = 5.0;
+  // true: each pass's series is its own samples in order, one every step_mm
+  // or as near as the samples allow (every sample of a probe sampling about
+  // once per step, every n-th of a faster one), none taken twice. false: the
+  // value at each point of the grid start + k * step_mm is the nearest
+  // sample's (estimator version 8). Where the rig's speed wanders,
+  // the grid drifts across the samples, and where it falls halfway between
+  // two of them it takes one twice and skips the next: a resonant texture
+  // (masonite, a1 1.61) then reads rougher and less resonant than it is.
+  bool follow_samples = true;
   bool IsValid(std::string* why) const;
 };
 
 // Per sample of each pass inside the friction window: |f_t| - mu * f_n with
-// f_n = f . n and f_t = f - f_n n, n the LOCAL normal (SeriesNormalOptions,
+// f_n = f . n and f_t = f - f_n n, n the LOCAL normal (SeriesOptions,
 // interpolated at the sample's arc length) and mu the fitted friction.
 // Normal-force changes (force-control transients, vibration) scale friction
 // too, so they cancel here; what is left is texture plus sensor noise.
-// Each pass is resampled on the grid window_start + k * step_mm by taking the
-// nearest sample (the probe samples about once per grid step; linear
-// interpolation at drifting fractional offsets would low-pass the texture and
-// bias the AR fit towards a smoother process) and detrended (least-squares
-// line removed). Returns two segments, forward then reverse, both increasing
-// in arc length, for the multi-segment FitAutoregressive. They see the same
-// realisation of the texture (so they are not independent data), with
-// independent noise. INVALID_ARGUMENT when the window holds fewer than 2 grid
-// points or more than kMaxRoughnessGridPoints.
+// Each pass is read at about step_mm (SeriesOptions::follow_samples; never
+// by linear interpolation, which at drifting fractional offsets would
+// low-pass the texture and bias the AR fit towards a smoother process) and
+// detrended (least-squares line removed). Returns two segments, forward then
+// reverse, both increasing in arc length, for the multi-segment
+// FitAutoregressive. They see the same realisation of the texture (so they
+// are not independent data), with independent noise. INVALID_ARGUMENT when
+// the window holds fewer than 2 grid points or more than
+// kMaxRoughnessGridPoints, or a pass fewer than 2 samples in it.
 // 4M points (32 MB per series): a 419 m window at the default 0.1 mm step,
 // far beyond any drag, and an int with room to spare.
 inline constexpr int kMaxRoughnessGridPoints = 1 << 22;
@@ -64,7 +77,7 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      std::span<const DragSample> reverse,
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double step_mm,
-                                                     const SeriesNormalOptions& normal);
+                                                     const SeriesOptions& series);
 
 // The same over the stretch start_mm..end_mm of the path (inside the friction
 // window) with friction coefficient `mu`: the series of one piece of a drag
@@ -74,10 +87,17 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
                                                      const PathPairing& pairing,
                                                      const FrictionFit& friction, double start_mm,
                                                      double end_mm, double mu, double step_mm,
-                                                     const SeriesNormalOptions& normal);
+                                                     const SeriesOptions& series);
 
-// The normals of SeriesNormalOptions, one per pair of `friction` (unit).
-std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesNormalOptions& options);
+// The values `val` of one pass, at arc lengths `pos` (increasing), read one
+// every `step` from `start` to `end` (SeriesOptions::follow_samples). Empty
+// when there are no samples.
+std::vector<double> ReadAtStep(const std::vector<double>& pos, const std::vector<double>& val, double start,
+                               double end, double step, bool follow_samples);
+
+// The normals of SeriesOptions (halfwidth_mm, max_turn_deg), one per pair of
+// `friction` (unit).
+std::vector<Eigen::Vector3d> SeriesNormals(const FrictionFit& friction, const SeriesOptions& options);
 
 // White sensor noise of the force during the pause, N: per axis the
 // standard deviation of first differences over sqrt(2), combined as

@@ -40,7 +40,7 @@ FrictionFit PairsWithNormals(double length_mm, const std::function<Eigen::Vector
 TEST(SeriesNormalsTest, AveragingRemovesTheTiltThatChangesEveryPair) {
   const auto up = [](double) { return Eigen::Vector3d::UnitZ(); };
   const FrictionFit f = PairsWithNormals(16.0, up, 1.5, 7);
-  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesNormalOptions{});
+  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesOptions{});
   ASSERT_EQ(averaged.size(), f.pair_normal.size());
   double own2 = 0.0, averaged2 = 0.0;
   for (int i = 10; i + 10 < f.n_pairs; ++i) {  // away from the narrowed ends
@@ -55,7 +55,7 @@ TEST(SeriesNormalsTest, AveragingRemovesTheTiltThatChangesEveryPair) {
 TEST(SeriesNormalsTest, ASteadilyTurningNormalIsNotBiasedEvenAtTheEnds) {
   const auto turning = [](double s) { return Eigen::Vector3d(std::sin(s / 5.0), 0.0, std::cos(s / 5.0)); };
   const FrictionFit f = PairsWithNormals(8.0, turning, 0.0, 1);
-  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesNormalOptions{});
+  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesOptions{});
   for (int i = 0; i < f.n_pairs; ++i) {
     EXPECT_LT(NormalAngleDeg(averaged[i], turning(f.pair_s_mm[i])), 0.05) << "pair " << i;
   }
@@ -66,7 +66,7 @@ TEST(SeriesNormalsTest, ASteadilyTurningNormalIsNotBiasedEvenAtTheEnds) {
 TEST(SeriesNormalsTest, TheFacesOfASharpEdgeAreNotBlended) {
   const auto edge = [](double s) { return s < 4.0 ? Eigen::Vector3d::UnitZ() : Eigen::Vector3d::UnitX(); };
   const FrictionFit f = PairsWithNormals(8.0, edge, 0.5, 3);
-  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesNormalOptions{});
+  const std::vector<Eigen::Vector3d> averaged = SeriesNormals(f, SeriesOptions{});
   for (int i = 0; i < f.n_pairs; ++i) {
     EXPECT_LT(NormalAngleDeg(averaged[i], edge(f.pair_s_mm[i])), 2.0) << "pair " << i << " at " << f.pair_s_mm[i];
   }
@@ -75,24 +75,60 @@ TEST(SeriesNormalsTest, TheFacesOfASharpEdgeAreNotBlended) {
 TEST(SeriesNormalsTest, HalfwidthZeroIsEachPairsOwnNormal) {
   const auto up = [](double) { return Eigen::Vector3d::UnitZ(); };
   const FrictionFit f = PairsWithNormals(5.0, up, 2.0, 11);
-  SeriesNormalOptions own;
+  SeriesOptions own;
   own.halfwidth_mm = 0.0;
   const std::vector<Eigen::Vector3d> normals = SeriesNormals(f, own);
   ASSERT_EQ(normals.size(), f.pair_normal.size());
   for (int i = 0; i < f.n_pairs; ++i) EXPECT_EQ(normals[i], f.pair_normal[i]);
 }
 
+// Samples about every 0.1 mm whose spacing wanders by 4 % (the rig's speed):
+// a fixed grid drifts across them, and where it falls halfway between two it
+// takes one twice and skips the next; following the samples takes each once.
+TEST(ReadAtStepTest, FollowingTheSamplesTakesEachOnceWhereAGridDoubles) {
+  std::vector<double> pos, val;
+  double s = 0.05;  // half a step off the grid
+  for (int i = 0; i < 200; ++i) {
+    pos.push_back(s);
+    val.push_back(i);  // each sample's value is its index
+    s += 0.1 * (1.0 + 0.04 * std::sin(i / 25.0));
+  }
+  const std::vector<double> followed = ReadAtStep(pos, val, 0.0, pos.back(), 0.1, true);
+  ASSERT_EQ(followed.size(), pos.size());
+  for (int i = 0; i < static_cast<int>(followed.size()); ++i) EXPECT_EQ(followed[i], i);
+  const std::vector<double> grid = ReadAtStep(pos, val, 0.0, pos.back(), 0.1, false);
+  int twice = 0, skipped = 0;
+  for (std::size_t i = 1; i < grid.size(); ++i) {
+    twice += grid[i] == grid[i - 1];
+    skipped += grid[i] > grid[i - 1] + 1;
+  }
+  EXPECT_GT(twice, 0);
+  EXPECT_GT(skipped, 0);
+}
+
+// A probe sampling five times per step: every fifth sample, none twice.
+TEST(ReadAtStepTest, AFasterProbeIsReadEveryNthSample) {
+  std::vector<double> pos, val;
+  for (int i = 0; i <= 500; ++i) {
+    pos.push_back(0.02 * i);
+    val.push_back(i);
+  }
+  const std::vector<double> followed = ReadAtStep(pos, val, 1.0, 9.0, 0.1, true);
+  ASSERT_EQ(followed.size(), 81u);
+  for (std::size_t i = 0; i < followed.size(); ++i) EXPECT_EQ(followed[i], 50 + 5 * static_cast<int>(i));
+}
+
 TEST(SeriesNormalsTest, BadOptionsAreNamed) {
   std::string why;
-  SeriesNormalOptions o;
+  SeriesOptions o;
   o.halfwidth_mm = -0.1;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_EQ(why, "series normal halfwidth_mm must be in 0..10");
-  o = SeriesNormalOptions{};
+  o = SeriesOptions{};
   o.max_turn_deg = 0.0;
   EXPECT_FALSE(o.IsValid(&why));
   EXPECT_EQ(why, "series normal max_turn_deg must be in (0, 90]");
-  EXPECT_TRUE(SeriesNormalOptions{}.IsValid(&why));
+  EXPECT_TRUE(SeriesOptions{}.IsValid(&why));
 }
 
 }  // namespace

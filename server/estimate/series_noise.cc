@@ -45,7 +45,7 @@ absl::StatusOr<std::vector<std::vector<double>>> PropagateSeriesNoise(
   for (const SeriesStretch& stretch : stretches) {
     absl::StatusOr<std::vector<Eigen::VectorXd>> series = ForceVariationSeries(
         forward, reverse, pairing, friction, stretch.start_mm, stretch.end_mm, stretch.mu, options.step_mm,
-        options.normal);
+        options.series);
     if (!series.ok()) return series.status();
     clean.push_back(*std::move(series));
   }
@@ -66,7 +66,7 @@ absl::StatusOr<std::vector<std::vector<double>>> PropagateSeriesNoise(
       const SeriesStretch& stretch = stretches[k];
       absl::StatusOr<std::vector<Eigen::VectorXd>> noisy =
           ForceVariationSeries(noisy_forward, noisy_reverse, pairing, *noisy_friction, stretch.start_mm,
-                               stretch.end_mm, stretch.mu, options.step_mm, options.normal);
+                               stretch.end_mm, stretch.mu, options.step_mm, options.series);
       if (!noisy.ok()) return noisy.status();
       for (std::size_t segment = 0; segment < noisy->size(); ++segment) {
         const Eigen::VectorXd d = (*noisy)[segment] - clean[k][segment];

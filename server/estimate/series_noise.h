@@ -49,7 +49,7 @@ struct SeriesNoiseOptions {
   // itself a tenth of a weak texture's variance.
   int replicates = 4;
   std::uint64_t seed = 1;
-  SeriesNormalOptions normal;  // as the series the noise rides on is built
+  SeriesOptions series;  // as the series the noise rides on is built
 };
 
 // Per stretch, the noise's autocovariance at lags 0..max_lag (N^2), pooled
