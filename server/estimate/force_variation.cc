@@ -11,15 +11,15 @@
 #include "server/estimate/linear_detrend.h"
 
 namespace surfmap {
-namespace {
-
-}  // namespace
 
 std::vector<double> ReadAtStep(const std::vector<double>& pos, const std::vector<double>& val, double start,
                                double end, double step, bool follow_samples) {
   const int nv = static_cast<int>(pos.size());
   std::vector<double> out;
-  if (nv == 0) return out;
+  // A step that is not positive, or a grid past the series' limit, reads
+  // nothing (ForceVariationSeries refuses them first, naming them).
+  const double points = (end - start) / step;
+  if (nv == 0 || !(step > 0.0) || !(points >= 0.0) || points >= kMaxRoughnessGridPoints) return out;
   MonotoneBracket bracket(nv);
   const auto pos_key = [&](int i) { return pos[i]; };
   const auto nearest = [&](double at) {
@@ -32,7 +32,7 @@ std::vector<double> ReadAtStep(const std::vector<double>& pos, const std::vector
     // Nearest sample, not linear interpolation: the probe samples about
     // every grid step, and interpolating between neighbours at a fractional
     // offset would low-pass the texture (a1 of rubber 0.6 read as ~1.2).
-    const int grid = static_cast<int>(std::floor((end - start) / step + 1e-9)) + 1;
+    const int grid = static_cast<int>(std::floor(points + 1e-9)) + 1;
     out.reserve(grid);
     for (int g = 0; g < grid; ++g) out.push_back(val[nearest(start + g * step)]);
     return out;

@@ -91,7 +91,8 @@ absl::StatusOr<std::vector<Eigen::VectorXd>> ForceVariationSeries(std::span<cons
 
 // The values `val` of one pass, at arc lengths `pos` (increasing), read one
 // every `step` from `start` to `end` (SeriesOptions::follow_samples). Empty
-// when there are no samples.
+// when there are no samples, step is not > 0, end < start, or the window
+// holds kMaxRoughnessGridPoints steps or more.
 std::vector<double> ReadAtStep(const std::vector<double>& pos, const std::vector<double>& val, double start,
                                double end, double step, bool follow_samples);
 

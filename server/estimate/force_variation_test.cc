@@ -118,6 +118,21 @@ TEST(ReadAtStepTest, AFasterProbeIsReadEveryNthSample) {
   for (std::size_t i = 0; i < followed.size(); ++i) EXPECT_EQ(followed[i], 50 + 5 * static_cast<int>(i));
 }
 
+// A step that is not positive, a window that runs backwards or one past the
+// series' limit reads nothing, in either mode, and allocates nothing.
+TEST(ReadAtStepTest, AStepOrWindowItCannotReadGivesNothing) {
+  const std::vector<double> pos = {0.0, 0.1, 0.2}, val = {1.0, 2.0, 3.0};
+  for (bool follow : {true, false}) {
+    EXPECT_TRUE(ReadAtStep(pos, val, 0.0, 0.2, 0.0, follow).empty());
+    EXPECT_TRUE(ReadAtStep(pos, val, 0.0, 0.2, -0.1, follow).empty());
+    EXPECT_TRUE(ReadAtStep(pos, val, 0.0, 0.2, std::nan(""), follow).empty());
+    EXPECT_TRUE(ReadAtStep(pos, val, 0.2, 0.0, 0.1, follow).empty());
+    EXPECT_TRUE(ReadAtStep(pos, val, 0.0, 1e9, 1e-6, follow).empty());
+    EXPECT_TRUE(ReadAtStep({}, {}, 0.0, 0.2, 0.1, follow).empty());
+    EXPECT_EQ(ReadAtStep(pos, val, 0.0, 0.2, 0.1, follow).size(), 3u);
+  }
+}
+
 TEST(SeriesNormalsTest, BadOptionsAreNamed) {
   std::string why;
   SeriesOptions o;

@@ -88,27 +88,20 @@ int main(int argc, char** argv) {
   CLI11_PARSE(app, argc, argv);
   options = options.WithDisturbancesScaled(disturbance);
   if (position_noise_mm >= 0.0) options.position_noise_mm = position_noise_mm;
-  if (!only.empty()) {
-    surfmap::DragSimOptions alone = surfmap::DragSimOptions::Ideal();
-    const auto member = kDisturbances.at(only);
-    alone.*member = options.*member;
-    alone.seed = options.seed;
-    alone.length_mm = options.length_mm;
-    alone.speed_mm_s = options.speed_mm_s;
-    alone.normal_force_n = options.normal_force_n;
-    alone.sample_rate_hz = options.sample_rate_hz;
-    options = alone;
-  }
-  if (ideal) {
-    const auto seed = options.seed;
-    const double length = options.length_mm, speed = options.speed_mm_s,
-                 force = options.normal_force_n, rate = options.sample_rate_hz;
-    options = surfmap::DragSimOptions::Ideal();
-    options.seed = seed;
-    options.length_mm = length;
-    options.speed_mm_s = speed;
-    options.normal_force_n = force;
-    options.sample_rate_hz = rate;
+  if (ideal || !only.empty()) {
+    // An ideal rig running this drag (seed, length, speed, force, rate),
+    // with the one disturbance of --only at its amplitude.
+    surfmap::DragSimOptions quiet = surfmap::DragSimOptions::Ideal();
+    quiet.seed = options.seed;
+    quiet.length_mm = options.length_mm;
+    quiet.speed_mm_s = options.speed_mm_s;
+    quiet.normal_force_n = options.normal_force_n;
+    quiet.sample_rate_hz = options.sample_rate_hz;
+    if (!only.empty()) {
+      const auto member = kDisturbances.at(only);
+      quiet.*member = options.*member;
+    }
+    options = quiet;
   }
 
   const double geometry_length = options.length_mm;
