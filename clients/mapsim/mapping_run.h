@@ -88,6 +88,8 @@ struct MappingRunOptions {
   bool map_ignore_unconfirmed_end_pieces = RegionMapOptions{}.boundaries_ignore_unconfirmed_end_pieces;
   // RegionMapOptions::transition_pieces_mark_one_crossing for the scored map.
   bool map_transition_crossings = RegionMapOptions{}.transition_pieces_mark_one_crossing;
+  // RegionMapOptions::max_transition_piece_mm for the scored map.
+  double map_transition_max_mm = RegionMapOptions{}.max_transition_piece_mm;
   // The links of the map scored (the plan's map carries no chain on,
   // PlanRegionMapOptions).
   BoundaryLinkOptions map_link_options;

@@ -104,6 +104,7 @@ int Main(int argc, char** argv) {
   bool map_move_only_alike = MappingRunOptions{}.map_move_only_to_alike_material;
   bool map_ignore_unconfirmed_ends = MappingRunOptions{}.map_ignore_unconfirmed_end_pieces;
   bool map_transition_crossings = MappingRunOptions{}.map_transition_crossings;
+  double map_transition_max_mm = MappingRunOptions{}.map_transition_max_mm;
   double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
@@ -257,6 +258,11 @@ int Main(int argc, char** argv) {
                  "between its neighbours, and that piece refuses no boundary (true|false; false: the build before, "
                  "on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-transition-mm", map_transition_max_mm,
+                 "... when that piece is shorter than this many mm (RegionMapOptions::max_transition_piece_mm; 1.5: "
+                 "the build before, on the same drags)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
@@ -367,6 +373,7 @@ int Main(int argc, char** argv) {
   base.map_move_only_to_alike_material = map_move_only_alike;
   base.map_ignore_unconfirmed_end_pieces = map_ignore_unconfirmed_ends;
   base.map_transition_crossings = map_transition_crossings;
+  base.map_transition_max_mm = map_transition_max_mm;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map_min_mu_piece_mm = map_mu_min_mm;

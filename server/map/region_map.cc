@@ -105,6 +105,9 @@ bool RegionMapOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(min_end_piece_mark_mm) && min_end_piece_mark_mm >= 0.0)) {
     return fail("min_end_piece_mark_mm must be >= 0");
   }
+  if (!(std::isfinite(max_transition_piece_mm) && max_transition_piece_mm >= 0.0)) {
+    return fail("max_transition_piece_mm must be >= 0");
+  }
   if (!(std::isfinite(end_piece_mark_z) && end_piece_mark_z >= 0.0)) return fail("end_piece_mark_z must be >= 0");
   if (!(std::isfinite(change_location_mm) && change_location_mm >= 0.0)) return fail("change_location_mm must be >= 0");
   if (!(std::isfinite(near_data_mm) && near_data_mm >= 0.0)) return fail("near_data_mm must be >= 0 (0 = automatic)");
@@ -756,7 +759,7 @@ bool RegionMap::TransitionPiece(int i, const std::vector<int>& side) const {
   const MapPiece& after = pieces_[i + 1];
   if (before.drag != t.drag || after.drag != t.drag || t.points.empty()) return false;
   if (!(t.piece.starts_at_change && t.piece.ends_at_change)) return false;
-  if (!(t.piece.end_mm - t.piece.start_mm < options_.min_end_piece_mark_mm)) return false;
+  if (!(t.piece.end_mm - t.piece.start_mm < options_.max_transition_piece_mm)) return false;
   if (side[i] == side[i - 1] || side[i] == side[i + 1] || side[i - 1] == side[i + 1]) return false;
   const double lo = std::min(before.piece.texture.mu, after.piece.texture.mu);
   const double hi = std::max(before.piece.texture.mu, after.piece.texture.mu);

@@ -354,12 +354,12 @@ TEST(RegionMapTest, AShortEndPieceAlikeToItsNeighbourRefusesNoBoundary) {
   }
 }
 
-TEST(RegionMapTest, APieceThatBlendsItsNeighboursMarksOneCrossingInItsMiddle) {
-  // Glass at x < 0, sandpaper at x > 0, crossed by drags at y = -8, 0 and
-  // 8. The middle drag's detector put two changes round the step, 0.6 mm
-  // either side of it: a 1.2 mm piece reading 0.30 +- 0.05, between the
-  // two, that the map puts with a rubber piece far off.
-  const SurfaceLevel level = Plate();
+// Glass at x < 0, sandpaper at x > 0, crossed by drags at y = -8, 0 and 8.
+// The middle drag's detector put two changes round the step, half_mm either
+// side of it: a piece reading 0.30 +- 0.05, between the two, that the map
+// puts with a rubber piece far off. *transition: that piece's index;
+// *blended_drag: its drag.
+std::vector<MapPiece> PiecesWithABlendedCrossing(double half_mm, int* transition, int* blended_drag) {
   std::vector<MapPiece> pieces;
   int drag = 0;
   pieces.push_back(StraightPiece(drag++, {-45, -20, 0}, {-30, -20, 0}, 0.30));
@@ -368,53 +368,99 @@ TEST(RegionMapTest, APieceThatBlendsItsNeighboursMarksOneCrossingInItsMiddle) {
       pieces.push_back(p);
     }
   }
-  const int blended_drag = drag++;
-  std::vector<MapPiece> blended = CrossingDrag(blended_drag, {-12, 0, 0}, {-0.6, 0, 0}, {12, 0, 0}, kGlassAsRead, kSandpaperMu);
-  MapPiece transition = StraightPiece(blended_drag, {-0.6, 0, 0}, {0.6, 0, 0}, 0.30, blended[0].piece.end_mm);
-  transition.piece.starts_at_change = transition.piece.ends_at_change = true;
-  transition.piece.mu_se = 0.05;
-  blended[1] = StraightPiece(blended_drag, {0.6, 0, 0}, {12, 0, 0}, kSandpaperMu, transition.piece.end_mm);
+  *blended_drag = drag++;
+  std::vector<MapPiece> blended =
+      CrossingDrag(*blended_drag, {-12, 0, 0}, {-half_mm, 0, 0}, {12, 0, 0}, kGlassAsRead, kSandpaperMu);
+  MapPiece t = StraightPiece(*blended_drag, {-half_mm, 0, 0}, {half_mm, 0, 0}, 0.30, blended[0].piece.end_mm);
+  t.piece.starts_at_change = t.piece.ends_at_change = true;
+  t.piece.mu_se = 0.05;
+  blended[1] = StraightPiece(*blended_drag, {half_mm, 0, 0}, {12, 0, 0}, kSandpaperMu, t.piece.end_mm);
   blended[1].piece.starts_at_change = true;
-  pieces.insert(pieces.end(), {blended[0], transition, blended[1]});
-  const int t = static_cast<int>(pieces.size()) - 2;
+  pieces.insert(pieces.end(), {blended[0], t, blended[1]});
+  *transition = static_cast<int>(pieces.size()) - 2;
+  return pieces;
+}
 
-  RegionMapOptions before;
-  before.transition_pieces_mark_one_crossing = false;
-  for (const bool one_crossing : {false, true}) {
-    SCOPED_TRACE(one_crossing ? "one crossing" : "the build before");
-    absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces, one_crossing ? RegionMapOptions{} : before);
-    ASSERT_TRUE(map.ok()) << map.status();
-    const std::vector<int>& region = map->piece_region();
-    const int glass = map->regions()[region[1]].material, sandpaper = map->regions()[region[2]].material;
-    const int rubber = map->regions()[region[0]].material;
-    ASSERT_EQ(map->regions()[region[t]].material, rubber) << "the transition is put with the rubber";
-    ASSERT_NE(rubber, glass);
-    ASSERT_NE(rubber, sandpaper);
-    int glass_to_sandpaper = 0;
-    for (const ChangeMark& m : map->change_marks()) {
-      if (m.before != glass || m.after != sandpaper) continue;
-      ++glass_to_sandpaper;
-      if (m.drag == blended_drag) {
-        EXPECT_NEAR(m.position.x(), 0.0, 0.1) << "the transition's middle";
-      }
-    }
-    if (one_crossing) {
-      EXPECT_EQ(map->change_marks().size(), 3u);
-      EXPECT_EQ(glass_to_sandpaper, 3);
-      // The boundary is drawn through all three crossings: straight at x = 0.
-      EXPECT_GE(map->boundary_links(), 1);
-      for (double y : {-4.0, 4.0}) {
-        EXPECT_EQ(map->regions()[At(*map, {-0.5, y, 0}).region].material, glass) << y;
-        EXPECT_EQ(map->regions()[At(*map, {0.5, y, 0}).region].material, sandpaper) << y;
-      }
-    } else {
-      // Glass to rubber and rubber to sandpaper; the rubber's data refuse
-      // the link between the other two drags' crossings.
-      EXPECT_EQ(map->change_marks().size(), 4u);
-      EXPECT_EQ(glass_to_sandpaper, 2);
-      EXPECT_EQ(map->boundary_links(), 0);
+// The map of PiecesWithABlendedCrossing: with one_crossing, the blended
+// drag crossed from glass to sandpaper in the transition's middle and the
+// boundary runs straight through all three crossings; without, glass to
+// rubber and rubber to sandpaper, and the rubber's data refuse the link
+// between the other two drags' crossings.
+void ExpectTheBlendedCrossing(const RegionMapOptions& options, double half_mm, bool one_crossing) {
+  const SurfaceLevel level = Plate();
+  int t = -1, blended_drag = -1;
+  const std::vector<MapPiece> pieces = PiecesWithABlendedCrossing(half_mm, &t, &blended_drag);
+  absl::StatusOr<RegionMap> map = MapOfPieces(level, pieces, options);
+  ASSERT_TRUE(map.ok()) << map.status();
+  const std::vector<int>& region = map->piece_region();
+  const int glass = map->regions()[region[1]].material, sandpaper = map->regions()[region[2]].material;
+  const int rubber = map->regions()[region[0]].material;
+  ASSERT_EQ(map->regions()[region[t]].material, rubber) << "the transition is put with the rubber";
+  ASSERT_NE(rubber, glass);
+  ASSERT_NE(rubber, sandpaper);
+  int glass_to_sandpaper = 0;
+  for (const ChangeMark& m : map->change_marks()) {
+    if (m.before != glass || m.after != sandpaper) continue;
+    ++glass_to_sandpaper;
+    if (m.drag == blended_drag) {
+      EXPECT_NEAR(m.position.x(), 0.0, 0.1) << "the transition's middle";
     }
   }
+  if (one_crossing) {
+    EXPECT_EQ(map->change_marks().size(), 3u);
+    EXPECT_EQ(glass_to_sandpaper, 3);
+    EXPECT_GE(map->boundary_links(), 1);
+    for (double y : {-4.0, 4.0}) {
+      EXPECT_EQ(map->regions()[At(*map, {-0.5, y, 0}).region].material, glass) << y;
+      EXPECT_EQ(map->regions()[At(*map, {0.5, y, 0}).region].material, sandpaper) << y;
+    }
+  } else {
+    EXPECT_EQ(map->change_marks().size(), 4u);
+    EXPECT_EQ(glass_to_sandpaper, 2);
+    EXPECT_EQ(map->boundary_links(), 0);
+  }
+}
+
+TEST(RegionMapTest, APieceThatBlendsItsNeighboursMarksOneCrossingInItsMiddle) {
+  // A 1.2 mm transition.
+  RegionMapOptions before;
+  before.transition_pieces_mark_one_crossing = false;
+  {
+    SCOPED_TRACE("the build before");
+    ExpectTheBlendedCrossing(before, 0.6, /*one_crossing=*/false);
+  }
+  {
+    SCOPED_TRACE("one crossing");
+    ExpectTheBlendedCrossing(RegionMapOptions{}, 0.6, /*one_crossing=*/true);
+  }
+}
+
+TEST(RegionMapTest, ATransitionMayBeTwoMillimetresLong) {
+  // The bottle (seed 4): a 1.8 mm piece between glass and sandpaper, put in
+  // a material of its own. Longer than max_transition_piece_mm it still
+  // marks two crossings, and the link beside it is refused.
+  RegionMapOptions before;
+  before.max_transition_piece_mm = 1.5;
+  {
+    SCOPED_TRACE("1.5 mm, the build before");
+    ExpectTheBlendedCrossing(before, 1.0, /*one_crossing=*/false);
+  }
+  {
+    SCOPED_TRACE("the default");
+    ExpectTheBlendedCrossing(RegionMapOptions{}, 1.0, /*one_crossing=*/true);
+  }
+  {
+    SCOPED_TRACE("3 mm is no transition");
+    ExpectTheBlendedCrossing(RegionMapOptions{}, 1.5, /*one_crossing=*/false);
+  }
+}
+
+TEST(RegionMapTest, ATransitionsLengthIsValidated) {
+  RegionMapOptions bad;
+  bad.max_transition_piece_mm = -1.0;
+  std::string why;
+  EXPECT_FALSE(bad.IsValid(&why));
+  EXPECT_NE(why.find("max_transition_piece_mm"), std::string::npos) << why;
 }
 
 TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
