@@ -237,14 +237,14 @@ struct RegionMapOptions {
   // the bottle (seed 4, in-process) had a drag cross its patch's side with a
   // 1.8 mm piece reading 0.16 +- 0.10 between glass's 0.13 and sandpaper's
   // 0.48, put in a material of its own; its two crossings linked to nothing,
-  // and the side's link was refused by its data, so the patch's corner was
-  // cut off (94.75 % right; 99.25 % with 2.5 mm). A strip of a third
+  // no link was drawn along the side past its data, and the patch's corner
+  // was cut off (94.75 % right; 99.25 % with 2.5 mm). A strip of a third
   // material narrower than this is below what the map draws anyway (the
   // scenes' narrowest is 6 mm), and a piece reading outside its neighbours'
-  // mu is never a transition. Over 160 in-process jobs
-  // (20 scenes x seeds 1-8, docs/method.md "A transition up to 2.5 mm"):
-  // share right +0.0125 +- 0.0026 points, 38 jobs up, 10 down, goals met
-  // 145 -> 146. 1.5 (min_end_piece_mark_mm): the build before.
+  // mu is never a transition. Over 160 in-process jobs (20 scenes x seeds
+  // 1-8, docs/method.md "A transition up to 2.5 mm long"): share right
+  // +0.0123 +- 0.0025 points, goals met 153 -> 154. 1.5 (the end pieces'
+  // min_end_piece_mark_mm, which it shared): the build before.
   double max_transition_piece_mm = 2.5;
   // Floors on a piece's mu_se and spread: synthetic or noise-free data can
   // report 0, which the merge statistics divide by.

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <gtest/gtest.h>
@@ -456,11 +457,15 @@ TEST(RegionMapTest, ATransitionMayBeTwoMillimetresLong) {
 }
 
 TEST(RegionMapTest, ATransitionsLengthIsValidated) {
-  RegionMapOptions bad;
-  bad.max_transition_piece_mm = -1.0;
-  std::string why;
-  EXPECT_FALSE(bad.IsValid(&why));
-  EXPECT_NE(why.find("max_transition_piece_mm"), std::string::npos) << why;
+  for (const double length : {-1.0, std::numeric_limits<double>::quiet_NaN()}) {
+    RegionMapOptions bad;
+    bad.max_transition_piece_mm = length;
+    std::string why;
+    EXPECT_FALSE(bad.IsValid(&why)) << length;
+    EXPECT_NE(why.find("max_transition_piece_mm"), std::string::npos) << why;
+    const absl::StatusOr<RegionMap> map = RegionMap::Create(Plate(), bad);
+    EXPECT_EQ(map.status().code(), absl::StatusCode::kInvalidArgument) << length;
+  }
 }
 
 TEST(RegionMapTest, CrossingsIntoTwoStretchesOfOneMaterialAreLinked) {
