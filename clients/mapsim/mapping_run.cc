@@ -317,6 +317,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     map_options.boundaries_ignore_unconfirmed_end_pieces = options.map_ignore_unconfirmed_end_pieces;
     map_options.transition_pieces_mark_one_crossing = options.map_transition_crossings;
     map_options.max_transition_piece_mm = options.map_transition_max_mm;
+    map_options.known_split.test_bands = options.map_known_texture_bands;
     map_options.links = options.map_link_options;
     map_options.min_fitted_pieces_for_mu = options.map_min_fitted_pieces_for_mu;
     map_options.min_mu_piece_mm = options.map_min_mu_piece_mm;

@@ -90,6 +90,9 @@ struct MappingRunOptions {
   bool map_transition_crossings = RegionMapOptions{}.transition_pieces_mark_one_crossing;
   // RegionMapOptions::max_transition_piece_mm for the scored map.
   double map_transition_max_mm = RegionMapOptions{}.max_transition_piece_mm;
+  // KnownTextureSplitOptions::test_bands of the scored map's split against
+  // its materials' textures.
+  bool map_known_texture_bands = RegionMapOptions{}.known_split.test_bands;
   // The links of the map scored (the plan's map carries no chain on,
   // PlanRegionMapOptions).
   BoundaryLinkOptions map_link_options;

@@ -105,6 +105,7 @@ int Main(int argc, char** argv) {
   bool map_ignore_unconfirmed_ends = MappingRunOptions{}.map_ignore_unconfirmed_end_pieces;
   bool map_transition_crossings = MappingRunOptions{}.map_transition_crossings;
   double map_transition_max_mm = MappingRunOptions{}.map_transition_max_mm;
+  bool map_known_texture_bands = MappingRunOptions{}.map_known_texture_bands;
   double map_mu_min_mm = MappingRunOptions{}.map_min_mu_piece_mm;
   bool plan_link_materials = MappingRunOptions{}.plan_link_materials;
   BoundaryLinkOptions plan_links = MappingRunOptions{}.plan_link_options;
@@ -263,6 +264,11 @@ int Main(int argc, char** argv) {
                  "the build before, on the same drags)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-known-bands", map_known_texture_bands,
+                 "the scored map's split of pieces against its materials' textures also tests a band of one texture "
+                 "inside another where no single split is kept (KnownTextureSplitOptions::test_bands; false: the build "
+                 "before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-mu-pieces", map_mu_pieces,
                  "the scored map pools a material's mu from its pieces long enough for a roughness fit when it has at "
                  "least this many (0: from every piece, the build before)")
@@ -374,6 +380,7 @@ int Main(int argc, char** argv) {
   base.map_ignore_unconfirmed_end_pieces = map_ignore_unconfirmed_ends;
   base.map_transition_crossings = map_transition_crossings;
   base.map_transition_max_mm = map_transition_max_mm;
+  base.map_known_texture_bands = map_known_texture_bands;
   base.map_link_options = map_links;
   base.map_min_fitted_pieces_for_mu = map_mu_pieces;
   base.map_min_mu_piece_mm = map_mu_min_mm;

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <vector>
 
 #include <Eigen/Dense>
 #include "absl/strings/str_cat.h"
@@ -71,7 +72,10 @@ struct Search {
     if (candidates == 0) return;
     const double critical =
         std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
-    if (!(best > critical)) return;
+    if (!(best > critical)) {
+      if (options.test_bands) SegmentBand(a, b);
+      return;
+    }
     Segment(a, best_k - 1);
     ChangePoint change;
     change.index = best_k;
@@ -80,6 +84,55 @@ struct Search {
     change.critical_value = critical;
     out.push_back(change);
     Segment(best_k + 1, b);
+  }
+
+  // Where no single split is kept: one texture on a band [k1, k2) and
+  // another on the rest of [a, b), each of the three parts long enough
+  // (the header says why). The same Markov and union bound over every
+  // (k1, k2, outer texture, band texture) tried.
+  void SegmentBand(int a, int b) {
+    const int textures = static_cast<int>(sums.size());
+    long long candidates = 0;
+    double best = -std::numeric_limits<double>::infinity();
+    int best_k1 = -1, best_k2 = -1;
+    std::vector<double> band(textures), outer(textures);
+    for (int k1 = a + 1; k1 < b; ++k1) {
+      if (!SideLongEnough(a, k1 - 2)) continue;
+      for (int k2 = k1 + 1; k2 < b; ++k2) {
+        // Pairs k1-1, k1, k2-1 and k2 are transitional.
+        if (!SideLongEnough(k1 + 1, k2 - 2)) continue;
+        if (!SideLongEnough(k2 + 1, b - 1)) break;
+        ++candidates;
+        double single = -std::numeric_limits<double>::infinity();
+        for (int m = 0; m < textures; ++m) {
+          band[m] = Rows(m, k1 + 3, k2 - 1);
+          outer[m] = Rows(m, a + 2, k1 - 1) + Rows(m, k2 + 3, b);
+          single = std::max(single, band[m] + outer[m]);
+        }
+        for (int o = 0; o < textures; ++o) {
+          for (int m = 0; m < textures; ++m) {
+            if (o == m) continue;
+            const double llr = outer[o] + band[m] - single;
+            if (llr > best) best = llr, best_k1 = k1, best_k2 = k2;
+          }
+        }
+      }
+    }
+    if (candidates == 0) return;
+    const double critical =
+        std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
+    if (!(best > critical)) return;
+    Segment(a, best_k1 - 1);
+    for (int k : {best_k1, best_k2}) {
+      ChangePoint change;
+      change.index = k;
+      change.s_mm = 0.5 * (s[k - 1] + s[k]);
+      change.statistic = best;
+      change.critical_value = critical;
+      out.push_back(change);
+      if (k == best_k1) Segment(best_k1 + 1, best_k2 - 1);
+    }
+    Segment(best_k2 + 1, b);
   }
 };
 

@@ -120,6 +120,57 @@ TEST(PieceResplitTest, APlanAddingDragsKeepsTheSplit) {
   EXPECT_EQ(map->pieces().size(), 11u);
 }
 
+// A 6 mm rubber strip along y (|x| < 3) through masonite: rubber drags
+// along the strip, masonite drags either side, and one drag across the
+// strip that holds 5 mm of masonite, 5.5 mm of rubber and 5.5 mm of
+// masonite with no change detected (big_block_m seed 2's drag 168).
+std::vector<MapPiece> StripAndOneDragAcrossIt() {
+  std::vector<MapPiece> pieces;
+  int drag = 0;
+  std::uint64_t seed = 31;
+  for (double y : {-20.0, -4.0, 12.0}) {
+    pieces.push_back(PieceWithSeries(drag++, {0, y, 0}, {0, y + 15.9, 0}, {{160, kRubberMu, kRubberLike}}, seed++));
+  }
+  for (double x : {-24.0, -14.0, 14.0, 24.0}) {
+    pieces.push_back(PieceWithSeries(drag++, {x, -8, 0}, {x, 7.9, 0}, {{160, kMasoniteMu, kMasoniteLike}}, seed++));
+  }
+  pieces.push_back(PieceWithSeries(
+      drag++, {-7.75, 0, 0}, {8.15, 0, 0},
+      {{50, kMasoniteMu, kMasoniteLike}, {55, kRubberMu, kRubberLike}, {55, kMasoniteMu, kMasoniteLike}}, seed++));
+  pieces.back().line_piece = 0;
+  return pieces;
+}
+
+TEST(PieceResplitTest, ADragAcrossAStripIsCutAtBothEdges) {
+  const SurfaceLevel level = Plate();
+  for (const bool bands : {true, false}) {
+    RegionMapOptions options;
+    options.known_split.test_bands = bands;
+    auto map = RegionMap::Create(level, options);
+    ASSERT_TRUE(map.ok()) << map.status();
+    ASSERT_TRUE(map->SetPieces(StripAndOneDragAcrossIt()).ok());
+    // Single splits leave the drag whole: each side of any one cut holds
+    // both materials.
+    if (!bands) {
+      EXPECT_EQ(map->split_pieces(), 0);
+      continue;
+    }
+    EXPECT_EQ(map->split_pieces(), 1);
+    ASSERT_EQ(map->pieces().size(), 10u);
+    // The edges lie at 4.95 and 10.45 mm along the drag (x = -2.8 and
+    // 2.7); within 1 mm each, the middle part in the rubber's region.
+    const MapPiece& middle = map->pieces()[8];
+    EXPECT_NEAR(middle.piece.start_mm, 4.95, 1.0);
+    EXPECT_NEAR(middle.piece.end_mm, 10.45, 1.0);
+    EXPECT_EQ(map->piece_region()[8], map->piece_region()[0]);
+    EXPECT_EQ(map->piece_region()[7], map->piece_region()[3]);
+    EXPECT_EQ(map->piece_region()[9], map->piece_region()[5]);
+    const absl::StatusOr<MapValue> on_strip = map->ValueAtPosition({0, 0, 0});
+    ASSERT_TRUE(on_strip.ok());
+    EXPECT_EQ(on_strip->region, map->piece_region()[0]);
+  }
+}
+
 TEST(PieceResplitTest, MalformedSeriesOrPositionsAreRefusedByName) {
   const SurfaceLevel level = testing::Plate();
   auto map = RegionMap::Create(level);
