@@ -228,6 +228,15 @@ int Main(int argc, char** argv) {
                  "the scored map takes a corner's side of one link whose chain ends there as straight when the "
                  "other side runs straight (boundary_corners.h; false: the build before, on the same drags)")
       ->capture_default_str();
+  app.add_option("--map-square-corners", map_links.square_corner_from_one_side,
+                 "the scored map draws a cut corner square to its one straight side when the other side shows no "
+                 "direction (boundary_corners.h; false: the build before, on the same drags)")
+      ->capture_default_str();
+  app.add_option("--map-corner-side-to-next-corner", map_links.corner_side_stops_at_next_corner,
+                 "the scored map takes a corner's side as its straight run of two links or more when it turns "
+                 "round the next corner within the reach (boundary_corners.h; false: the build before, on the "
+                 "same drags)")
+      ->capture_default_str();
   app.add_option("--map-dot-min-arc", map_links.min_dot_arc_deg,
                  "the scored map draws a dot whose crossings span at least this arc of its circle, degrees, "
                  "when other regions' data close the rest (boundary_dots.h; 180: only crossings that surround "

@@ -83,6 +83,39 @@ bool TriangleContradicted(const Corner& corner, const LabelledPointGrid& data, c
   return contradicted;
 }
 
+// True when the marks `side` (walked from `end`) lie within
+// max_corner_side_residual_mm of the line from `end` to the last of them.
+bool RunsStraight(const std::vector<ChangeMark>& marks, int end, const Eigen::Vector3d& n, const std::vector<int>& side,
+                  const BoundaryLinkOptions& o) {
+  const Eigen::Vector3d line = InPlane(marks[side.back()].position - marks[end].position, n);
+  if (line.norm() < o.min_corner_link_mm) return false;
+  const Eigen::Vector3d u = line.normalized();
+  for (int m : side) {
+    const Eigen::Vector3d r = InPlane(marks[m].position - marks[end].position, n);
+    if ((r - r.dot(u) * u).norm() > o.max_corner_side_residual_mm) return false;
+  }
+  return true;
+}
+
+// A side that runs straight over two links or more and then turns by a
+// corner's angle (min_corner_turn_deg) within the reach: *side cut to its
+// straight run, so a small patch's side is not refused for the next corner
+// round the patch. Left as it is otherwise.
+void TruncateAtNextCorner(const std::vector<ChangeMark>& marks, int end, const Eigen::Vector3d& n,
+                          const BoundaryLinkOptions& o, std::vector<int>* side) {
+  if (side->size() < 3 || RunsStraight(marks, end, n, *side, o)) return;
+  for (std::size_t count = side->size() - 1; count >= 2; --count) {
+    const std::vector<int> run(side->begin(), side->begin() + count);
+    if (!RunsStraight(marks, end, n, run, o)) continue;
+    const Eigen::Vector3d along = InPlane(marks[run.back()].position - marks[end].position, n).normalized();
+    const Eigen::Vector3d next = InPlane(marks[(*side)[count]].position - marks[run.back()].position, n);
+    if (next.norm() < 1e-9) return;
+    const double turn = std::acos(std::clamp(along.dot(next.normalized()), -1.0, 1.0)) * 180.0 / std::numbers::pi;
+    if (turn >= o.min_corner_turn_deg) *side = run;
+    return;
+  }
+}
+
 // The straight side of the chain at mark `end`, away from mark `away`:
 // a ChainEnd pointing out of it towards `end`, or nullopt when the chain
 // there has fewer than two links, branches, or turns by more than
@@ -122,6 +155,7 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
     cur = next;
   }
   if (side.empty()) return std::nullopt;
+  if (o.corner_side_stops_at_next_corner) TruncateAtNextCorner(marks, end, n, o, &side);
   const Eigen::Vector3d line = InPlane(marks[side.back()].position - marks[end].position, n);
   if (line.norm() < o.min_corner_link_mm) return std::nullopt;
   const Eigen::Vector3d u = line.normalized();
@@ -149,6 +183,32 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
   return ChainEnd{end, -u, link.towards_a, link.a, link.b};
 }
 
+// The end at mark `unknown` of a side whose direction the data do not show,
+// taken square to the straight side `known` (at mark known.mark): out of
+// `unknown` at right angles to known.out, towards the known side's line.
+// Nullopt when the chord from the known end turns from its side by less
+// than min_corner_turn_deg (the link runs on along the side: no corner is
+// cut), or when the crossing's drag ran along the square direction (no side
+// to tell region a's from).
+std::optional<ChainEnd> SquareEnd(const std::vector<ChangeMark>& marks, int unknown, const ChainEnd& known,
+                                  const BoundaryLinkOptions& o) {
+  const ChangeMark& m = marks[unknown];
+  const Eigen::Vector3d& n = m.normal;
+  const Eigen::Vector3d chord = InPlane(m.position - marks[known.mark].position, n);
+  if (chord.norm() < 1e-9 ||
+      chord.normalized().dot(InPlane(known.out, n).normalized()) > std::cos(o.min_corner_turn_deg * std::numbers::pi / 180.0)) {
+    return std::nullopt;
+  }
+  Eigen::Vector3d out = InPlane(n.cross(known.out), n);
+  if (out.norm() < 1e-9) return std::nullopt;
+  out.normalize();
+  if (InPlane(marks[known.mark].position - m.position, n).dot(out) < 0.0) out = -out;
+  Eigen::Vector3d towards_a = InPlane(TowardsA(m, known.a), n);
+  towards_a -= towards_a.dot(out) * out;
+  if (towards_a.norm() < 0.25) return std::nullopt;
+  return ChainEnd{unknown, out, towards_a.normalized(), known.a, known.b};
+}
+
 }  // namespace
 
 std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, std::vector<DrawnLink> links,
@@ -167,10 +227,18 @@ std::vector<DrawnLink> ReplaceCutCorners(const std::vector<ChangeMark>& marks, s
   for (int k = 0; k < static_cast<int>(links.size()); ++k) {
     const DrawnLink& link = links[k];
     bool x_ends = false, y_ends = false;
-    const std::optional<ChainEnd> x = StraightSide(marks, links, links_of, link.from, link.to, o, &x_ends);
-    if (!x) continue;
-    const std::optional<ChainEnd> y = StraightSide(marks, links, links_of, link.to, link.from, o, &y_ends);
-    if (!y || (x_ends && y_ends)) continue;  // two lone links show no straight side
+    std::optional<ChainEnd> x = StraightSide(marks, links, links_of, link.from, link.to, o, &x_ends);
+    std::optional<ChainEnd> y = StraightSide(marks, links, links_of, link.to, link.from, o, &y_ends);
+    if (o.square_corner_from_one_side && x.has_value() != y.has_value()) {
+      // One straight side of several crossings; the other's direction unknown.
+      if (x ? x_ends : y_ends) continue;
+      if (x) {
+        y = SquareEnd(marks, link.to, *x, o);
+      } else {
+        x = SquareEnd(marks, link.from, *y, o);
+      }
+    }
+    if (!x || !y || (x_ends && y_ends)) continue;  // two lone links show no straight side
     std::optional<Corner> c = CornerOf(marks[link.from], *x, marks[link.to], *y, o);
     if (c) candidates.emplace_back(*c, k);
   }

@@ -44,6 +44,18 @@
 //    for two chain ends above (ahead of both, within reach, turning by
 //    min..max_corner_turn_deg, the same hand);
 //  - no data contradicts the corner's two segments or its triangle P, C, Q.
+// A small patch's side runs round its next corner within
+// corner_side_reach_mm: a side that runs straight over two links or more
+// and then turns by min_corner_turn_deg is taken as that straight run
+// (corner_side_stops_at_next_corner). Where one side is straight by these
+// rules (not a lone link whose chain ends) and the other shows no direction
+// (a side crossed once, or whose chain turns at once), the unknown side is
+// taken square to the straight one (square_corner_from_one_side): most
+// patches a lab maps (tape, labels, sandpaper) have square corners, a chord
+// cuts every corner, and the corner's data checks still refuse a square
+// corner where a drag saw the other region inside it. On held_vase seed 4
+// a drag-sized patch's side crossed at one place had a chord cut 8 % of
+// the patch off (docs/method.md, "Square corners").
 #pragma once
 
 #include <vector>

@@ -240,6 +240,7 @@ TEST(BoundaryCorners, ACornerCutNextToASideOfOneLinkWhereItsChainEndsIsReplacedW
   const Scene scene = ObliqueCrossings({-4.0, -12.0, -20.0}, {-4.0, -16.0});
   BoundaryLinkOptions before;
   before.corner_side_may_end_its_chain = false;
+  before.square_corner_from_one_side = false;  // else the lone side is drawn square
   int links = 0, corners = -1;
   BoundaryLinkPoints(scene.marks, scene.data, before, &links, &corners);
   ASSERT_EQ(links, 4) << "two along x = 0, one along y = 0 and the chord across the corner";
@@ -248,6 +249,105 @@ TEST(BoundaryCorners, ACornerCutNextToASideOfOneLinkWhereItsChainEndsIsReplacedW
   EXPECT_EQ(links, 3);
   EXPECT_EQ(corners, 1);
   ExpectOnThePatchsTrueSides(points);
+}
+
+TEST(BoundaryCorners, ACornerCutNextToASideCrossedOnceIsDrawnSquareToTheStraightSide) {
+  // The side x = 0 crossed 4, 12 and 20 mm from the corner; the side y = 0
+  // once, 4 mm from it (held_vase, seed 4: a drag-sized patch's bottom side
+  // crossed at one place, and the chord from there to the straight side's
+  // last crossing cut 8 % of the patch off). The side crossed once shows no
+  // direction; it is taken square to the straight one.
+  const Scene scene = ObliqueCrossings({-4.0, -12.0, -20.0}, {-4.0});
+  BoundaryLinkOptions before;
+  before.square_corner_from_one_side = false;
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, before, &links, &corners);
+  ASSERT_EQ(links, 3) << "two along x = 0 and the chord across the corner";
+  EXPECT_EQ(corners, 0);
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 2);
+  EXPECT_EQ(corners, 1);
+  ExpectOnThePatchsTrueSides(points);
+  // Two lone crossings, one of each side, still keep their chord: neither
+  // side shows a direction to be square to.
+  const Scene lone = ObliqueCrossings({-4.0}, {-4.0});
+  BoundaryLinkPoints(lone.marks, lone.data, {}, &links, &corners);
+  EXPECT_EQ(links, 1);
+  EXPECT_EQ(corners, 0);
+}
+
+TEST(BoundaryCorners, ALinkAlongAStraightSideIsNeverTakenForACutCorner) {
+  // Crossings 12, 24, 40 and 56 mm from the corner on x = 0, 12, 24 and 40
+  // on y = 0: the chord between the nearest two cuts the corner, and the
+  // link from (0, -12) up its side has a straight side beyond it and, at
+  // (0, -12), a chain that turns along the chord. Drawn square, that link
+  // would make a corner of no width nearer than the true one (the bottle,
+  // seed 8) and take its crossing from it.
+  // The crossings past the nearest lie 0.2 mm outside x = 0 (a change is
+  // located to ~0.1-0.4 mm), so the nearest lies just off their line.
+  Scene scene = ObliqueCrossings({-12.0, -24.0, -40.0, -56.0}, {-12.0, -24.0, -40.0});
+  for (int k = 1; k <= 3; ++k) scene.marks[k].position.x() = 0.2;
+  int links = 0, corners = -1;
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(corners, 1);
+  int in_corner_triangle = 0;
+  for (const LabelledPoint& p : points) in_corner_triangle += p.point.x() + p.point.y() > -12.0 && p.label == 1;
+  EXPECT_GT(in_corner_triangle, 0) << "the corner the chord cut off carries the patch's points";
+}
+
+// A 16 mm square patch (region 1) in x, y in (-16, 0), crossed three times
+// on its side x = 0 (at y = -3, -8, -13) and once on each of its sides y = 0
+// and y = -16 (at x = -4), every drag 25 degrees off perpendicular to its
+// side, each with its data every 0.5 mm for 8 mm either side.
+Scene SmallSquarePatch() {
+  constexpr double kPi = 3.14159265358979;
+  const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
+  auto truth = [](const Eigen::Vector3d& p) { return p.x() < 0.0 && p.x() > -16.0 && p.y() < 0.0 && p.y() > -16.0; };
+  Scene scene;
+  auto drag = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
+    ChangeMark m;
+    m.position = at;
+    m.direction = direction;
+    m.normal = Eigen::Vector3d::UnitZ();
+    m.before = truth(at - 0.5 * direction);
+    m.after = truth(at + 0.5 * direction);
+    m.drag = static_cast<int>(scene.marks.size());
+    scene.marks.push_back(m);
+    for (double t = -8.0; t <= 8.0; t += 0.5) {
+      if (t != 0.0) scene.data.push_back({at + t * direction, truth(at + t * direction) ? 1 : 0});
+    }
+  };
+  drag({0.0, -3.0, 0.0}, {c, s, 0.0});
+  drag({0.0, -8.0, 0.0}, {c, s, 0.0});
+  drag({0.0, -13.0, 0.0}, {c, -s, 0.0});
+  drag({-4.0, 0.0, 0.0}, {s, c, 0.0});
+  drag({-4.0, -16.0, 0.0}, {s, -c, 0.0});
+  return scene;
+}
+
+TEST(BoundaryCorners, ASmallPatchsSideIsStraightUpToItsNextCorner) {
+  // Each corner of the side x = 0 is cut by a chord to the side crossed
+  // once. Walked over corner_side_reach_mm (20 mm) from either end, the
+  // straight side runs on round the patch's other corner (held_vase,
+  // seed 4: a 14 mm patch); up to that turn it is two links of a line.
+  const Scene scene = SmallSquarePatch();
+  BoundaryLinkOptions before;
+  before.corner_side_stops_at_next_corner = false;
+  int links = 0, corners = -1;
+  BoundaryLinkPoints(scene.marks, scene.data, before, &links, &corners);
+  ASSERT_EQ(links, 4) << "two along x = 0 and a chord across each of its corners";
+  EXPECT_EQ(corners, 0);
+  const std::vector<LabelledPoint> points = BoundaryLinkPoints(scene.marks, scene.data, {}, &links, &corners);
+  EXPECT_EQ(links, 2);
+  EXPECT_EQ(corners, 2);
+  int in_cut_corners = 0;
+  for (const LabelledPoint& p : points) {
+    // Beyond the chords (-4, 0)-(0, -3) and (0, -13)-(-4, -16), inside the patch.
+    const bool top = p.point.x() < 0.0 && p.point.y() < 0.0 && 3.0 * p.point.x() + 4.0 * p.point.y() > -12.0;
+    const bool bottom = p.point.x() < 0.0 && p.point.y() > -16.0 && 3.0 * p.point.x() - 4.0 * p.point.y() > 52.0;
+    in_cut_corners += (top || bottom) && p.label == 1;
+  }
+  EXPECT_GT(in_cut_corners, 0) << "the corners the chords cut off carry the patch's points";
 }
 
 // `crossings` crossings, evenly spaced, of a circle of radius `radius` mm

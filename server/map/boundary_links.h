@@ -122,6 +122,17 @@ struct BoundaryLinkOptions {
   // other side's straight run says the chord's turn is a corner's. Two such
   // sides are never taken (boundary_corners.h). False: the build before.
   bool corner_side_may_end_its_chain = true;
+  // A cut corner with one straight side (by the rules above, not a lone
+  // link whose chain ends) and a side that shows no direction (the other
+  // end's chain turns within the reach, or has no link beyond the chord) is
+  // drawn square: the unknown side leaves its crossing at right angles to
+  // the straight one (boundary_corners.h). False: the chord stays.
+  bool square_corner_from_one_side = true;
+  // A side that runs straight over two links or more and then turns by
+  // min_corner_turn_deg within corner_side_reach_mm (round a small patch's
+  // next corner) is taken as its straight run (boundary_corners.h). False:
+  // such a side is not straight.
+  bool corner_side_stops_at_next_corner = true;
   // The two ends' normals may differ by at most this: 20 mm over the
   // scenes' most curved parts (radii of curvature ~27 mm) turns ~42 degrees;
   // more is not one piece of surface to draw straight segments on.
