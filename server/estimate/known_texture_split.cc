@@ -42,6 +42,23 @@ struct Search {
   // Sum of texture m's rows in [from, to).
   double Rows(int m, int from, int to) const { return to > from ? sums[m][to] - sums[m][from] : 0.0; }
 
+  // log(K / alpha) for K = `candidates` splits (or bands) x the ordered
+  // pairs of different textures: the Markov and union bound (header).
+  double CriticalValue(long long candidates) const {
+    const int textures = static_cast<int>(sums.size());
+    return std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
+  }
+
+  // A change before pair k, found with `statistic` above `critical`.
+  void AddChange(int k, double statistic, double critical) {
+    ChangePoint change;
+    change.index = k;
+    change.s_mm = 0.5 * (s[k - 1] + s[k]);
+    change.statistic = statistic;
+    change.critical_value = critical;
+    out.push_back(change);
+  }
+
   bool SideLongEnough(int first, int last) const {  // pairs first..last inclusive
     return last - first + 1 >= options.min_piece_pairs && s[last] - s[first] >= options.min_piece_mm;
   }
@@ -70,19 +87,13 @@ struct Search {
       }
     }
     if (candidates == 0) return;
-    const double critical =
-        std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
+    const double critical = CriticalValue(candidates);
     if (!(best > critical)) {
       if (options.test_bands) SegmentBand(a, b);
       return;
     }
     Segment(a, best_k - 1);
-    ChangePoint change;
-    change.index = best_k;
-    change.s_mm = 0.5 * (s[best_k - 1] + s[best_k]);
-    change.statistic = best;
-    change.critical_value = critical;
-    out.push_back(change);
+    AddChange(best_k, best, critical);
     Segment(best_k + 1, b);
   }
 
@@ -119,19 +130,12 @@ struct Search {
       }
     }
     if (candidates == 0) return;
-    const double critical =
-        std::log(static_cast<double>(candidates) * textures * (textures - 1) / options.false_alarm_probability);
+    const double critical = CriticalValue(candidates);
     if (!(best > critical)) return;
     Segment(a, best_k1 - 1);
-    for (int k : {best_k1, best_k2}) {
-      ChangePoint change;
-      change.index = k;
-      change.s_mm = 0.5 * (s[k - 1] + s[k]);
-      change.statistic = best;
-      change.critical_value = critical;
-      out.push_back(change);
-      if (k == best_k1) Segment(best_k1 + 1, best_k2 - 1);
-    }
+    AddChange(best_k1, best, critical);
+    Segment(best_k1 + 1, best_k2 - 1);
+    AddChange(best_k2, best, critical);
     Segment(best_k2 + 1, b);
   }
 };

@@ -175,10 +175,7 @@ std::optional<ChainEnd> StraightSide(const std::vector<ChangeMark>& marks, const
       }
     }
   }
-  for (int m : side) {
-    const Eigen::Vector3d r = InPlane(marks[m].position - marks[end].position, n);
-    if ((r - r.dot(u) * u).norm() > o.max_corner_side_residual_mm) return std::nullopt;
-  }
+  if (!RunsStraight(marks, end, n, side, o)) return std::nullopt;
   const DrawnLink& link = links[first_link];
   return ChainEnd{end, -u, link.towards_a, link.a, link.b};
 }
@@ -203,9 +200,12 @@ std::optional<ChainEnd> SquareEnd(const std::vector<ChangeMark>& marks, int unkn
   if (out.norm() < 1e-9) return std::nullopt;
   out.normalize();
   if (InPlane(marks[known.mark].position - m.position, n).dot(out) < 0.0) out = -out;
+  // Region a's side across the square side, from the crossing drag: a drag
+  // within ~15 degrees of the square direction (sin 15 ~ 0.25) shows none.
+  constexpr double kMinAcrossShare = 0.25;
   Eigen::Vector3d towards_a = InPlane(TowardsA(m, known.a), n);
   towards_a -= towards_a.dot(out) * out;
-  if (towards_a.norm() < 0.25) return std::nullopt;
+  if (towards_a.norm() < kMinAcrossShare) return std::nullopt;
   return ChainEnd{unknown, out, towards_a.normalized(), known.a, known.b};
 }
 

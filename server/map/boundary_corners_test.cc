@@ -299,29 +299,20 @@ TEST(BoundaryCorners, ALinkAlongAStraightSideIsNeverTakenForACutCorner) {
 // on its side x = 0 (at y = -3, -8, -13) and once on each of its sides y = 0
 // and y = -16 (at x = -4), every drag 25 degrees off perpendicular to its
 // side, each with its data every 0.5 mm for 8 mm either side.
+int SmallSquareTruth(const Eigen::Vector3d& p) {
+  return p.x() < 0.0 && p.x() > -16.0 && p.y() < 0.0 && p.y() > -16.0 ? 1 : 0;
+}
+
 Scene SmallSquarePatch() {
   constexpr double kPi = 3.14159265358979;
   const double c = std::cos(25.0 * kPi / 180.0), s = std::sin(25.0 * kPi / 180.0);
-  auto truth = [](const Eigen::Vector3d& p) { return p.x() < 0.0 && p.x() > -16.0 && p.y() < 0.0 && p.y() > -16.0; };
   Scene scene;
-  auto drag = [&](const Eigen::Vector3d& at, const Eigen::Vector3d& direction) {
-    ChangeMark m;
-    m.position = at;
-    m.direction = direction;
-    m.normal = Eigen::Vector3d::UnitZ();
-    m.before = truth(at - 0.5 * direction);
-    m.after = truth(at + 0.5 * direction);
-    m.drag = static_cast<int>(scene.marks.size());
-    scene.marks.push_back(m);
-    for (double t = -8.0; t <= 8.0; t += 0.5) {
-      if (t != 0.0) scene.data.push_back({at + t * direction, truth(at + t * direction) ? 1 : 0});
-    }
-  };
-  drag({0.0, -3.0, 0.0}, {c, s, 0.0});
-  drag({0.0, -8.0, 0.0}, {c, s, 0.0});
-  drag({0.0, -13.0, 0.0}, {c, -s, 0.0});
-  drag({-4.0, 0.0, 0.0}, {s, c, 0.0});
-  drag({-4.0, -16.0, 0.0}, {s, -c, 0.0});
+  scene.truth = SmallSquareTruth;
+  scene.Drag({0.0, -3.0, 0.0}, {c, s, 0.0});
+  scene.Drag({0.0, -8.0, 0.0}, {c, s, 0.0});
+  scene.Drag({0.0, -13.0, 0.0}, {c, -s, 0.0});
+  scene.Drag({-4.0, 0.0, 0.0}, {s, c, 0.0});
+  scene.Drag({-4.0, -16.0, 0.0}, {s, -c, 0.0});
   return scene;
 }
 

@@ -14,29 +14,33 @@ namespace surfmap::testing {
 // y = 0 by drags along +y; the corner at the origin by none.
 inline int PatchTruth(const Eigen::Vector3d& p) { return p.x() < 0.0 && p.y() < 0.0 ? 1 : 0; }
 
-inline ChangeMark PatchMark(const Eigen::Vector3d& at, const Eigen::Vector3d& direction, int drag) {
+using PatchTruthFn = int (*)(const Eigen::Vector3d&);
+
+inline ChangeMark PatchMark(const Eigen::Vector3d& at, const Eigen::Vector3d& direction, int drag,
+                            PatchTruthFn truth = PatchTruth) {
   ChangeMark m;
   m.position = at;
   m.direction = direction;
   m.normal = Eigen::Vector3d::UnitZ();
-  m.before = PatchTruth(at - 0.5 * direction);
-  m.after = PatchTruth(at + 0.5 * direction);
+  m.before = truth(at - 0.5 * direction);
+  m.after = truth(at + 0.5 * direction);
   m.drag = drag;
   return m;
 }
 
 // Crossings and their drags' data, every 0.5 mm for data_mm either side of
-// each crossing, labelled by PatchTruth.
+// each crossing, labelled by `truth` (PatchTruth unless set).
 struct PatchScene {
   double data_mm = 8.0;
+  PatchTruthFn truth = PatchTruth;
   std::vector<ChangeMark> marks;
   std::vector<LabelledPoint> data;
   void Drag(const Eigen::Vector3d& crossing, const Eigen::Vector3d& direction) {
-    marks.push_back(PatchMark(crossing, direction, static_cast<int>(marks.size())));
+    marks.push_back(PatchMark(crossing, direction, static_cast<int>(marks.size()), truth));
     for (double s = -data_mm; s <= data_mm; s += 0.5) {
       if (s == 0.0) continue;
       const Eigen::Vector3d p = crossing + s * direction;
-      data.push_back({p, PatchTruth(p)});
+      data.push_back({p, truth(p)});
     }
   }
 };
