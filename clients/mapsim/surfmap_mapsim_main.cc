@@ -246,6 +246,11 @@ int Main(int argc, char** argv) {
                  "the scored map checks a dot's ring out to this many of its radii from its centre: its own "
                  "region's data there refuse it, other regions' close a one-sided dot's gap (boundary_dots.h)")
       ->capture_default_str();
+  app.add_option("--map-dot-contradicted-chords", map_links.max_dot_contradicted_chord_share,
+                 "the scored map leaves out a dot's chords that data contradict, while at most this share of them "
+                 "are, and draws the rest of its circle (boundary_dots.h; 0: the build before, on the same drags)")
+      ->check(CLI::Range(0.0, 1.0))
+      ->capture_default_str();
   app.add_option("--map-dot-grazing-crossings", map_links.dot_grazing_crossings_on_circle,
                  "the scored map lets a crossing of a drag that grazed a dot count when it lies on the circle "
                  "(boundary_dots.h; false: the build before, on the same drags)")

@@ -175,18 +175,28 @@ std::vector<BoundarySegment> Chords(const Circle& c, int inner, int outer, const
   return out;
 }
 
-bool Contradicted(const Circle& c, const std::vector<BoundarySegment>& chords, int inner,
-                  const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
-  const CorridorCheck near_circle{o.corridor_mm, o.max_dot_data_offset_mm, o.corridor_mm};
-  for (const BoundarySegment& s : chords) {
-    if (SegmentContradicted(s, data, near_circle)) return true;
-  }
+// Whether data of another region lie inside the circle, or the inner
+// region's data in the ring outside it: the region is larger, or not round.
+bool RingContradicted(const Circle& c, int inner, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
   bool contradicted = false;
   ForEachInRing(c, data, o, [&](const LabelledPoint& x, double r) {
     if (r < c.radius - o.corridor_mm && x.label != inner) contradicted = true;
     if (r > c.radius + o.corridor_mm && x.label == inner) contradicted = true;
   });
   return contradicted;
+}
+
+// The chords no data contradict, or nothing when more than
+// max_dot_contradicted_chord_share of them are contradicted.
+std::optional<std::vector<BoundarySegment>> UncontradictedChords(std::vector<BoundarySegment> chords,
+                                                                 const LabelledPointGrid& data,
+                                                                 const BoundaryLinkOptions& o) {
+  const CorridorCheck near_circle{o.corridor_mm, o.max_dot_data_offset_mm, o.corridor_mm};
+  const std::size_t all = chords.size();
+  std::erase_if(chords, [&](const BoundarySegment& s) { return SegmentContradicted(s, data, near_circle); });
+  const double contradicted = static_cast<double>(all - chords.size());
+  if (contradicted > o.max_dot_contradicted_chord_share * static_cast<double>(all)) return std::nullopt;
+  return chords;
 }
 
 }  // namespace
@@ -207,9 +217,10 @@ std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const La
       if (!circle) continue;
       for (const auto& [inner, outer] : {pair, std::pair<int, int>{pair.second, pair.first}}) {
         if (!IsDot(marks, group, *circle, inner, data, o)) continue;
-        std::vector<BoundarySegment> chords = Chords(*circle, inner, outer, o);
-        if (Contradicted(*circle, chords, inner, data, o)) continue;
-        dots.push_back({group, inner, outer, std::move(chords)});
+        if (RingContradicted(*circle, inner, data, o)) continue;
+        std::optional<std::vector<BoundarySegment>> chords = UncontradictedChords(Chords(*circle, inner, outer, o), data, o);
+        if (!chords) continue;
+        dots.push_back({group, inner, outer, std::move(*chords)});
       }
     }
   }

@@ -29,11 +29,12 @@
 //    180 degrees. Two crossings of each side near a patch's corner lie on
 //    a circle too, about the patch's inside; beyond their gap lies the
 //    patch, never another region;
-//  - no data contradicts it: near the circle as for a link
-//    (boundary_corridor.h) but with max_dot_data_offset_mm for the wrong
-//    side's tolerance, no other region's data inside it, and no
-//    data of the inner region in the ring (the region is larger, or not
-//    round).
+//  - no other region's data lie inside it, and no data of the inner region
+//    in the ring (the region is larger, or not round);
+//  - data near the circle, checked as for a link (boundary_corridor.h) but
+//    with max_dot_data_offset_mm for the wrong side's tolerance, contradict
+//    at most max_dot_contradicted_chord_share of its chords; those are left
+//    out, and the random walker draws the edge there.
 // The circle is then drawn as chords of at most max_dot_chord_mm, each with
 // the link's seeds either side, and it replaces the links drawn between the
 // dot's crossings (boundary_links.cc): two crossings 50 degrees apart round

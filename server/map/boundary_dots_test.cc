@@ -3,6 +3,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include "server/map/boundary_links.h"
@@ -258,19 +259,67 @@ TEST(BoundaryDots, DataOffTheCircleByACrossingsOwnErrorDoesNotStopIt) {
   data.push_back({at(6.6, 190.0), kOutside});
   Dots(marks, data, &dots);
   EXPECT_EQ(dots, 1);
-  // Checked as a link is (seed_offset_mm, 0.25 mm), each refuses the dot.
+  // Checked as a link is (seed_offset_mm, 0.25 mm), each refuses the dot
+  // (any contradicted chord refusing the whole circle, as in that build).
   BoundaryLinkOptions as_a_link;
   as_a_link.max_dot_data_offset_mm = as_a_link.seed_offset_mm;
+  as_a_link.max_dot_contradicted_chord_share = 0.0;
   Dots(marks, data, &dots, as_a_link);
   EXPECT_EQ(dots, 0);
   data.pop_back();
   Dots(marks, data, &dots, as_a_link);
   EXPECT_EQ(dots, 0);
-  // 0.7 mm off is more than a crossing's error: refused.
+  // 0.7 mm off is more than a crossing's error: it contradicts the chords
+  // beside it (and with no share of chords left out, the whole circle).
   data = DotData(marks, 7.0);
   data.push_back({at(7.7, 70.0), kDot});
-  Dots(marks, data, &dots);
+  BoundaryLinkOptions whole_circle;
+  whole_circle.max_dot_contradicted_chord_share = 0.0;
+  Dots(marks, data, &dots, whole_circle);
   EXPECT_EQ(dots, 0);
+}
+
+// The chords of the dot of radius 7 drawn (their middles' polar angles,
+// degrees in [0, 360)).
+std::vector<double> ChordAngles(const std::vector<ChangeMark>& marks, const std::vector<LabelledPoint>& data,
+                                const BoundaryLinkOptions& o = {}) {
+  std::vector<double> angles;
+  for (const BoundaryDot& dot : FindDots(marks, LabelledPointGrid(data, 5.0), o)) {
+    for (const BoundarySegment& chord : dot.chords) {
+      const Eigen::Vector3d mid = 0.5 * (chord.p + chord.q);
+      double deg = std::atan2(mid.y(), mid.x()) * 180.0 / std::numbers::pi;
+      angles.push_back(deg < 0.0 ? deg + 360.0 : deg);
+    }
+  }
+  return angles;
+}
+
+TEST(BoundaryDots, ChordsDataContradictAreLeftOutAndTheRestOfTheCircleDrawn) {
+  const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0), DotCrossing(7.0, 130.0, 1),
+                                         DotCrossing(7.0, 250.0, 2)};
+  auto at = [](double r, double phi_deg) {
+    const double phi = phi_deg * std::numbers::pi / 180.0;
+    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0.0);
+  };
+  // A drag that grazed the rim blended its last piece across the edge: the
+  // dot's label 0.8 mm outside the circle at 70 degrees (held_block seed 2,
+  // docs/method.md).
+  std::vector<LabelledPoint> data = DotData(marks, 7.0);
+  data.push_back({at(7.8, 70.0), kDot});
+  const int all = static_cast<int>(ChordAngles(marks, DotData(marks, 7.0)).size());
+  ASSERT_EQ(all, 44);  // 1 mm chords round 7 mm
+  const std::vector<double> kept = ChordAngles(marks, data);
+  EXPECT_GE(static_cast<int>(kept.size()), all - 3);
+  EXPECT_LT(static_cast<int>(kept.size()), all);
+  for (double deg : kept) EXPECT_GT(std::abs(deg - 70.0), 5.0) << "a chord beside the contradicting point";
+  BoundaryLinkOptions before;
+  before.max_dot_contradicted_chord_share = 0.0;
+  EXPECT_TRUE(ChordAngles(marks, data, before).empty()) << "the build before refuses the whole circle";
+  // The dot's label outside the circle all along a quarter of it: the dot
+  // is larger there, not round, and more than an eighth of its chords are
+  // contradicted.
+  for (double deg = 20.0; deg <= 110.0; deg += 4.0) data.push_back({at(7.8, deg), kDot});
+  EXPECT_TRUE(ChordAngles(marks, data).empty());
 }
 
 TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
@@ -295,7 +344,7 @@ TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
 }
 
-TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAndAnArcBeyondAHalfCircleByName) {
+TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAnArcBeyondAHalfCircleAndAShareOverOneByName) {
   for (double ring : {0.5, -1.0, std::nan("")}) {
     BoundaryLinkOptions options;
     options.dot_ring_radii = ring;
@@ -308,6 +357,10 @@ TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAndAnArcBeyondAHalfCircleByName
   std::string why;
   EXPECT_FALSE(options.IsValid(&why));
   EXPECT_NE(why.find("min_dot_arc_deg"), std::string::npos) << why;
+  options = {};
+  options.max_dot_contradicted_chord_share = 1.5;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("max_dot_contradicted_chord_share"), std::string::npos) << why;
 }
 
 }  // namespace

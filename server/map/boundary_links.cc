@@ -44,7 +44,8 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(max_dot_chord_mm) && max_dot_chord_mm > 0.0)) return fail("max_dot_chord_mm must be > 0");
   if (!(std::isfinite(dot_ring_radii) && dot_ring_radii >= 1.0)) return fail("dot_ring_radii must be >= 1");
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_crossing_cos", min_crossing_cos},
-                                    {"min_extension_crossing_cos", min_extension_crossing_cos}}) {
+                                    {"min_extension_crossing_cos", min_extension_crossing_cos},
+                                    {"max_dot_contradicted_chord_share", max_dot_contradicted_chord_share}}) {
     if (!(value >= 0.0 && value <= 1.0)) return fail(absl::StrCat(name, " must be in [0, 1]"));
   }
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_corner_turn_deg", min_corner_turn_deg},

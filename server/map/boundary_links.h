@@ -259,6 +259,15 @@ struct BoundaryLinkOptions {
   // and other regions' data close a one-sided dot's gap. 1.5 (the build
   // before): a drag's length beyond a drag-sized dot's edge.
   double dot_ring_radii = 1.5;
+  // A dot's chords that data contradict (max_dot_data_offset_mm) are left
+  // out, and the random walker draws the edge there, while at most this
+  // share of them are; more refuse the circle. A drag that grazes a dot's
+  // rim blends its last piece across the edge and lands it on the wrong
+  // side of one chord: held_block seed 2's 8.6 mm dot, its eight crossings
+  // on the circle to 0.12 mm, was refused for one chord of 54 and mapped
+  // at 82 % (docs/method.md). 0: any contradicted chord refuses the circle
+  // (the build before).
+  double max_dot_contradicted_chord_share = 0.125;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
