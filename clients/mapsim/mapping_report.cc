@@ -76,9 +76,10 @@ std::string FormatMapRegions(const MappingRunResult& run, const Scene& scene) {
                           truth.empty() ? "-" : truth);
   }
   absl::StrAppendFormat(&out,
-                        "  boundaries: %d crossings between regions, %d links, %d corners and %d dots' circles drawn "
-                        "through them, %d carried across a change beyond them\n",
-                        run.map_changes, run.map_links, run.map_corners, run.map_dots, run.map_bridges);
+                        "  boundaries: %d crossings between regions, %d links, %d corners, %d dots' circles and %d "
+                        "rectangles drawn through them, %d carried across a change beyond them\n",
+                        run.map_changes, run.map_links, run.map_corners, run.map_dots, run.map_rectangles,
+                        run.map_bridges);
   absl::StrAppendFormat(&out, "  pieces split against the materials' textures: %d\n", run.map_split_pieces);
   absl::StrAppendFormat(&out, "  regions moved to the material whose texture fits them: %d\n", run.map_moved_regions);
   absl::StrAppendFormat(&out, "  pieces moved out of their region to the material whose texture fits them: %d\n",

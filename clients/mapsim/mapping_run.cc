@@ -338,6 +338,7 @@ absl::StatusOr<MappingRunResult> RunMapping(const MappingBench& bench, const Map
     result.map_corners = map->boundary_corners();
     result.map_bridges = map->boundary_bridges();
     result.map_dots = map->boundary_dots();
+    result.map_rectangles = map->boundary_rectangles();
     result.map_split_pieces = map->split_pieces();
     result.map_moved_regions = map->regions_moved_by_texture();
     result.map_moved_pieces = map->pieces_moved_by_texture();

@@ -154,6 +154,7 @@ struct MappingRunResult {
   int map_corners = 0;                         // and corners (boundary_corners.h)
   int map_bridges = 0;                         // and bridges (boundary_bridges.h)
   int map_dots = 0;                            // and dots' circles (boundary_dots.h)
+  int map_rectangles = 0;                      // and small patches' rectangles (boundary_rectangles.h)
   int map_split_pieces = 0;                    // pieces split against the materials (piece_resplit.h)
   int map_moved_regions = 0;                   // regions moved by texture (texture_assignment.h)
   int map_moved_pieces = 0;                    // misfit pieces moved by texture (region_map.h)

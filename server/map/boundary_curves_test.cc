@@ -62,6 +62,7 @@ TEST(BoundaryCurves, ARoundDotIsDrawnRoundNotAsAPolygon) {
   // The links alone: the dot's circle would replace them (boundary_dots.h).
   BoundaryLinkOptions curved;
   curved.max_dot_radius_mm = 0.0;
+  curved.max_rectangle_side_mm = 0.0;  // eight crossings 45 degrees apart lie on a square too
   BoundaryLinkOptions chords = curved;
   chords.max_curve_turn_deg = 0.0;
   int links_curved = 0, links_chords = 0;
@@ -142,6 +143,7 @@ TEST(BoundaryCurves, AChainTurningMoreThanTheLimitIsDrawnInChords) {
   const std::vector<ChangeMark> marks = DotCrossings(8);
   BoundaryLinkOptions o;
   o.max_dot_radius_mm = 0.0;  // the links alone, not the dot's circle (boundary_dots.h)
+  o.max_rectangle_side_mm = 0.0;  // nor the square its crossings lie on (boundary_rectangles.h)
   o.max_curve_turn_deg = 40.0;
   EXPECT_GT(LargestStrayMm(BoundaryLinkPoints(marks, DotData(marks), o), o), 0.8);
   o.max_curve_turn_deg = 50.0;

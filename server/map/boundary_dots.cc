@@ -21,30 +21,6 @@ struct Circle {
   Eigen::Vector3d At(double angle) const { return centre + radius * (std::cos(angle) * e1 + std::sin(angle) * e2); }
 };
 
-// Groups of marks (indices into `members`) within `reach` of each other,
-// chained (single linkage).
-std::vector<std::vector<int>> Groups(const std::vector<ChangeMark>& marks, const std::vector<int>& members,
-                                     double reach) {
-  const int n = static_cast<int>(members.size());
-  std::vector<int> group(n, -1);
-  std::vector<std::vector<int>> out;
-  for (int s = 0; s < n; ++s) {
-    if (group[s] >= 0) continue;
-    group[s] = static_cast<int>(out.size());
-    out.push_back({members[s]});
-    for (std::size_t k = 0; k < out.back().size(); ++k) {
-      const Eigen::Vector3d& p = marks[out.back()[k]].position;
-      for (int t = 0; t < n; ++t) {
-        if (group[t] < 0 && (marks[members[t]].position - p).norm() <= reach) {
-          group[t] = group[s];
-          out.back().push_back(members[t]);
-        }
-      }
-    }
-  }
-  return out;
-}
-
 // The least-squares circle through the marks in their mean tangent plane
 // (Kasa's algebraic fit), if the marks lie on one piece of surface.
 std::optional<Circle> FitCircle(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
@@ -186,17 +162,26 @@ bool RingContradicted(const Circle& c, int inner, const LabelledPointGrid& data,
   return contradicted;
 }
 
-// The chords no data contradict, or nothing when more than
-// max_dot_contradicted_chord_share of them are contradicted.
+// The chords no data contradict (checked as for a link, with
+// max_dot_data_offset_mm for the wrong side's tolerance), or nothing when
+// more than max_dot_contradicted_chord_share of them are contradicted.
 std::optional<std::vector<BoundarySegment>> UncontradictedChords(std::vector<BoundarySegment> chords,
                                                                  const LabelledPointGrid& data,
                                                                  const BoundaryLinkOptions& o) {
   const CorridorCheck near_circle{o.corridor_mm, o.max_dot_data_offset_mm, o.corridor_mm};
-  const std::size_t all = chords.size();
-  std::erase_if(chords, [&](const BoundarySegment& s) { return SegmentContradicted(s, data, near_circle); });
-  const double contradicted = static_cast<double>(all - chords.size());
-  if (contradicted > o.max_dot_contradicted_chord_share * static_cast<double>(all)) return std::nullopt;
-  return chords;
+  std::vector<bool> contradicted;
+  for (const BoundarySegment& s : chords) contradicted.push_back(SegmentContradicted(s, data, near_circle));
+  return surfmap::UncontradictedChords(std::move(chords), contradicted, o);
+}
+
+// The dot on circle c with `inner` inside and `outer` outside, if its
+// crossings and the data make one (boundary_dots.h).
+std::optional<BoundaryDot> DotOn(const Circle& c, const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                 int inner, int outer, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
+  if (!IsDot(marks, group, c, inner, data, o) || RingContradicted(c, inner, data, o)) return std::nullopt;
+  std::optional<std::vector<BoundarySegment>> chords = UncontradictedChords(Chords(c, inner, outer, o), data, o);
+  if (!chords) return std::nullopt;
+  return BoundaryDot{group, inner, outer, std::move(*chords)};
 }
 
 }  // namespace
@@ -211,16 +196,13 @@ std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const La
     if (a != b && a >= 0) by_pair[{a, b}].push_back(m);
   }
   for (const auto& [pair, members] : by_pair) {
-    for (const std::vector<int>& group : Groups(marks, members, 2.0 * o.max_dot_radius_mm)) {
+    for (const std::vector<int>& group : GroupMarks(marks, members, 2.0 * o.max_dot_radius_mm)) {
       if (group.size() < 3) continue;
       const std::optional<Circle> circle = FitCircle(marks, group, o);
       if (!circle) continue;
       for (const auto& [inner, outer] : {pair, std::pair<int, int>{pair.second, pair.first}}) {
-        if (!IsDot(marks, group, *circle, inner, data, o)) continue;
-        if (RingContradicted(*circle, inner, data, o)) continue;
-        std::optional<std::vector<BoundarySegment>> chords = UncontradictedChords(Chords(*circle, inner, outer, o), data, o);
-        if (!chords) continue;
-        dots.push_back({group, inner, outer, std::move(*chords)});
+        std::optional<BoundaryDot> dot = DotOn(*circle, marks, group, inner, outer, data, o);
+        if (dot) dots.push_back(std::move(*dot));
       }
     }
   }

@@ -46,15 +46,11 @@
 
 #include "server/map/boundary_chains.h"
 #include "server/map/boundary_corridor.h"
+#include "server/map/boundary_outlines.h"
 
 namespace surfmap {
 
-struct BoundaryDot {
-  std::vector<int> marks;  // the crossings of its edge
-  int inner = -1;          // the dot's region
-  int outer = -1;
-  std::vector<BoundarySegment> chords;  // its edge, a = inner (inwards)
-};
+using BoundaryDot = BoundaryOutline;
 
 // The dots among the crossings (all of them, linked or not).
 std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const LabelledPointGrid& data,

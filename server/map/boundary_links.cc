@@ -16,6 +16,7 @@
 #include "server/map/boundary_corridor.h"
 #include "server/map/boundary_curves.h"
 #include "server/map/boundary_dots.h"
+#include "server/map/boundary_rectangles.h"
 
 namespace surfmap {
 bool BoundaryLinkOptions::IsValid(std::string* why) const {
@@ -36,6 +37,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"max_dot_data_offset_mm", max_dot_data_offset_mm},
                                                     {"max_corner_side_residual_mm", max_corner_side_residual_mm},
                                                     {"max_bridge_mm", max_bridge_mm},
+                                                    {"max_rectangle_side_mm", max_rectangle_side_mm},
                                                     {"bridge_tolerance_mm", bridge_tolerance_mm}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0)) return fail(absl::StrCat(name, " must be >= 0 and finite"));
@@ -43,6 +45,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(seed_spacing_mm) && seed_spacing_mm > 0.0)) return fail("seed_spacing_mm must be > 0");
   if (!(std::isfinite(max_dot_chord_mm) && max_dot_chord_mm > 0.0)) return fail("max_dot_chord_mm must be > 0");
   if (!(std::isfinite(dot_ring_radii) && dot_ring_radii >= 1.0)) return fail("dot_ring_radii must be >= 1");
+  if (min_rectangle_crossings < 5) return fail("min_rectangle_crossings must be >= 5 (a rectangle's parameters)");
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_crossing_cos", min_crossing_cos},
                                     {"min_extension_crossing_cos", min_extension_crossing_cos},
                                     {"max_dot_contradicted_chord_share", max_dot_contradicted_chord_share}}) {
@@ -67,7 +70,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& o, int* links, int* corners,
-                                              int* bridges, int* dots_drawn) {
+                                              int* bridges, int* dots_drawn, int* rectangles_drawn) {
   const int n = static_cast<int>(marks.size());
   const LabelledPointGrid grid(data, std::max(1.0, o.max_length_mm / 4.0));
   // Per mark and side along the boundary: the nearest consistent partner.
@@ -124,12 +127,18 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   }
   drawn = DrawLines(marks, std::move(drawn), grid, o);
   drawn = ExtendChains(marks, std::move(drawn), grid, o);
-  // A dot's circle replaces the chords drawn between its crossings.
-  const std::vector<BoundaryDot> dots = FindDots(marks, grid, o);
-  if (dots_drawn != nullptr) *dots_drawn = static_cast<int>(dots.size());
+  // A dot's circle or a small patch's rectangle replaces the chords drawn
+  // between its crossings.
+  std::vector<BoundaryOutline> outlines = FindDots(marks, grid, o);
+  if (dots_drawn != nullptr) *dots_drawn = static_cast<int>(outlines.size());
+  std::set<int> in_dots;
+  for (const BoundaryOutline& dot : outlines) in_dots.insert(dot.marks.begin(), dot.marks.end());
+  std::vector<BoundaryOutline> rectangles = FindRectangles(marks, grid, o, in_dots);
+  if (rectangles_drawn != nullptr) *rectangles_drawn = static_cast<int>(rectangles.size());
+  outlines.insert(outlines.end(), std::make_move_iterator(rectangles.begin()), std::make_move_iterator(rectangles.end()));
   std::vector<int> dot_of(n, -1);
-  for (int d = 0; d < static_cast<int>(dots.size()); ++d) {
-    for (int m : dots[d].marks) dot_of[m] = d;
+  for (int d = 0; d < static_cast<int>(outlines.size()); ++d) {
+    for (int m : outlines[d].marks) dot_of[m] = d;
   }
   std::erase_if(drawn, [&](const DrawnLink& l) { return dot_of[l.from] >= 0 && dot_of[l.from] == dot_of[l.to]; });
   // Corners between chain ends are looked for with the cutting links in
@@ -143,8 +152,10 @@ std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& mar
   out.insert(out.end(), bridge_points.begin(), bridge_points.end());
   if (links != nullptr) *links = static_cast<int>(drawn.size());
   out.insert(out.end(), corner_points.begin(), corner_points.end());
-  for (const BoundaryDot& dot : dots) {
-    for (const BoundarySegment& chord : dot.chords) AppendSegmentSeeds(chord, o, &out);
+  for (const BoundaryOutline& outline : outlines) {
+    const std::size_t first = out.size();
+    for (const BoundarySegment& chord : outline.chords) AppendSegmentSeeds(chord, o, &out);
+    for (std::size_t k = first; k < out.size(); ++k) out[k].project_along = outline.project_along;
   }
   return out;
 }

@@ -49,6 +49,9 @@ struct ChangeMark {
 struct LabelledPoint {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();
   int label = -1;
+  // Nonzero: the point lies off the surface, where this line through it
+  // meets the surface (boundary_outlines.h); zero: at the nearest point.
+  Eigen::Vector3d project_along = Eigen::Vector3d::Zero();
 };
 
 struct BoundaryLinkOptions {
@@ -268,6 +271,14 @@ struct BoundaryLinkOptions {
   // at 82 % (docs/method.md). 0: any contradicted chord refuses the circle
   // (the build before).
   double max_dot_contradicted_chord_share = 0.125;
+  // Rectangles (boundary_rectangles.h): small patches whose crossings lie on
+  // the four sides of a rectangle no side of which is longer than this (0 =
+  // off, the build before): a drag and a half, for a patch as long as a drag
+  // is crossed once on a side as often as not. A longer patch's sides are
+  // crossed often enough to be chains of links.
+  double max_rectangle_side_mm = 30.0;
+  // At least this many crossings: a rectangle has five parameters.
+  int min_rectangle_crossings = 6;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most
@@ -284,6 +295,7 @@ struct BoundaryLinkOptions {
 std::vector<LabelledPoint> BoundaryLinkPoints(const std::vector<ChangeMark>& marks,
                                               const std::vector<LabelledPoint>& data,
                                               const BoundaryLinkOptions& options = {}, int* links = nullptr,
-                                              int* corners = nullptr, int* bridges = nullptr, int* dots = nullptr);
+                                              int* corners = nullptr, int* bridges = nullptr, int* dots = nullptr,
+                                              int* rectangles = nullptr);
 
 }  // namespace surfmap

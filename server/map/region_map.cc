@@ -660,6 +660,7 @@ absl::Status RegionMap::SpreadRegions() {
   corners_ = 0;
   bridges_ = 0;
   dots_ = 0;
+  rectangles_ = 0;
   marks_ = std::move(marks);
   // The links check their corridors against every piece's data but an
   // unconfirmed end piece's (boundaries_ignore_unconfirmed_end_pieces) and
@@ -674,7 +675,8 @@ absl::Status RegionMap::SpreadRegions() {
     for (const Eigen::Vector3d& p : placed()[i].data_points) link_data.push_back({p, side[i]});
   }
   const std::vector<LabelledPoint> link_points = BoundaryLinkPoints(marks_, own_link_data ? link_data : data,
-                                                                    options_.links, &links_, &corners_, &bridges_, &dots_);
+                                                                    options_.links, &links_, &corners_, &bridges_, &dots_,
+                                                                    &rectangles_);
   // The region of `material` whose data lies nearest a link point: searched
   // in growing boxes, since a link's middle can lie a link's length from its
   // ends.
@@ -694,9 +696,11 @@ absl::Status RegionMap::SpreadRegions() {
     return -1;
   };
   for (const LabelledPoint& p : link_points) {
-    const SurfacePoint hit = locator_->Closest(p.point);
+    const bool along = !p.project_along.isZero();
+    const SurfacePoint hit = along ? locator_->ClosestAlong(p.point, p.project_along) : locator_->Closest(p.point);
     if (hit.triangle < 0) continue;
-    const int region = options_.link_materials ? nearest_region_of_material(p.point, p.label) : p.label;
+    const Eigen::Vector3d at = along ? hit.position : p.point;
+    const int region = options_.link_materials ? nearest_region_of_material(at, p.label) : p.label;
     if (region < 0) continue;
     surface_seeds.push_back({hit.triangle, hit.barycentric, region});
     data.push_back({hit.position, region});

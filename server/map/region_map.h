@@ -335,6 +335,7 @@ class RegionMap {
   int boundary_corners() const { return corners_; }  // corners drawn between chain ends
   int boundary_bridges() const { return bridges_; }  // boundaries carried across a change beyond them
   int boundary_dots() const { return dots_; }        // circles drawn round dots (boundary_dots.h)
+  int boundary_rectangles() const { return rectangles_; }  // small patches' rectangles (boundary_rectangles.h)
   int regions_moved_by_texture() const { return regions_moved_by_texture_; }  // assign_by_texture
   int pieces_moved_by_texture() const { return pieces_moved_by_texture_; }    // move_misfit_pieces
   // Materials dissolved (dissolve_mixture_materials), over both groupings
@@ -453,6 +454,7 @@ class RegionMap {
   int corners_ = 0;
   int bridges_ = 0;
   int dots_ = 0;
+  int rectangles_ = 0;
   int regions_moved_by_texture_ = 0;
   int pieces_moved_by_texture_ = 0;
   int materials_dissolved_ = 0;

@@ -30,6 +30,26 @@ MeshLocator::~MeshLocator() = default;
 const std::vector<Eigen::Vector3d>& MeshLocator::positions() const { return impl_->positions; }
 const std::vector<std::array<int, 3>>& MeshLocator::triangles() const { return impl_->triangles; }
 
+SurfacePoint MeshLocator::ClosestAlong(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) const {
+  // Each step moves to the foot of the closest point on the line; on a
+  // surface curving away from the line it converges linearly (by about a
+  // half per step where the line meets a cylinder 0.8 radii off its axis).
+  constexpr int kMaxSteps = 64;
+  constexpr double kStepTolerance = 1e-4, kOffLine = 0.05;
+  SurfacePoint hit;
+  double t = 0.0;
+  for (int step = 0; step < kMaxSteps; ++step) {
+    hit = Closest(point + t * direction);
+    if (hit.triangle < 0) return hit;
+    const double next = (hit.position - point).dot(direction);
+    const bool settled = std::abs(next - t) < kStepTolerance;
+    t = next;
+    if (settled) break;
+  }
+  if ((hit.position - (point + t * direction)).norm() > kOffLine) return SurfacePoint{};
+  return hit;
+}
+
 SurfacePoint MeshLocator::Closest(const Eigen::Vector3d& query) const {
   SurfacePoint out;
   if (impl_->triangles.empty()) return out;

@@ -28,6 +28,13 @@ class MeshLocator {
   // of its vertices, position, distance; normal = the triangle's unit normal
   // (by its winding).
   SurfacePoint Closest(const Eigen::Vector3d& query) const;
+  // Where the line through `point` along unit `direction` meets the surface
+  // near it: the closest point of the point on the line that is its own
+  // closest point's foot (found by moving there until it stops, within
+  // 1e-4 mm), if that closest point lies on the line (within 0.05 mm);
+  // else triangle -1. A point of a tangent plane carried onto a curved
+  // surface along the plane's normal (boundary_rectangles.h).
+  SurfacePoint ClosestAlong(const Eigen::Vector3d& point, const Eigen::Vector3d& direction) const;
 
   const std::vector<Eigen::Vector3d>& positions() const;
   const std::vector<std::array<int, 3>>& triangles() const;

@@ -42,7 +42,7 @@ enum class PlanMode {
 // The plan's own region map: RegionMapOptions without the split against
 // the materials' textures, the texture assignment, the dissolving of
 // mixtures (measured on the served map only), the chains carried on,
-// the links longer than a drag, the lines, dots, cut and sharp corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
+// the links longer than a drag, the lines, dots, rectangles, cut and sharp corners, the spreads' floor, the end pieces' marks, and the materials' mu from long pieces (each measured on the served map
 // over the plan's drags, docs/method.md section 5).
 inline RegionMapOptions PlanRegionMapOptions() {
   RegionMapOptions options;
@@ -53,6 +53,7 @@ inline RegionMapOptions PlanRegionMapOptions() {
   options.links.max_extension_turn_deg = 0.0;
   options.links.max_line_turn_deg = 0.0;
   options.links.max_dot_radius_mm = 0.0;
+  options.links.max_rectangle_side_mm = 0.0;  // the plan issues the drags it issued before rectangles
   options.links.max_corner_side_residual_mm = 0.0;
   options.links.chain_ends_reach_past_short_links = false;  // the plan issues the drags it issued before
   options.links.max_bridge_mm = 0.0;  // the plan issues the drags it issued before bridges
