@@ -241,13 +241,16 @@ TEST(BoundaryDots, DataAgainstTheCircleStopsIt) {
   EXPECT_EQ(dots, 0);
 }
 
+// The point of the plate at distance r from the dot's centre, polar angle
+// phi_deg.
+Eigen::Vector3d AtPolar(double r, double phi_deg) {
+  const double phi = phi_deg * std::numbers::pi / 180.0;
+  return {r * std::cos(phi), r * std::sin(phi), 0.0};
+}
+
 TEST(BoundaryDots, DataOffTheCircleByACrossingsOwnErrorDoesNotStopIt) {
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0), DotCrossing(7.0, 130.0, 1),
                                          DotCrossing(7.0, 250.0, 2)};
-  auto at = [](double r, double phi_deg) {
-    const double phi = phi_deg * std::numbers::pi / 180.0;
-    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0.0);
-  };
   // Drags whose changes were located 0.4 mm off the true edge, as far as a
   // crossing of the dot may lie off its circle (max_dot_residual_mm): the
   // dot's data 0.4 mm outside it, the outer region's 0.4 mm inside.
@@ -255,8 +258,8 @@ TEST(BoundaryDots, DataOffTheCircleByACrossingsOwnErrorDoesNotStopIt) {
   ASSERT_GT(defaults.max_dot_residual_mm, 0.4);
   int dots = 0;
   std::vector<LabelledPoint> data = DotData(marks, 7.0);
-  data.push_back({at(7.4, 70.0), kDot});
-  data.push_back({at(6.6, 190.0), kOutside});
+  data.push_back({AtPolar(7.4, 70.0), kDot});
+  data.push_back({AtPolar(6.6, 190.0), kOutside});
   Dots(marks, data, &dots);
   EXPECT_EQ(dots, 1);
   // Checked as a link is (seed_offset_mm, 0.25 mm), each refuses the dot
@@ -272,7 +275,7 @@ TEST(BoundaryDots, DataOffTheCircleByACrossingsOwnErrorDoesNotStopIt) {
   // 0.7 mm off is more than a crossing's error: it contradicts the chords
   // beside it (and with no share of chords left out, the whole circle).
   data = DotData(marks, 7.0);
-  data.push_back({at(7.7, 70.0), kDot});
+  data.push_back({AtPolar(7.7, 70.0), kDot});
   BoundaryLinkOptions whole_circle;
   whole_circle.max_dot_contradicted_chord_share = 0.0;
   Dots(marks, data, &dots, whole_circle);
@@ -297,15 +300,11 @@ std::vector<double> ChordAngles(const std::vector<ChangeMark>& marks, const std:
 TEST(BoundaryDots, ChordsDataContradictAreLeftOutAndTheRestOfTheCircleDrawn) {
   const std::vector<ChangeMark> marks = {DotCrossing(7.0, 10.0, 0), DotCrossing(7.0, 130.0, 1),
                                          DotCrossing(7.0, 250.0, 2)};
-  auto at = [](double r, double phi_deg) {
-    const double phi = phi_deg * std::numbers::pi / 180.0;
-    return Eigen::Vector3d(r * std::cos(phi), r * std::sin(phi), 0.0);
-  };
   // A drag that grazed the rim blended its last piece across the edge: the
   // dot's label 0.8 mm outside the circle at 70 degrees (held_block seed 2,
   // docs/method.md).
   std::vector<LabelledPoint> data = DotData(marks, 7.0);
-  data.push_back({at(7.8, 70.0), kDot});
+  data.push_back({AtPolar(7.8, 70.0), kDot});
   const int all = static_cast<int>(ChordAngles(marks, DotData(marks, 7.0)).size());
   ASSERT_EQ(all, 44);  // 1 mm chords round 7 mm
   const std::vector<double> kept = ChordAngles(marks, data);
@@ -318,7 +317,7 @@ TEST(BoundaryDots, ChordsDataContradictAreLeftOutAndTheRestOfTheCircleDrawn) {
   // The dot's label outside the circle all along a quarter of it: the dot
   // is larger there, not round, and more than an eighth of its chords are
   // contradicted.
-  for (double deg = 20.0; deg <= 110.0; deg += 4.0) data.push_back({at(7.8, deg), kDot});
+  for (double deg = 20.0; deg <= 110.0; deg += 4.0) data.push_back({AtPolar(7.8, deg), kDot});
   EXPECT_TRUE(ChordAngles(marks, data).empty());
 }
 
