@@ -251,6 +251,11 @@ int Main(int argc, char** argv) {
                  "are, and draws the rest of its circle (boundary_dots.h; 0: the build before, on the same drags)")
       ->check(CLI::Range(0.0, 1.0))
       ->capture_default_str();
+  app.add_option("--map-dot-outlier", map_links.max_dot_outlier_mm,
+                 "the scored map lets one crossing of a dot crossed six times or more lie this far off the circle "
+                 "through the others, mm (boundary_dots.h; 0: off, the build before)")
+      ->check(CLI::NonNegativeNumber)
+      ->capture_default_str();
   app.add_option("--map-rectangle-side", map_links.max_rectangle_side_mm,
                  "the scored map draws a rectangle through the crossings round a small patch whose sides are at most "
                  "this long, mm (boundary_rectangles.h; 0: off, the build before)")

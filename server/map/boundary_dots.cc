@@ -18,6 +18,10 @@ struct Circle {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
   Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();  // in-plane basis
   double radius = 0.0;
+  // A mark that may lie off the circle by max_dot_outlier_mm (FitExcusingOne),
+  // and where it lies: its drag's data there may lie inside the circle.
+  int excused = -1;
+  Eigen::Vector3d excused_at = Eigen::Vector3d::Zero();
   Eigen::Vector3d At(double angle) const { return centre + radius * (std::cos(angle) * e1 + std::sin(angle) * e2); }
 };
 
@@ -61,6 +65,29 @@ std::pair<double, double> Polar(const Circle& c, const Eigen::Vector3d& p) {
   return {InPlane(d, c.normal).norm(), std::abs(d.dot(c.normal))};
 }
 
+double Residual(const Circle& c, const ChangeMark& mark) { return std::abs(Polar(c, mark.position).first - c.radius); }
+
+// The circle for a group: the least-squares fit through all its marks; or,
+// when one lies off that by more than max_dot_residual_mm and the group has
+// min_dot_crossings_to_excuse_one, the fit through the others with the one
+// farthest off excused (EdgeAngles holds it to max_dot_outlier_mm).
+std::optional<Circle> FitExcusingOne(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                     const BoundaryLinkOptions& o) {
+  std::optional<Circle> all = FitCircle(marks, group, o);
+  if (!all || static_cast<int>(group.size()) < o.min_dot_crossings_to_excuse_one) return all;
+  const auto farthest = std::max_element(group.begin(), group.end(), [&](int a, int b) {
+    return Residual(*all, marks[a]) < Residual(*all, marks[b]);
+  });
+  if (Residual(*all, marks[*farthest]) <= o.max_dot_residual_mm) return all;
+  std::vector<int> others;
+  for (int m : group) {
+    if (m != *farthest) others.push_back(m);
+  }
+  std::optional<Circle> rest = FitCircle(marks, others, o);
+  if (rest) rest->excused = *farthest, rest->excused_at = marks[*farthest].position;
+  return rest ? rest : all;
+}
+
 // Calls fn(x, r) for each data point x within the circle's ring (in-plane
 // distance r from its centre under dot_ring_radii radii), skipping points
 // farther off its plane than half that: another part of the object.
@@ -97,7 +124,8 @@ std::optional<std::vector<double>> EdgeAngles(const std::vector<ChangeMark>& mar
   int steep = 0;
   for (int m : group) {
     const Eigen::Vector3d d = InPlane(marks[m].position - c.centre, c.normal);
-    if (std::abs(d.norm() - c.radius) > o.max_dot_residual_mm) return std::nullopt;
+    const double tolerance = m == c.excused ? o.max_dot_outlier_mm : o.max_dot_residual_mm;
+    if (std::abs(d.norm() - c.radius) > tolerance) return std::nullopt;
     const Eigen::Vector3d in = InPlane(TowardsA(marks[m], inner), c.normal);
     if (in.norm() < 1e-9) return std::nullopt;
     if (in.normalized().dot(-d.normalized()) >= o.min_extension_crossing_cos) {
@@ -153,9 +181,11 @@ std::vector<BoundarySegment> Chords(const Circle& c, int inner, int outer, const
 
 // Whether data of another region lie inside the circle, or the inner
 // region's data in the ring outside it: the region is larger, or not round.
+// The data of an excused crossing's drag near it are its own offset.
 bool RingContradicted(const Circle& c, int inner, const LabelledPointGrid& data, const BoundaryLinkOptions& o) {
   bool contradicted = false;
   ForEachInRing(c, data, o, [&](const LabelledPoint& x, double r) {
+    if (c.excused >= 0 && (x.point - c.excused_at).norm() <= o.max_dot_outlier_mm) return;
     if (r < c.radius - o.corridor_mm && x.label != inner) contradicted = true;
     if (r > c.radius + o.corridor_mm && x.label == inner) contradicted = true;
   });
@@ -198,7 +228,7 @@ std::vector<BoundaryDot> FindDots(const std::vector<ChangeMark>& marks, const La
   for (const auto& [pair, members] : by_pair) {
     for (const std::vector<int>& group : GroupMarks(marks, members, 2.0 * o.max_dot_radius_mm)) {
       if (group.size() < 3) continue;
-      const std::optional<Circle> circle = FitCircle(marks, group, o);
+      const std::optional<Circle> circle = FitExcusingOne(marks, group, o);
       if (!circle) continue;
       for (const auto& [inner, outer] : {pair, std::pair<int, int>{pair.second, pair.first}}) {
         std::optional<BoundaryDot> dot = DotOn(*circle, marks, group, inner, outer, data, o);

@@ -17,7 +17,9 @@
 //    max_corner_normal_deg of the mean;
 //  - the least-squares circle through them has a radius from corridor_mm
 //    (less is the crossings' own location error) to max_dot_radius_mm, and
-//    every mark lies within max_dot_residual_mm of it;
+//    every mark lies within max_dot_residual_mm of it; of a group of at
+//    least min_dot_crossings_to_excuse_one, the one farthest off may lie up
+//    to max_dot_outlier_mm off the circle fitted through the others;
 //  - every drag entered the inner region running within
 //    acos(min_extension_crossing_cos) of the circle's centre (it crossed
 //    the edge, not grazed it); with dot_grazing_crossings_on_circle, at

@@ -343,7 +343,53 @@ TEST(BoundaryDots, TheCircleReplacesTheChordLinkedBetweenTwoOfItsCrossings) {
   EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
 }
 
-TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAnArcBeyondAHalfCircleAndAShareOverOneByName) {
+// Crossings of a dot of radius 7 every 360/n degrees from 15, the one at
+// 135 located `outlier_inside` mm inside the circle: its drag's data read
+// the outside up to where its change was located (held_block service seed
+// 4, docs/method.md).
+struct OutlierDot {
+  std::vector<ChangeMark> marks;
+  std::vector<LabelledPoint> data;
+};
+OutlierDot DotWithOneCrossingOff(int n, double outlier_inside) {
+  OutlierDot dot;
+  for (int k = 0; k < n; ++k) {
+    const double deg = 15.0 + 360.0 * k / n;
+    dot.marks.push_back(DotCrossing(std::abs(deg - 135.0) < 1e-9 ? 7.0 - outlier_inside : 7.0, deg, k));
+  }
+  for (const ChangeMark& m : dot.marks) {  // DotData's, read by where each change was located
+    const double located = m.position.norm();
+    for (double t = -8.0; t <= 8.0; t += 1.0) {
+      const Eigen::Vector3d p = m.position + t * m.direction;
+      if (std::abs(p.norm() - located) < 0.3) continue;
+      dot.data.push_back({p, p.norm() < located ? kDot : kOutside});
+    }
+  }
+  return dot;
+}
+
+TEST(BoundaryDots, OneCrossingLocatedOffTheCircleIsExcusedAmongSix) {
+  const OutlierDot dot = DotWithOneCrossingOff(6, 1.2);
+  int dots = -1;
+  const std::vector<LabelledPoint> points = Dots(dot.marks, dot.data, &dots);
+  EXPECT_EQ(dots, 1);
+  const auto [lo, hi] = InnerSeedRadii(points);
+  EXPECT_NEAR(lo, 7.0 - 0.25, 0.05) << "the circle through the other five";
+  EXPECT_NEAR(hi, 7.0 - 0.25, 0.05);
+  BoundaryLinkOptions before;
+  before.max_dot_outlier_mm = 0.0;
+  Dots(dot.marks, dot.data, &dots, before);
+  EXPECT_EQ(dots, 0) << "the build before refuses the circle";
+  BoundaryLinkOptions seven;
+  seven.min_dot_crossings_to_excuse_one = 7;
+  Dots(dot.marks, dot.data, &dots, seven);
+  EXPECT_EQ(dots, 0) << "six crossings, seven needed to excuse one";
+  const OutlierDot far_off = DotWithOneCrossingOff(6, 2.0);
+  Dots(far_off.marks, far_off.data, &dots);
+  EXPECT_EQ(dots, 0) << "2 mm off: not a located change's error";
+}
+
+TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAnArcBeyondAHalfCircleAndBadOutlierRulesByName) {
   for (double ring : {0.5, -1.0, std::nan("")}) {
     BoundaryLinkOptions options;
     options.dot_ring_radii = ring;
@@ -360,6 +406,14 @@ TEST(BoundaryDots, OptionsRefuseARingInsideTheDotAnArcBeyondAHalfCircleAndAShare
   options.max_dot_contradicted_chord_share = 1.5;
   EXPECT_FALSE(options.IsValid(&why));
   EXPECT_NE(why.find("max_dot_contradicted_chord_share"), std::string::npos) << why;
+  options = {};
+  options.min_dot_crossings_to_excuse_one = 4;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("min_dot_crossings_to_excuse_one"), std::string::npos) << why;
+  options = {};
+  options.max_dot_outlier_mm = -1.0;
+  EXPECT_FALSE(options.IsValid(&why));
+  EXPECT_NE(why.find("max_dot_outlier_mm"), std::string::npos) << why;
 }
 
 }  // namespace

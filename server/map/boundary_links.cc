@@ -35,6 +35,7 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
                                                     {"max_dot_radius_mm", max_dot_radius_mm},
                                                     {"max_dot_residual_mm", max_dot_residual_mm},
                                                     {"max_dot_data_offset_mm", max_dot_data_offset_mm},
+                                                    {"max_dot_outlier_mm", max_dot_outlier_mm},
                                                     {"max_corner_side_residual_mm", max_corner_side_residual_mm},
                                                     {"max_bridge_mm", max_bridge_mm},
                                                     {"max_rectangle_side_mm", max_rectangle_side_mm},
@@ -45,6 +46,9 @@ bool BoundaryLinkOptions::IsValid(std::string* why) const {
   if (!(std::isfinite(seed_spacing_mm) && seed_spacing_mm > 0.0)) return fail("seed_spacing_mm must be > 0");
   if (!(std::isfinite(max_dot_chord_mm) && max_dot_chord_mm > 0.0)) return fail("max_dot_chord_mm must be > 0");
   if (!(std::isfinite(dot_ring_radii) && dot_ring_radii >= 1.0)) return fail("dot_ring_radii must be >= 1");
+  if (min_dot_crossings_to_excuse_one < 5) {
+    return fail("min_dot_crossings_to_excuse_one must be >= 5 (a circle's parameters and two checks)");
+  }
   if (min_rectangle_crossings < 5) return fail("min_rectangle_crossings must be >= 5 (a rectangle's parameters)");
   for (const auto& [name, value] : {std::pair<const char*, double>{"min_crossing_cos", min_crossing_cos},
                                     {"min_extension_crossing_cos", min_extension_crossing_cos},

@@ -230,6 +230,15 @@ struct BoundaryLinkOptions {
   // ~0.1-0.4 mm along its drag (docs/method.md); the crossings of a square
   // patch's sides and corner lie ~0.7 mm off their best circle.
   double max_dot_residual_mm = 0.5;
+  // One crossing of a dot crossed this often may lie off the circle through
+  // the others by up to max_dot_outlier_mm: a change located 1 mm off along
+  // its drag (the noise in one drag's forces) refused held_block's 8.5 mm
+  // dot, its nine other crossings on the circle to 0.3 mm (service seed 4,
+  // docs/method.md). Six: the circle is fitted through five, two more than
+  // it needs. max_dot_outlier_mm at or below max_dot_residual_mm: off (the
+  // build before).
+  int min_dot_crossings_to_excuse_one = 6;
+  double max_dot_outlier_mm = 1.5;
   // Data near the circle may lie this far on the wrong side of it before it
   // contradicts the dot: as far as its own crossings may lie off it
   // (max_dot_residual_mm), for the data of a crossing drag reach to within
