@@ -256,6 +256,15 @@ int Main(int argc, char** argv) {
                  "through the others, mm (boundary_dots.h; 0: off, the build before)")
       ->check(CLI::NonNegativeNumber)
       ->capture_default_str();
+  app.add_option("--map-rectangle-sides-closed-by-data", map_links.rectangle_sides_closed_by_data,
+                 "the scored map draws a rectangle's side no drag crossed clear of its corners when other regions' "
+                 "data run along it just outside (boundary_rectangles.h; false: the build before, on the same drags)")
+      ->capture_default_str();
+  app.add_option("--map-rectangle-patch-sheet", map_links.rectangle_data_on_patch_sheet,
+                 "the scored map checks a rectangle against data within 2 mm of the band off its plane where its "
+                 "crossings lie (boundary_rectangles.h; false: data as far off as half its longer side, the build "
+                 "before, on the same drags)")
+      ->capture_default_str();
   app.add_option("--map-rectangle-side", map_links.max_rectangle_side_mm,
                  "the scored map draws a rectangle through the crossings round a small patch whose sides are at most "
                  "this long, mm (boundary_rectangles.h; 0: off, the build before)")

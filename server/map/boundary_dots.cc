@@ -29,32 +29,24 @@ struct Circle {
 // (Kasa's algebraic fit), if the marks lie on one piece of surface.
 std::optional<Circle> FitCircle(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
                                 const BoundaryLinkOptions& o) {
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero(), origin = Eigen::Vector3d::Zero();
-  for (int m : group) normal += marks[m].normal, origin += marks[m].position;
-  if (!(normal.norm() > 1e-9)) return std::nullopt;
-  normal.normalize();
-  origin /= static_cast<double>(group.size());
-  const double min_cos = std::cos(o.max_corner_normal_deg * std::numbers::pi / 180.0);
-  for (int m : group) {
-    if (marks[m].normal.dot(normal) < min_cos) return std::nullopt;
-  }
+  const std::optional<MarksPlane> plane = PlaneOfMarks(marks, group, o);
+  if (!plane) return std::nullopt;
   Circle c;
-  c.normal = normal;
-  c.e1 = InPlane(normal.unitOrthogonal(), normal).normalized();
-  c.e2 = normal.cross(c.e1);
+  c.normal = plane->normal;
+  c.e1 = plane->e1;
+  c.e2 = plane->e2;
   const int n = static_cast<int>(group.size());
   Eigen::MatrixXd a(n, 3);
   Eigen::VectorXd b(n);
   for (int i = 0; i < n; ++i) {
-    const Eigen::Vector3d d = marks[group[i]].position - origin;
-    const double x = d.dot(c.e1), y = d.dot(c.e2);
-    a.row(i) << 2.0 * x, 2.0 * y, 1.0;
-    b(i) = x * x + y * y;
+    const Eigen::Vector2d q = plane->At(marks[group[i]].position);
+    a.row(i) << 2.0 * q.x(), 2.0 * q.y(), 1.0;
+    b(i) = q.squaredNorm();
   }
   const Eigen::Vector3d sol = a.colPivHouseholderQr().solve(b);
   const double r2 = sol(2) + sol(0) * sol(0) + sol(1) * sol(1);
   if (!(r2 > 0.0) || !std::isfinite(r2)) return std::nullopt;
-  c.centre = origin + sol(0) * c.e1 + sol(1) * c.e2;
+  c.centre = plane->Point(sol.head<2>());
   c.radius = std::sqrt(r2);
   return c;
 }

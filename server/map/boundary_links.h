@@ -288,6 +288,17 @@ struct BoundaryLinkOptions {
   double max_rectangle_side_mm = 30.0;
   // At least this many crossings: a rectangle has five parameters.
   int min_rectangle_crossings = 6;
+  // A side no drag crossed clear of its corners is drawn when other
+  // regions' data run along it just outside (within corridor_mm, along half
+  // its length or more: boundary_rectangles.h). False: such a rectangle is
+  // refused (the build before).
+  bool rectangle_sides_closed_by_data = true;
+  // Only data within 2 corridor_mm of the band off the rectangle's plane
+  // where its crossings lie refuse it (another region inside, its own
+  // outside: boundary_rectangles.cc OnPatchSheet): a label on a handle lies
+  // over the handle's far side and its butt. False: data as far off the
+  // plane as half its longer side (the build before).
+  bool rectangle_data_on_patch_sheet = true;
   // Links drawn as curves through their chain (boundary_curves.h): a link
   // end takes the chain's direction where the chain turns there by at most
   // this (0 = every link a chord, the build before). Links pass at most

@@ -1,9 +1,29 @@
 #include "server/map/boundary_outlines.h"
 
+#include <cmath>
 #include <map>
+#include <numbers>
 #include <utility>
 
 namespace surfmap {
+
+std::optional<MarksPlane> PlaneOfMarks(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                       const BoundaryLinkOptions& o) {
+  MarksPlane plane;
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  plane.origin.setZero();
+  for (int m : group) normal += marks[m].normal, plane.origin += marks[m].position;
+  if (!(normal.norm() > 1e-9)) return std::nullopt;
+  plane.normal = normal.normalized();
+  plane.origin /= static_cast<double>(group.size());
+  const double min_cos = std::cos(o.max_corner_normal_deg * std::numbers::pi / 180.0);
+  for (int m : group) {
+    if (marks[m].normal.dot(plane.normal) < min_cos) return std::nullopt;
+  }
+  plane.e1 = InPlane(plane.normal.unitOrthogonal(), plane.normal).normalized();
+  plane.e2 = plane.normal.cross(plane.e1);
+  return plane;
+}
 
 std::vector<std::vector<int>> GroupMarks(const std::vector<ChangeMark>& marks, const std::vector<int>& members,
                                          double reach) {

@@ -24,6 +24,24 @@ struct BoundaryOutline {
   Eigen::Vector3d project_along = Eigen::Vector3d::Zero();
 };
 
+// A plane through `origin` with unit normal `normal` and in-plane basis
+// e1, e2: where an outline is fitted.
+struct MarksPlane {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitZ();
+  Eigen::Vector3d e1 = Eigen::Vector3d::UnitX(), e2 = Eigen::Vector3d::UnitY();
+  Eigen::Vector2d At(const Eigen::Vector3d& p) const { return {(p - origin).dot(e1), (p - origin).dot(e2)}; }
+  double Off(const Eigen::Vector3d& p) const { return (p - origin).dot(normal); }
+  Eigen::Vector3d Point(const Eigen::Vector2d& q) const { return origin + q.x() * e1 + q.y() * e2; }
+  Eigen::Vector3d Vector(const Eigen::Vector2d& d) const { return d.x() * e1 + d.y() * e2; }
+};
+
+// The plane of the group's mean normal through its centroid, if every
+// mark's normal lies within options.max_corner_normal_deg of the mean (the
+// marks lie on one piece of surface).
+std::optional<MarksPlane> PlaneOfMarks(const std::vector<ChangeMark>& marks, const std::vector<int>& group,
+                                       const BoundaryLinkOptions& options);
+
 // Groups of marks (indices into `members`) within `reach` of each other,
 // chained (single linkage).
 std::vector<std::vector<int>> GroupMarks(const std::vector<ChangeMark>& marks, const std::vector<int>& members,

@@ -21,7 +21,9 @@
 //    largest residual, each side through the mean of its crossings) has
 //    every crossing within max_dot_residual_mm of a side, every side
 //    crossed farther than corridor_mm from its corners (a crossing at a
-//    corner lies on both sides), and sides from 2 corridor_mm to
+//    corner lies on both sides) or, with rectangle_sides_closed_by_data,
+//    other regions' data running along half its length or more just
+//    outside it (within corridor_mm), and sides from 2 corridor_mm to
 //    max_rectangle_side_mm long;
 //  - every drag entered the patch through its side (ran inwards across it);
 //  - no data contradicts it: no other region's data inside it nor the

@@ -109,6 +109,37 @@ TEST(BoundaryRectangles, TooFewCrossingsOrASideNeverCrossedDrawNothing) {
   EXPECT_TRUE(Rectangles(marks, DragData(marks, InRectangle)).empty());
 }
 
+TEST(BoundaryRectangles, ASideCrossedOnlyAtACornerIsDrawnWhenDataRunAlongItOutside) {
+  // scan_handle_m's label through the service (seed 2): three crossings of
+  // its top side, one each of its left and right, one at its bottom right
+  // corner; a drag of the tpe ran along the bottom side 0.3 mm outside.
+  const std::vector<ChangeMark> marks = {
+      Crossing(-12.0, 1.0, 1.0, -0.4, 0),   Crossing(12.0, 2.0, -1.0, 0.2, 1),   Crossing(-8.0, 8.0, 0.3, -1.0, 2),
+      Crossing(0.0, 8.0, -0.2, -1.0, 3),    Crossing(7.0, 8.0, 0.4, -1.0, 4),    Crossing(11.6, -8.0, -0.7, 1.0, 5)};
+  std::vector<LabelledPoint> data = DragData(marks, InRectangle);
+  EXPECT_TRUE(Rectangles(marks, data).empty()) << "nothing holds the bottom side";
+  std::vector<LabelledPoint> along_bottom = data;
+  for (double u = -10.0; u <= 10.0; u += 0.5) along_bottom.push_back({Patch(u, -8.3), kOutside});
+  const std::vector<BoundaryOutline> found = Rectangles(marks, along_bottom);
+  ASSERT_EQ(found.size(), 1u);
+  int bottom = 0;
+  for (const BoundarySegment& chord : found[0].chords) {
+    const Eigen::Vector3d mid = 0.5 * (chord.p + chord.q);
+    const double v = -mid.x() * std::sin(kTurn) + mid.y() * std::cos(kTurn);
+    if (v > -7.9) continue;  // the left and right sides' chords end at -8 too
+    ++bottom;
+    EXPECT_NEAR(v, -8.0, 0.05);
+  }
+  EXPECT_GE(bottom, 20) << "the bottom side drawn along its 24 mm";
+  BoundaryLinkOptions before;
+  before.rectangle_sides_closed_by_data = false;
+  EXPECT_TRUE(Rectangles(marks, along_bottom, before).empty());
+  // Data along a quarter of it leave the rest of the side free.
+  std::vector<LabelledPoint> quarter = data;
+  for (double u = -10.0; u <= -4.0; u += 0.5) quarter.push_back({Patch(u, -8.3), kOutside});
+  EXPECT_TRUE(Rectangles(marks, quarter).empty());
+}
+
 TEST(BoundaryRectangles, AnLOrARoundPatchIsNoRectangle) {
   // An L: the 24 x 16 label less its top right 12 x 8 quarter, crossed on
   // its inner corner's two sides as well.
@@ -157,6 +188,23 @@ TEST(BoundaryRectangles, DataAgainstTheRectangleRefuseItOrLeaveOutItsChords) {
   ASSERT_EQ(found.size(), 1u);
   EXPECT_LT(found[0].chords.size(), all);
   EXPECT_GE(found[0].chords.size(), all - 2);
+}
+
+TEST(BoundaryRectangles, DataOnAnotherSheetOfTheObjectBelowThePatchDoNotRefuseIt) {
+  // The label on a handle: under its plane, 4 and 8 mm down, lie the
+  // handle's far side and its butt (scan_handle_m through the service,
+  // seed 2), read as another region.
+  const std::vector<ChangeMark> marks = LabelCrossings();
+  std::vector<LabelledPoint> data = DragData(marks, InRectangle);
+  for (double off : {-4.0, -8.0}) data.push_back({Patch(-10.0, -6.5) + Eigen::Vector3d(0.0, 0.0, off), kOutside});
+  EXPECT_EQ(Rectangles(marks, data).size(), 1u);
+  BoundaryLinkOptions before;
+  before.rectangle_data_on_patch_sheet = false;
+  EXPECT_TRUE(Rectangles(marks, data, before).empty()) << "the build before: data 12 mm off still checked it";
+  // 1.5 mm off the plane is the patch's own sheet (within 2 corridor_mm of
+  // its crossings, all in the plane here): still against it.
+  data.push_back({Patch(0.0, 0.0) + Eigen::Vector3d(0.0, 0.0, -1.5), kOutside});
+  EXPECT_TRUE(Rectangles(marks, data).empty());
 }
 
 TEST(BoundaryRectangles, OptionsRefuseFewerCrossingsThanARectanglesParametersByName) {
