@@ -28,7 +28,9 @@
 //  - every drag entered the patch through its side (ran inwards across it);
 //  - no data contradicts it: no other region's data inside it nor the
 //    region's own outside it beyond corridor_mm (out to corridor_mm +
-//    ring), and near each chord nothing more than max_dot_data_offset_mm
+//    ring; with rectangle_data_on_patch_sheet only data within 2
+//    corridor_mm of the band off the plane where its crossings lie: a
+//    label on a handle lies over the handle's far side), and near each chord nothing more than max_dot_data_offset_mm
 //    on its wrong side; chords so contradicted are left out while at most
 //    max_dot_contradicted_chord_share are (as for dots).
 // An L, a triangle or a round patch leaves crossings off every rectangle's

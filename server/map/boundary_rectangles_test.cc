@@ -110,9 +110,9 @@ TEST(BoundaryRectangles, TooFewCrossingsOrASideNeverCrossedDrawNothing) {
 }
 
 TEST(BoundaryRectangles, ASideCrossedOnlyAtACornerIsDrawnWhenDataRunAlongItOutside) {
-  // scan_handle_m's label through the service (seed 2): three crossings of
-  // its top side, one each of its left and right, one at its bottom right
-  // corner; a drag of the tpe ran along the bottom side 0.3 mm outside.
+  // A label crossed three times on its top side, once each on its left and
+  // right, and once at its bottom right corner; a drag of the other region
+  // ran along the bottom side 0.3 mm outside.
   const std::vector<ChangeMark> marks = {
       Crossing(-12.0, 1.0, 1.0, -0.4, 0),   Crossing(12.0, 2.0, -1.0, 0.2, 1),   Crossing(-8.0, 8.0, 0.3, -1.0, 2),
       Crossing(0.0, 8.0, -0.2, -1.0, 3),    Crossing(7.0, 8.0, 0.4, -1.0, 4),    Crossing(11.6, -8.0, -0.7, 1.0, 5)};
